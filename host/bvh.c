@@ -1,0 +1,260 @@
+#include "bvh.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define BIN_COUNT 16
+#define MAX_LEAF_SIZE 8
+/* Past this depth the builder splits at the object median, which halves the
+ * count each level, so no tree gets deeper than LVCL_BVH_MAX_DEPTH. */
+#define MEDIAN_SPLIT_DEPTH 28
+
+typedef struct {
+    float lo[3], hi[3];
+} box3;
+
+typedef struct {
+    box3 *tri_box;
+    float *centroid; /* 3 per triangle */
+    uint32_t *order; /* working permutation of triangle indices */
+    lv_bvh_node *nodes;
+    size_t node_count;
+    int depth;
+} builder;
+
+static box3 box_empty(void)
+{
+    box3 b = {{FLT_MAX, FLT_MAX, FLT_MAX}, {-FLT_MAX, -FLT_MAX, -FLT_MAX}};
+    return b;
+}
+
+static void box_grow_point(box3 *b, const float p[3])
+{
+    for (int k = 0; k < 3; k++) {
+        b->lo[k] = fminf(b->lo[k], p[k]);
+        b->hi[k] = fmaxf(b->hi[k], p[k]);
+    }
+}
+
+static void box_grow_box(box3 *b, const box3 *o)
+{
+    for (int k = 0; k < 3; k++) {
+        b->lo[k] = fminf(b->lo[k], o->lo[k]);
+        b->hi[k] = fmaxf(b->hi[k], o->hi[k]);
+    }
+}
+
+static float box_area(const box3 *b)
+{
+    float d[3];
+    for (int k = 0; k < 3; k++) d[k] = b->hi[k] - b->lo[k];
+    if (d[0] < 0) return 0;
+    return 2 * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
+}
+
+/* Twice the area, or 0 for degenerate or non-finite triangles. */
+static int triangle_usable(const float *a, const float *b, const float *c)
+{
+    for (int k = 0; k < 3; k++)
+        if (!isfinite(a[k]) || !isfinite(b[k]) || !isfinite(c[k])) return 0;
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = (double)b[k] - a[k];
+        e2[k] = (double)c[k] - a[k];
+    }
+    double n0 = e1[1] * e2[2] - e1[2] * e2[1];
+    double n1 = e1[2] * e2[0] - e1[0] * e2[2];
+    double n2 = e1[0] * e2[1] - e1[1] * e2[0];
+    return n0 * n0 + n1 * n1 + n2 * n2 > 0.0;
+}
+
+static void make_leaf(lv_bvh_node *node, size_t first, size_t count)
+{
+    node->index = (lv_i32)first;
+    node->count = (lv_i32)count;
+}
+
+static int compare_axis;
+static const float *compare_centroids;
+
+static int by_centroid(const void *a, const void *b)
+{
+    float ca = compare_centroids[3 * *(const uint32_t *)a + compare_axis];
+    float cb = compare_centroids[3 * *(const uint32_t *)b + compare_axis];
+    return (ca > cb) - (ca < cb);
+}
+
+/* Finds the binned-SAH split of order[first, first+count). Returns the number
+ * of triangles that go left (0 if a leaf is cheaper), after partitioning. */
+static size_t sah_partition(builder *bd, size_t first, size_t count, const box3 *bounds)
+{
+    box3 cb = box_empty();
+    for (size_t i = first; i < first + count; i++) box_grow_point(&cb, &bd->centroid[3 * bd->order[i]]);
+
+    float best_cost = FLT_MAX;
+    int best_axis = -1, best_bin = 0;
+    for (int axis = 0; axis < 3; axis++) {
+        float extent = cb.hi[axis] - cb.lo[axis];
+        if (!(extent > 0)) continue;
+        float scale = BIN_COUNT / extent;
+        box3 bin_box[BIN_COUNT];
+        size_t bin_count[BIN_COUNT] = {0};
+        for (int b = 0; b < BIN_COUNT; b++) bin_box[b] = box_empty();
+        for (size_t i = first; i < first + count; i++) {
+            uint32_t t = bd->order[i];
+            int b = (int)((bd->centroid[3 * t + axis] - cb.lo[axis]) * scale);
+            if (b >= BIN_COUNT) b = BIN_COUNT - 1;
+            if (b < 0) b = 0;
+            bin_count[b]++;
+            box_grow_box(&bin_box[b], &bd->tri_box[t]);
+        }
+        /* Sweep from the right, then from the left, to cost every bin boundary. */
+        float right_area[BIN_COUNT];
+        size_t right_count[BIN_COUNT];
+        box3 acc = box_empty();
+        size_t n = 0;
+        for (int b = BIN_COUNT - 1; b > 0; b--) {
+            box_grow_box(&acc, &bin_box[b]);
+            n += bin_count[b];
+            right_area[b] = box_area(&acc);
+            right_count[b] = n;
+        }
+        acc = box_empty();
+        n = 0;
+        for (int b = 0; b < BIN_COUNT - 1; b++) {
+            box_grow_box(&acc, &bin_box[b]);
+            n += bin_count[b];
+            if (n == 0 || right_count[b + 1] == 0) continue;
+            float cost = box_area(&acc) * (float)n + right_area[b + 1] * (float)right_count[b + 1];
+            if (cost < best_cost) {
+                best_cost = cost;
+                best_axis = axis;
+                best_bin = b;
+            }
+        }
+    }
+
+    /* Costs relative to the parent's area: one traversal step plus one
+     * intersection per triangle, against intersecting them all here. */
+    float parent_area = box_area(bounds);
+    float split_cost = best_axis < 0 ? FLT_MAX : 1.0f + best_cost / fmaxf(parent_area, FLT_MIN);
+    if (best_axis < 0 || (split_cost >= (float)count && count <= MAX_LEAF_SIZE)) {
+        if (count <= MAX_LEAF_SIZE) return 0;
+        return count / 2; /* all centroids coincide: any split will do */
+    }
+
+    float scale = BIN_COUNT / (cb.hi[best_axis] - cb.lo[best_axis]);
+    size_t i = first, j = first + count;
+    while (i < j) {
+        uint32_t t = bd->order[i];
+        int b = (int)((bd->centroid[3 * t + best_axis] - cb.lo[best_axis]) * scale);
+        if (b >= BIN_COUNT) b = BIN_COUNT - 1;
+        if (b <= best_bin) {
+            i++;
+        } else {
+            bd->order[i] = bd->order[--j];
+            bd->order[j] = t;
+        }
+    }
+    return i - first;
+}
+
+static size_t median_partition(builder *bd, size_t first, size_t count, const box3 *bounds)
+{
+    float d[3];
+    for (int k = 0; k < 3; k++) d[k] = bounds->hi[k] - bounds->lo[k];
+    compare_axis = d[0] > d[1] ? (d[0] > d[2] ? 0 : 2) : (d[1] > d[2] ? 1 : 2);
+    compare_centroids = bd->centroid;
+    qsort(bd->order + first, count, sizeof(uint32_t), by_centroid);
+    return count / 2;
+}
+
+static void build_node(builder *bd, size_t node_index, size_t first, size_t count, int depth)
+{
+    lv_bvh_node *node = &bd->nodes[node_index];
+    box3 bounds = box_empty();
+    for (size_t i = first; i < first + count; i++) box_grow_box(&bounds, &bd->tri_box[bd->order[i]]);
+    memcpy(node->bmin, bounds.lo, sizeof node->bmin);
+    memcpy(node->bmax, bounds.hi, sizeof node->bmax);
+    if (depth > bd->depth) bd->depth = depth;
+
+    size_t left_count = 0;
+    if (count > 1)
+        left_count = depth >= MEDIAN_SPLIT_DEPTH ? median_partition(bd, first, count, &bounds)
+                                                 : sah_partition(bd, first, count, &bounds);
+    if (left_count == 0) {
+        make_leaf(node, first, count);
+        return;
+    }
+    size_t left = bd->node_count++;
+    build_node(bd, left, first, left_count, depth + 1);
+    size_t right = bd->node_count++;
+    bd->nodes[node_index].index = (lv_i32)right;
+    bd->nodes[node_index].count = 0;
+    build_node(bd, right, first + left_count, count - left_count, depth + 1);
+}
+
+lvcl_error lvcl_bvh_build(const float *positions, const uint32_t *indices, size_t count,
+                          lvcl_bvh *bvh, lvcl_status *st)
+{
+    memset(bvh, 0, sizeof *bvh);
+    if (count >= (size_t)INT32_MAX / 2)
+        return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "%zu triangles exceed the BVH's 32-bit indices", count);
+
+    builder bd = {0};
+    bd.tri_box = malloc(count * sizeof *bd.tri_box);
+    bd.centroid = malloc(count * 3 * sizeof(float));
+    bd.order = malloc(count * sizeof(uint32_t));
+    size_t used = 0;
+    if (!bd.tri_box || !bd.centroid || !bd.order) goto oom;
+
+    for (size_t t = 0; t < count; t++) {
+        const float *v[3];
+        for (int c = 0; c < 3; c++) v[c] = positions + 3 * (size_t)indices[3 * t + c];
+        if (!triangle_usable(v[0], v[1], v[2])) {
+            bvh->skipped++;
+            continue;
+        }
+        box3 b = box_empty();
+        for (int c = 0; c < 3; c++) box_grow_point(&b, v[c]);
+        bd.tri_box[t] = b;
+        for (int k = 0; k < 3; k++) bd.centroid[3 * t + k] = 0.5f * (b.lo[k] + b.hi[k]);
+        bd.order[used++] = (uint32_t)t;
+    }
+    if (used == 0) {
+        free(bd.tri_box);
+        free(bd.centroid);
+        free(bd.order);
+        return lvcl_fail(st, LVCL_ERR_UNSUPPORTED, "scene has no triangle of non-zero area");
+    }
+
+    bd.nodes = malloc((2 * used - 1) * sizeof *bd.nodes);
+    if (!bd.nodes) goto oom;
+    bd.node_count = 1;
+    build_node(&bd, 0, 0, used, 0);
+
+    free(bd.tri_box);
+    free(bd.centroid);
+    bvh->nodes = bd.nodes;
+    bvh->node_count = bd.node_count;
+    bvh->tri_order = bd.order;
+    bvh->triangle_count = used;
+    bvh->depth = bd.depth;
+    return LVCL_OK;
+
+oom:
+    free(bd.tri_box);
+    free(bd.centroid);
+    free(bd.order);
+    free(bd.nodes);
+    return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building the BVH over %zu triangles", count);
+}
+
+void lvcl_bvh_free(lvcl_bvh *bvh)
+{
+    free(bvh->nodes);
+    free(bvh->tri_order);
+    memset(bvh, 0, sizeof *bvh);
+}

@@ -1,0 +1,228 @@
+#include "device_scene.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "materials.h"
+
+static float luminance(const float c[3])
+{
+    return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+}
+
+static float triangle_area(const float *v)
+{
+    float e1[3], e2[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = v[4 + k] - v[k];
+        e2[k] = v[8 + k] - v[k];
+    }
+    float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    return 0.5f * sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+/* Power (luminance watts) of a punctual light: 4 pi I for a point light,
+ * the solid angle of its cone (to the middle of the falloff) times I for a spot. */
+static float punctual_power(const lv_punctual_light *l)
+{
+    float i = luminance(l->intensity);
+    if (l->type == LV_PUNCTUAL_SPOT) return 2.0f * 3.14159265f * (1.0f - 0.5f * (l->cos_inner + l->cos_outer)) * i;
+    return 4.0f * 3.14159265f * i;
+}
+
+/* Builds the light table: emissive triangles and punctual lights, chosen
+ * in proportion to their power. */
+static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lvcl_status *st)
+{
+    size_t n = scene->punctual_count;
+    for (size_t t = 0; t < p->triangle_count; t++)
+        if (luminance(p->materials[p->triangles[t].material].emission) > 0.0f) n++;
+    float *power = malloc((n ? n : 1) * sizeof *power);
+    p->lights = calloc(n ? n : 1, sizeof *p->lights);
+    if (!power || !p->lights) {
+        free(power);
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building the light table");
+    }
+    size_t i = 0;
+    for (size_t t = 0; t < p->triangle_count; t++) {
+        const lv_material *m = &p->materials[p->triangles[t].material];
+        if (!(luminance(m->emission) > 0.0f)) continue;
+        p->lights[i].kind = LV_LIGHT_AREA;
+        p->lights[i].index = (lv_u32)t;
+        p->triangles[t].light = (lv_u32)i;
+        power[i++] = luminance(m->emission) * triangle_area(&p->tri_vertices[12 * t]) * 3.14159265f;
+    }
+    for (size_t k = 0; k < scene->punctual_count; k++) {
+        p->lights[i].kind = LV_LIGHT_PUNCTUAL;
+        p->lights[i].index = (lv_u32)k;
+        power[i++] = punctual_power(&scene->punctuals[k]);
+    }
+    double total = 0;
+    for (i = 0; i < n; i++) total += power[i];
+    double acc = 0;
+    for (i = 0; i < n; i++) {
+        acc += power[i];
+        p->lights[i].pdf_select = (float)(power[i] / total);
+        p->lights[i].cdf = i + 1 == n ? 1.0f : (float)(acc / total);
+    }
+    p->light_count = total > 0 ? n : 0;
+    p->info.light_count = (lv_u32)p->light_count;
+    p->info.total_light_power = (float)total;
+    if (p->light_count == 0) lvcl_warn("the scene has no lights: the image will be black");
+    free(power);
+    return LVCL_OK;
+}
+
+lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_bvh *bvh, uint32_t seed, uint32_t max_depth,
+                           lvcl_packed_scene *p, lvcl_status *st)
+{
+    memset(p, 0, sizeof *p);
+    size_t n = bvh->triangle_count;
+    p->nodes = malloc(bvh->node_count * sizeof *p->nodes);
+    p->tri_vertices = malloc(n * 12 * sizeof(float));
+    p->triangles = calloc(n, sizeof *p->triangles);
+    p->materials = calloc(scene->material_count ? scene->material_count : 1, sizeof *p->materials);
+    p->textures = calloc(scene->texture_count ? scene->texture_count : 1, sizeof *p->textures);
+    size_t texels = 0;
+    for (size_t t = 0; t < scene->texture_count; t++)
+        texels += (size_t)scene->textures[t].width * scene->textures[t].height;
+    p->texels = calloc(texels ? texels : 1, sizeof *p->texels);
+    if (!p->nodes || !p->tri_vertices || !p->triangles || !p->materials || !p->textures || !p->texels) {
+        lvcl_packed_scene_free(p);
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory packing %zu triangles", n);
+    }
+    memcpy(p->nodes, bvh->nodes, bvh->node_count * sizeof *p->nodes);
+    p->node_count = bvh->node_count;
+    p->triangle_count = n;
+
+    for (size_t i = 0; i < n; i++) {
+        uint32_t t = bvh->tri_order[i];
+        for (int c = 0; c < 3; c++) {
+            uint32_t v = scene->indices[3 * t + c];
+            memcpy(&p->tri_vertices[12 * i + 4 * c], &scene->positions[3 * v], 3 * sizeof(float));
+            p->tri_vertices[12 * i + 4 * c + 3] = 0.0f;
+            p->triangles[i].v[c] = v;
+        }
+        p->triangles[i].material = scene->tri_material[t];
+        p->triangles[i].prim_id = t;
+        p->triangles[i].light = LV_NO_LIGHT;
+        p->triangles[i].flags = scene->tri_flags[t];
+    }
+
+    p->material_count = scene->material_count;
+    for (size_t m = 0; m < scene->material_count; m++)
+        lvcl_material_from_desc(&scene->materials[m], m, &p->materials[m]);
+
+    p->texture_count = scene->texture_count;
+    size_t offset = 0;
+    for (size_t t = 0; t < scene->texture_count; t++) {
+        const lvcl_texture_data *td = &scene->textures[t];
+        size_t count = (size_t)td->width * td->height;
+        p->textures[t].offset = (lv_u32)offset;
+        p->textures[t].width = td->width;
+        p->textures[t].height = td->height;
+        memcpy(&p->texels[offset], td->rgba, count * 4);
+        offset += count;
+    }
+    p->texel_count = texels;
+
+    lvcl_scene_bounds(scene, p->bounds_min, p->bounds_max);
+    float extent = 0.0f;
+    for (int k = 0; k < 3; k++) extent = fmaxf(extent, p->bounds_max[k] - p->bounds_min[k]);
+    p->info.triangle_count = (lv_u32)n;
+    p->info.max_depth = max_depth;
+    p->info.seed = seed;
+    p->info.scene_scale = extent > 0.0f ? extent : 1.0f;
+    return build_lights(scene, p, st);
+}
+
+void lvcl_packed_scene_free(lvcl_packed_scene *p)
+{
+    free(p->nodes);
+    free(p->tri_vertices);
+    free(p->triangles);
+    free(p->materials);
+    free(p->textures);
+    free(p->texels);
+    free(p->lights);
+    memset(p, 0, sizeof *p);
+}
+
+typedef struct {
+    cl_mem *slot;
+    const void *data;
+    size_t bytes;
+    const char *what;
+} upload;
+
+lvcl_error lvcl_device_scene_upload(const lvcl_device *dev, const lvcl_scene *scene, const lvcl_packed_scene *p,
+                                    lvcl_device_scene *ds, lvcl_status *st)
+{
+    memset(ds, 0, sizeof *ds);
+    ds->info = p->info;
+    /* OpenCL refuses zero-sized buffers, so empty tables get a dummy entry. */
+#define AT_LEAST_ONE(n) ((n) ? (n) : 1)
+    upload list[] = {
+        {&ds->nodes, p->nodes, p->node_count * sizeof(lv_bvh_node), "BVH nodes"},
+        {&ds->tri_vertices, p->tri_vertices, p->triangle_count * 12 * sizeof(float), "triangle vertices"},
+        {&ds->triangles, p->triangles, p->triangle_count * sizeof(lv_triangle), "triangles"},
+        {&ds->normals, scene->normals, AT_LEAST_ONE(scene->vertex_count) * 3 * sizeof(float), "normals"},
+        {&ds->uvs, scene->uvs, AT_LEAST_ONE(scene->vertex_count) * 2 * sizeof(float), "texture coordinates"},
+        {&ds->materials, p->materials, AT_LEAST_ONE(p->material_count) * sizeof(lv_material), "materials"},
+        {&ds->textures, p->textures, AT_LEAST_ONE(p->texture_count) * sizeof(lv_texture), "textures"},
+        {&ds->texels, p->texels, AT_LEAST_ONE(p->texel_count) * 4, "texels"},
+        {&ds->lights, p->lights, AT_LEAST_ONE(p->light_count) * sizeof(lv_light), "lights"},
+        {&ds->punctuals, scene->punctuals, AT_LEAST_ONE(scene->punctual_count) * sizeof(lv_punctual_light),
+         "punctual lights"},
+    };
+#undef AT_LEAST_ONE
+    size_t count = sizeof list / sizeof list[0];
+    size_t total = 0;
+    for (size_t i = 0; i < count; i++) {
+        if (list[i].bytes > dev->max_alloc)
+            return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "the scene's %s need %.1f MiB in one buffer, but %s allows %.1f MiB",
+                             list[i].what, list[i].bytes / 1048576.0, dev->name, dev->max_alloc / 1048576.0);
+        total += list[i].bytes;
+    }
+    if (total > dev->global_mem)
+        return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "the scene needs %.1f MiB of device memory, but %s has %.1f MiB",
+                         total / 1048576.0, dev->name, dev->global_mem / 1048576.0);
+
+    for (size_t i = 0; i < count; i++) {
+        cl_int err;
+        /* Tables that may be NULL on the host (no normals, no punctual lights) are
+         * allocated uninitialised: the kernels never read them then. */
+        cl_mem_flags flags = CL_MEM_READ_ONLY | (list[i].data ? CL_MEM_COPY_HOST_PTR : 0);
+        *list[i].slot = clCreateBuffer(dev->context, flags, list[i].bytes, (void *)list[i].data, &err);
+        if (err != CL_SUCCESS) {
+            lvcl_device_scene_release(ds);
+            return lvcl_fail(st, err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ? LVCL_ERR_TOO_LARGE
+                                                                                                         : LVCL_ERR_DEVICE,
+                             "cannot allocate %.1f MiB for %s on %s: %s", list[i].bytes / 1048576.0, list[i].what,
+                             dev->name, lvcl_cl_error_name(err));
+        }
+    }
+    ds->device_bytes = total;
+    return LVCL_OK;
+}
+
+void lvcl_device_scene_release(lvcl_device_scene *ds)
+{
+    cl_mem *all[] = {&ds->nodes, &ds->tri_vertices, &ds->triangles, &ds->normals, &ds->uvs,
+                     &ds->materials, &ds->textures, &ds->texels, &ds->lights, &ds->punctuals};
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+        if (*all[i]) clReleaseMemObject(*all[i]);
+    memset(ds, 0, sizeof *ds);
+}
+
+int lvcl_device_scene_set_args(const lvcl_device_scene *ds, cl_kernel k, cl_uint first)
+{
+    const cl_mem *bufs[] = {&ds->nodes, &ds->tri_vertices, &ds->triangles, &ds->normals, &ds->uvs,
+                            &ds->materials, &ds->textures, &ds->texels, &ds->lights, &ds->punctuals};
+    cl_uint i = first;
+    for (size_t b = 0; b < sizeof bufs / sizeof bufs[0]; b++, i++)
+        if (clSetKernelArg(k, i, sizeof(cl_mem), bufs[b]) != CL_SUCCESS) return -1;
+    if (clSetKernelArg(k, i++, sizeof ds->info, &ds->info) != CL_SUCCESS) return -1;
+    return (int)i;
+}

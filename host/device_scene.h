@@ -1,0 +1,51 @@
+/* The scene on a device: the host packs the imported scene and its BVH into
+ * the kernels' layouts (kernels/shared_types.h), checks the sizes against
+ * the device's memory budget and uploads them. */
+#ifndef LVCL_DEVICE_SCENE_H
+#define LVCL_DEVICE_SCENE_H
+
+#include "bvh.h"
+#include "device.h"
+#include "scene.h"
+
+/* The kernels' arrays, packed on the host (also used by host-side checks). */
+typedef struct {
+    lv_bvh_node *nodes;
+    size_t node_count;
+    float *tri_vertices;       /* 12 floats (3 x float4) per triangle, leaf order */
+    lv_triangle *triangles;    /* leaf order */
+    size_t triangle_count;
+    lv_material *materials;
+    size_t material_count;
+    lv_texture *textures;
+    size_t texture_count;
+    uint32_t *texels;          /* RGBA8 */
+    size_t texel_count;
+    lv_light *lights;
+    size_t light_count;
+    lv_scene_info info;
+    float bounds_min[3], bounds_max[3];
+} lvcl_packed_scene;
+
+typedef struct {
+    cl_mem nodes, tri_vertices, triangles, normals, uvs, materials, textures, texels, lights, punctuals;
+    lv_scene_info info;
+    size_t device_bytes;
+} lvcl_device_scene;
+
+/* Packs scene and bvh. The packed scene borrows nothing from either. */
+lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_bvh *bvh, uint32_t seed, uint32_t max_depth,
+                           lvcl_packed_scene *packed, lvcl_status *st);
+void lvcl_packed_scene_free(lvcl_packed_scene *packed);
+
+/* Uploads; fails with LVCL_ERR_TOO_LARGE, naming the sizes, if a buffer
+ * exceeds the device's largest allocation or all of them its memory. */
+lvcl_error lvcl_device_scene_upload(const lvcl_device *dev, const lvcl_scene *scene, const lvcl_packed_scene *packed,
+                                    lvcl_device_scene *ds, lvcl_status *st);
+void lvcl_device_scene_release(lvcl_device_scene *ds);
+
+/* Sets the LV_SCENE_PARAMS arguments (kernels/scene.h) of kernel k from
+ * index `first`; returns the index of the next argument, or -1 on error. */
+int lvcl_device_scene_set_args(const lvcl_device_scene *ds, cl_kernel k, cl_uint first);
+
+#endif

@@ -1,0 +1,107 @@
+#include "options.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define DEFAULT_SCENE "cornell"
+
+static lvcl_error parse_int(const char *flag, const char *s, long lo, long hi, long *out, lvcl_status *st)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (*s == 0 || *end != 0 || errno || v < lo || v > hi)
+        return lvcl_fail(st, LVCL_ERR_USAGE, "%s expects an integer from %ld to %ld, not '%s'", flag, lo, hi, s);
+    *out = v;
+    return LVCL_OK;
+}
+
+static lvcl_error parse_real(const char *flag, const char *s, double lo, double hi, double *out, lvcl_status *st)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (*s == 0 || *end != 0 || errno || !isfinite(v) || v < lo || v > hi)
+        return lvcl_fail(st, LVCL_ERR_USAGE, "%s expects a number from %g to %g, not '%s'", flag, lo, hi, s);
+    *out = v;
+    return LVCL_OK;
+}
+
+lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_status *st)
+{
+    memset(o, 0, sizeof *o);
+    o->mode = "pt";
+    o->spp = 64;
+    o->max_depth = 64;
+    o->fast_math = 1;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        /* Flags that take no value. */
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) { o->help = 1; continue; }
+        if (!strcmp(a, "--version")) { o->version = 1; continue; }
+        if (!strcmp(a, "--list-devices")) { o->list_devices = 1; continue; }
+        if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) { o->quiet = 1; continue; }
+        if (!strcmp(a, "--no-fast-math")) { o->fast_math = 0; continue; }
+        if (a[0] != '-' || a[1] == 0) {
+            if (o->scene) return lvcl_fail(st, LVCL_ERR_USAGE, "more than one scene given ('%s' and '%s')", o->scene, a);
+            o->scene = a;
+            continue;
+        }
+        /* Flags that take a value. */
+        static const char *with_value[] = {"--device", "--mode", "-o", "--output", "--stats", "--spp", "--width",
+                                           "--height", "--seed", "--max-depth", "--exposure", "--time-limit"};
+        int known = 0;
+        for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++) known |= !strcmp(a, with_value[k]);
+        if (!known) return lvcl_fail(st, LVCL_ERR_USAGE, "unknown option '%s' (see --help)", a);
+        if (i + 1 >= argc) return lvcl_fail(st, LVCL_ERR_USAGE, "%s needs a value", a);
+        const char *v = argv[++i];
+        long n = 0;
+        double x = 0;
+        lvcl_error e = LVCL_OK;
+        if (!strcmp(a, "--device")) o->device = v;
+        else if (!strcmp(a, "--mode")) o->mode = v;
+        else if (!strcmp(a, "-o") || !strcmp(a, "--output")) o->output = v;
+        else if (!strcmp(a, "--stats")) o->stats = v;
+        else if (!strcmp(a, "--spp")) { e = parse_int(a, v, 1, 1 << 24, &n, st); o->spp = (int)n; }
+        else if (!strcmp(a, "--width")) { e = parse_int(a, v, 1, 16384, &n, st); o->width = (int)n; }
+        else if (!strcmp(a, "--height")) { e = parse_int(a, v, 1, 16384, &n, st); o->height = (int)n; }
+        else if (!strcmp(a, "--seed")) { e = parse_int(a, v, 0, UINT_MAX, &n, st); o->seed = (unsigned)n; }
+        else if (!strcmp(a, "--max-depth")) { e = parse_int(a, v, 1, 1024, &n, st); o->max_depth = (int)n; }
+        else if (!strcmp(a, "--exposure")) { e = parse_real(a, v, -64, 64, &x, st); o->exposure = x; }
+        else if (!strcmp(a, "--time-limit")) { e = parse_real(a, v, 0, 1e9, &x, st); o->time_limit = x; }
+        if (e) return e;
+    }
+    if (strcmp(o->mode, "pt") && strcmp(o->mode, "lv") && strcmp(o->mode, "lv-all"))
+        return lvcl_fail(st, LVCL_ERR_USAGE, "unknown mode '%s' (expected pt, lv or lv-all)", o->mode);
+    if (!o->scene) o->scene = DEFAULT_SCENE;
+    return LVCL_OK;
+}
+
+void lvcl_options_print_help(const char *program)
+{
+    printf("usage: %s [options] [SCENE]\n"
+           "\n"
+           "Renders SCENE, a .gltf/.glb file or the name of an embedded scene\n"
+           "(cornell, furnace; default cornell).\n"
+           "\n"
+           "  --device cpu|gpu|N   OpenCL device (default: first GPU, else CPU)\n"
+           "  --list-devices       list OpenCL devices and exit\n"
+           "  --mode pt            rendering method: pt = path tracing (lv, lv-all: not implemented yet)\n"
+           "  --spp N              samples per pixel (default 64)\n"
+           "  --width N, --height N  image size (default 512 wide, height from the camera's aspect)\n"
+           "  --seed N             random seed (default 0); the same seed gives the same image\n"
+           "  --max-depth N        longest path in segments (default 64; 1 = emitters only)\n"
+           "  -o, --output FILE    .exr (linear float) or .png (sRGB); default out/SCENE.exr and .png\n"
+           "  --exposure EV        scale by 2^EV before writing 8-bit images (default 0)\n"
+           "  --time-limit S       stop sampling after S seconds (at least one sample is taken)\n"
+           "  --stats FILE.json    write timings, sizes and device facts as JSON\n"
+           "  --no-fast-math       build kernels without -cl-fast-relaxed-math\n"
+           "  -q, --quiet          no progress bar\n"
+           "  --version            print the version and exit\n"
+           "  -h, --help           this text\n",
+           program);
+}

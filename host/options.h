@@ -1,0 +1,31 @@
+/* The command line of lvcl. */
+#ifndef LVCL_OPTIONS_H
+#define LVCL_OPTIONS_H
+
+#include "status.h"
+
+typedef struct {
+    const char *scene;      /* file path or embedded scene name */
+    const char *device;     /* NULL = default choice */
+    const char *mode;
+    const char *output;     /* NULL = out/<scene>.exr and .png */
+    const char *stats;
+    int spp;
+    int width, height;      /* 0 = from the camera's aspect */
+    unsigned seed;
+    int max_depth;
+    double exposure;
+    double time_limit;
+    int quiet;
+    int fast_math;
+    int list_devices;
+    int help;
+    int version;
+} lvcl_options;
+
+/* Parses argv; on a bad flag or value returns LVCL_ERR_USAGE with a one-line message. */
+lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_status *st);
+
+void lvcl_options_print_help(const char *program);
+
+#endif

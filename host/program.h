@@ -1,0 +1,31 @@
+/* The OpenCL program: built from the embedded kernel source with a few
+ * feature switches, and cached on disk as a device binary keyed by device,
+ * driver, options and source, so a second run does not compile again. */
+#ifndef LVCL_PROGRAM_H
+#define LVCL_PROGRAM_H
+
+#include "device.h"
+
+/* Feature switches: code a scene does not use is left out of the build. */
+#define LVCL_FEATURE_GLASS 1u     /* solid and thin dielectrics */
+#define LVCL_FEATURE_TEXTURES 2u  /* base-colour textures */
+#define LVCL_FEATURE_PUNCTUAL 4u  /* point and spot lights */
+
+typedef struct {
+    cl_program program;
+    double build_seconds;
+    int from_cache;         /* 1 if loaded from lvcl's binary cache */
+    char options[256];
+} lvcl_program;
+
+/* Builds (or loads from the cache) the program with the given features.
+ * fast_math selects -cl-fast-relaxed-math. */
+lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math,
+                              lvcl_program *prog, lvcl_status *st);
+
+void lvcl_program_release(lvcl_program *prog);
+
+/* Creates a kernel of the program by name. */
+lvcl_error lvcl_kernel_create(const lvcl_program *prog, const char *name, cl_kernel *kernel, lvcl_status *st);
+
+#endif

@@ -1,0 +1,93 @@
+/* The scene as imported: world-space triangles with their attributes, glTF
+ * materials as described in the file, punctual lights, textures and the
+ * camera. Importers fill it; materials.c turns descriptions into BSDFs and
+ * bvh.c reorders triangles for traversal. The scene owns all its arrays. */
+#ifndef LVCL_SCENE_H
+#define LVCL_SCENE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "status.h"
+#include "../kernels/shared_types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A glTF material as the file states it (DESIGN.md section 3), before it is
+ * mapped to a BSDF. Absent extensions keep their glTF defaults. */
+typedef struct {
+    float base_color[4];
+    int base_color_texture;      /* index into scene textures, -1 if none */
+    float metallic;
+    float roughness;
+    float emissive[3];           /* emissiveFactor x KHR_materials_emissive_strength */
+    float transmission;          /* KHR_materials_transmission, 0 if absent */
+    float ior;                   /* KHR_materials_ior, 1.5 if absent */
+    float specular;              /* KHR_materials_specular specularFactor, 1 if absent */
+    int has_volume;              /* KHR_materials_volume present with thickness > 0 */
+    float attenuation_color[3];  /* KHR_materials_volume, (1,1,1) if absent */
+    float attenuation_distance;  /* metres; INFINITY if absent */
+    int double_sided;
+} lvcl_material_desc;
+
+/* Decoded base-colour texture: width x height RGBA8, sRGB-encoded, row 0 at
+ * the top (glTF UV v = 0). */
+typedef struct {
+    uint32_t width, height;
+    uint8_t *rgba;
+} lvcl_texture_data;
+
+/* The glTF camera in world space; `present` is 0 if the file has none. */
+typedef struct {
+    int present;
+    float position[3];
+    float right[3], up[3], back[3]; /* world directions of local +X, +Y, +Z (unit) */
+    float yfov;                     /* vertical field of view, radians */
+    float aspect;                   /* width / height, 0 if the file leaves it open */
+} lvcl_camera_desc;
+
+typedef struct {
+    /* Vertex attributes, one entry per vertex. */
+    float *positions;   /* 3 floats per vertex, world space */
+    float *normals;     /* 3 per vertex (zero where the mesh has none) */
+    float *uvs;         /* 2 per vertex (zero where the mesh has none) */
+    size_t vertex_count;
+
+    /* Triangles in glTF order (nodes depth-first, primitives, index order). */
+    uint32_t *indices;      /* 3 per triangle */
+    uint32_t *tri_material; /* material index per triangle */
+    uint32_t *tri_flags;    /* LV_TRI_HAS_NORMALS | LV_TRI_HAS_UVS */
+    size_t triangle_count;
+
+    lvcl_material_desc *materials;
+    size_t material_count;
+
+    lvcl_texture_data *textures;
+    size_t texture_count;
+
+    lv_punctual_light *punctuals;
+    size_t punctual_count;
+
+    lvcl_camera_desc camera;
+} lvcl_scene;
+
+/* Loads a .gltf or .glb file (chosen by content, not extension). On failure
+ * the scene is left empty and `st` names the problem. */
+lvcl_error lvcl_scene_load_gltf_file(const char *path, lvcl_scene *scene, lvcl_status *st);
+
+/* Loads a glTF from memory; `base_dir` resolves relative URIs (may be ""). */
+lvcl_error lvcl_scene_load_gltf_memory(const void *data, size_t size, const char *base_dir,
+                                       lvcl_scene *scene, lvcl_status *st);
+
+/* Frees every array and zeroes the scene. Safe on a zeroed scene. */
+void lvcl_scene_free(lvcl_scene *scene);
+
+/* Axis-aligned bounds of all vertex positions. */
+void lvcl_scene_bounds(const lvcl_scene *scene, float bmin[3], float bmax[3]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,69 @@
+/* Small vector helpers, orthonormal frames and ray-origin offsets. */
+#ifndef LV_GEOMETRY_H
+#define LV_GEOMETRY_H
+
+#define LV_PI 3.14159265358979f
+#define LV_INV_PI 0.318309886183791f
+
+/* A float3 from three consecutive floats in any address space. */
+#define LV_F3(a) ((float3)((a)[0], (a)[1], (a)[2]))
+
+inline float lv_max3(float3 v)
+{
+    return fmax(v.x, fmax(v.y, v.z));
+}
+
+inline float lv_luminance(float3 c)
+{
+    return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+}
+
+inline int lv_finite3(float3 v)
+{
+    return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
+}
+
+/* An orthonormal frame around unit n, without branches on n's direction
+ * (Duff et al. 2017, "Building an orthonormal basis, revisited"). */
+typedef struct {
+    float3 t, b, n;
+} lv_frame;
+
+inline lv_frame lv_frame_make(float3 n)
+{
+    float s = n.z >= 0.0f ? 1.0f : -1.0f;
+    float a = -1.0f / (s + n.z);
+    float c = n.x * n.y * a;
+    lv_frame f;
+    f.t = (float3)(1.0f + s * n.x * n.x * a, s * c, -s * n.x);
+    f.b = (float3)(c, s + n.y * n.y * a, -n.y);
+    f.n = n;
+    return f;
+}
+
+inline float3 lv_to_local(lv_frame f, float3 v)
+{
+    return (float3)(dot(v, f.t), dot(v, f.b), dot(v, f.n));
+}
+
+inline float3 lv_to_world(lv_frame f, float3 v)
+{
+    return v.x * f.t + v.y * f.b + v.z * f.n;
+}
+
+/* Moves a surface point off its surface along the geometric normal n (on
+ * the side the new ray leaves from), so that the new ray cannot hit the
+ * surface it starts on. Far from the origin the step is a fixed number of
+ * float ulps, which scales with |p|; near the origin, where ulps vanish, it
+ * is a fixed fraction of the scene size (the idea of Waechter and Binder,
+ * Ray Tracing Gems ch. 6, made independent of the scene's units). */
+inline float3 lv_offset_origin(float3 p, float3 n, float scene_scale)
+{
+    const float near_origin = scene_scale * (1.0f / 32.0f);
+    const float absolute_step = scene_scale * (1.0f / 65536.0f);
+    int3 ulps = convert_int3(256.0f * n);
+    float3 stepped = as_float3(as_int3(p) + select(ulps, -ulps, as_int3(p) < 0));
+    return select(stepped, p + absolute_step * n, fabs(p) < near_origin);
+}
+
+#endif

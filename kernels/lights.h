@@ -1,0 +1,96 @@
+/* Light sampling for next-event estimation: one light chosen by power, then
+ * a point on it (area lights) or its position (punctual lights). */
+#ifndef LV_LIGHTS_H
+#define LV_LIGHTS_H
+
+#include "sampling.h"
+#include "surface.h"
+
+typedef struct {
+    float3 wi;       /* unit direction from the shading point to the light */
+    float3 target;   /* the point on the light, for the shadow ray */
+    float3 li;       /* incident radiance (area) or irradiance-like I / d^2 (punctual) */
+    float pdf;       /* solid-angle density, including the selection probability */
+    int delta;       /* punctual: no MIS, pdf holds only the selection probability */
+} lv_light_sample;
+
+/* Index of the light whose cumulative-probability interval holds u. */
+inline uint lv_pick_light(const lv_scene *sc, float u)
+{
+    uint lo = 0, hi = sc->info.light_count - 1;
+    while (lo < hi) {
+        uint mid = (lo + hi) / 2;
+        if (sc->lights[mid].cdf > u) hi = mid;
+        else lo = mid + 1;
+    }
+    return lo;
+}
+
+inline float lv_triangle_area(const lv_scene *sc, uint tri)
+{
+    __global const float4 *v = &sc->tri_vertices[3 * tri];
+    return 0.5f * length(cross(v[1].xyz - v[0].xyz, v[2].xyz - v[0].xyz));
+}
+
+#ifdef LV_FEATURE_PUNCTUAL
+/* glTF's spot cone: smooth between the outer and inner angles. */
+inline float lv_spot_falloff(lv_punctual_light l, float3 from_light)
+{
+    if (l.type != LV_PUNCTUAL_SPOT) return 1.0f;
+    float scale = 1.0f / fmax(0.001f, l.cos_inner - l.cos_outer);
+    float a = clamp((dot(LV_F3(l.direction), from_light) - l.cos_outer) * scale, 0.0f, 1.0f);
+    return a * a;
+}
+#endif
+
+inline int lv_sample_light(const lv_scene *sc, float3 p, float3 u, lv_light_sample *ls)
+{
+    if (sc->info.light_count == 0) return 0;
+    uint i = lv_pick_light(sc, u.z);
+    lv_light light = sc->lights[i];
+#ifdef LV_FEATURE_PUNCTUAL
+    if (light.kind == LV_LIGHT_PUNCTUAL) {
+        lv_punctual_light l = sc->punctuals[light.index];
+        float3 d = LV_F3(l.position) - p;
+        float dist2 = dot(d, d);
+        if (!(dist2 > 0.0f)) return 0;
+        ls->wi = d * rsqrt(dist2);
+        ls->target = LV_F3(l.position);
+        ls->li = LV_F3(l.intensity) * (lv_spot_falloff(l, -ls->wi) / dist2);
+        ls->pdf = light.pdf_select;
+        ls->delta = 1;
+        return 1;
+    }
+#endif
+    __global const float4 *v = &sc->tri_vertices[3 * light.index];
+    float2 b = lv_sample_triangle(u.xy);
+    float3 e1 = v[1].xyz - v[0].xyz, e2 = v[2].xyz - v[0].xyz;
+    float3 q = v[0].xyz + b.x * e1 + b.y * e2;
+    float3 n = cross(e1, e2);
+    float area = 0.5f * length(n);
+    n = normalize(n);
+    float3 d = q - p;
+    float dist2 = dot(d, d);
+    if (!(dist2 > 0.0f) || !(area > 0.0f)) return 0;
+    ls->wi = d * rsqrt(dist2);
+    float cos_l = -dot(ls->wi, n);
+    if (cos_l <= 0.0f) return 0; /* emitters shine from their front face only */
+    ls->target = lv_offset_origin(q, n, sc->info.scene_scale);
+    ls->li = LV_F3(sc->materials[sc->triangles[light.index].material].emission);
+    ls->pdf = light.pdf_select * lv_area_to_solid_angle(1.0f / area, dist2, cos_l);
+    ls->delta = 0;
+    return 1;
+}
+
+/* The solid-angle density with which lv_sample_light would have picked the
+ * point where a ray from p along unit dir hit emissive triangle `tri` at
+ * distance t. */
+inline float lv_light_pdf(const lv_scene *sc, uint tri, float3 dir, float t, float3 ng)
+{
+    uint light = sc->triangles[tri].light;
+    if (light == LV_NO_LIGHT) return 0.0f;
+    float area = lv_triangle_area(sc, tri);
+    return sc->lights[light].pdf_select * lv_area_to_solid_angle(1.0f / area, t * t, dot(dir, ng));
+}
+
+#endif

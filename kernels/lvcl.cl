@@ -1,0 +1,3 @@
+/* The one OpenCL program of lvcl: every pass's kernels, built together so
+ * that one compile (and one cache entry) serves a whole run. */
+#include "pt.cl"

@@ -1,0 +1,14 @@
+/* The path-tracing pass: one work-item per pixel, one sample per launch,
+ * added to a running sum per pixel (no atomics: each pixel has one owner). */
+#include "path.h"
+
+__kernel void lv_pt_pass(LV_SCENE_PARAMS, lv_camera camera, uint sample_index, __global float4 *sum)
+{
+    LV_SCENE_OPEN(sc);
+    uint pixel = get_global_id(0);
+    if (pixel >= camera.width * camera.height) return;
+    lv_rng rng = lv_rng_make(sc.info.seed, pixel, sample_index);
+    lv_ray r = lv_camera_ray(camera, pixel % camera.width, pixel / camera.width, lv_rng_next2(&rng));
+    float3 l = lv_path_radiance(&sc, r, &rng, sc.info.max_depth);
+    sum[pixel] += (float4)(l, 1.0f);
+}

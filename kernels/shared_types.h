@@ -1,0 +1,123 @@
+/* Types shared by the host (C11) and the kernels (OpenCL C 1.2).
+ *
+ * Only 32-bit scalars and fixed arrays of them: no vector types, whose size
+ * and alignment differ between C and OpenCL C. Every struct is a multiple of
+ * 16 bytes; host/device_layout.c checks sizes and offsets with static asserts.
+ */
+#ifndef LVCL_SHARED_TYPES_H
+#define LVCL_SHARED_TYPES_H
+
+#ifdef __OPENCL_C_VERSION__
+typedef uint lv_u32;
+typedef int lv_i32;
+#else
+#include <stdint.h>
+typedef uint32_t lv_u32;
+typedef int32_t lv_i32;
+#endif
+
+/* A BVH node in depth-first order. An interior node's first child is the
+ * next node; `index` is the second child. A leaf (count > 0) holds `count`
+ * triangles starting at `index` in the leaf-ordered triangle arrays. */
+typedef struct {
+    float bmin[3];
+    lv_i32 index;
+    float bmax[3];
+    lv_i32 count;
+} lv_bvh_node;
+
+/* Per triangle, in BVH leaf order: where its attributes live and what it is. */
+typedef struct {
+    lv_u32 v[3];      /* indices into the vertex attribute arrays */
+    lv_u32 material;  /* index into the material array */
+    lv_u32 prim_id;   /* global triangle index in glTF order (checksums) */
+    lv_u32 light;     /* index into the light table, or LV_NO_LIGHT */
+    lv_u32 flags;     /* LV_TRI_* */
+    lv_u32 pad;
+} lv_triangle;
+
+#define LV_NO_LIGHT 0xffffffffu
+#define LV_TRI_HAS_NORMALS 1u
+#define LV_TRI_HAS_UVS 2u
+
+/* BSDF families (DESIGN.md section 3); the host maps glTF materials here. */
+#define LV_BSDF_DIFFUSE 0     /* Lambertian */
+#define LV_BSDF_PLASTIC 1     /* diffuse base under a dielectric GGX (or smooth) layer */
+#define LV_BSDF_CONDUCTOR 2   /* GGX or smooth metal, Schlick Fresnel with F0 = base colour */
+#define LV_BSDF_GLASS 3       /* solid dielectric, smooth or GGX, Beer-Lambert inside */
+#define LV_BSDF_THIN_GLASS 4  /* thin-walled dielectric: reflection, straight transmission */
+#define LV_BSDF_COUNT 5
+
+typedef struct {
+    float base_color[3];
+    lv_i32 base_color_texture; /* index into lv_texture table, -1 if none */
+    float emission[3];         /* emitted radiance, W m^-2 sr^-1, front face */
+    lv_u32 bsdf;               /* LV_BSDF_* */
+    float alpha;               /* GGX alpha = roughness^2; 0 means smooth */
+    float ior;                 /* dielectric index of refraction */
+    float specular;            /* KHR_materials_specular factor (scales Fresnel) */
+    lv_u32 double_sided;
+    float attenuation[3];      /* absorption coefficient per metre inside glass */
+    float pad;
+} lv_material;
+
+/* A texture: width x height RGBA8 texels (sRGB-encoded colour) at `offset`
+ * texels into the shared texel buffer. */
+typedef struct {
+    lv_u32 offset;
+    lv_u32 width;
+    lv_u32 height;
+    lv_u32 pad;
+} lv_texture;
+
+/* One light (an emissive triangle or a punctual light), for light sampling.
+ * Lights are chosen with probability proportional to their power. */
+#define LV_LIGHT_AREA 0
+#define LV_LIGHT_PUNCTUAL 1
+
+typedef struct {
+    lv_u32 kind;       /* LV_LIGHT_AREA or LV_LIGHT_PUNCTUAL */
+    lv_u32 index;      /* leaf-ordered triangle index, or punctual light index */
+    float cdf;         /* cumulative selection probability up to and including this light */
+    float pdf_select;  /* probability of choosing this light */
+} lv_light;
+
+#define LV_PUNCTUAL_POINT 0
+#define LV_PUNCTUAL_SPOT 1
+
+typedef struct {
+    float position[3];
+    lv_u32 type;
+    float direction[3];   /* spot axis, unit */
+    float cos_outer;
+    float intensity[3];   /* radiant intensity, W/sr */
+    float cos_inner;
+} lv_punctual_light;
+
+/* The pinhole camera: a ray through pixel (x, y) of a W x H image has
+ * direction normalize(forward + sx * right + sy * up), with
+ * sx = (2 (x + u) / W - 1) and sy = (1 - 2 (y + v) / H); right and up are
+ * already scaled by the image-plane half extents. */
+typedef struct {
+    float origin[3];
+    lv_u32 width;
+    float forward[3];
+    lv_u32 height;
+    float right[3];
+    float pad0;
+    float up[3];
+    float pad1;
+} lv_camera;
+
+/* Everything a kernel needs to know about the scene besides its buffers. */
+typedef struct {
+    lv_u32 triangle_count;
+    lv_u32 light_count;
+    lv_u32 max_depth;
+    lv_u32 seed;
+    float total_light_power; /* summed over lights (luminance of RGB watts) */
+    float scene_scale;       /* largest extent of the scene bounds, metres */
+    float pad[2];
+} lv_scene_info;
+
+#endif

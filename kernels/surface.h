@@ -1,0 +1,106 @@
+/* What a ray hit: position, normals, texture coordinates and the BSDF there. */
+#ifndef LV_SURFACE_H
+#define LV_SURFACE_H
+
+#include "bsdf.h"
+#include "traverse.h"
+
+typedef struct {
+    float3 p;
+    float3 ng;        /* geometric normal of the front face (counter-clockwise winding), unit */
+    float3 ns;        /* shading normal on the same side as ng, unit */
+    float2 uv;
+    uint material;
+    int front;        /* the ray arrived on the front face */
+} lv_surface;
+
+#ifdef LV_FEATURE_TEXTURES
+inline float3 lv_srgb_to_linear(float3 c)
+{
+    return select(pow((c + 0.055f) * (1.0f / 1.055f), (float3)(2.4f)), c * (1.0f / 12.92f),
+                  c <= 0.04045f);
+}
+
+inline float4 lv_texel(const lv_scene *sc, lv_texture t, int x, int y)
+{
+    x = x % (int)t.width;
+    y = y % (int)t.height;
+    if (x < 0) x += (int)t.width;
+    if (y < 0) y += (int)t.height;
+    return convert_float4(sc->texels[t.offset + (uint)y * t.width + (uint)x]) * (1.0f / 255.0f);
+}
+
+/* Bilinear lookup with repeat wrapping; colour decoded from sRGB. */
+inline float3 lv_texture_rgb(const lv_scene *sc, int index, float2 uv)
+{
+    lv_texture t = sc->textures[index];
+    float x = uv.x * (float)t.width - 0.5f, y = uv.y * (float)t.height - 0.5f;
+    float fx = floor(x), fy = floor(y);
+    int x0 = (int)fx, y0 = (int)fy;
+    float ax = x - fx, ay = y - fy;
+    float4 c = mix(mix(lv_texel(sc, t, x0, y0), lv_texel(sc, t, x0 + 1, y0), ax),
+                   mix(lv_texel(sc, t, x0, y0 + 1), lv_texel(sc, t, x0 + 1, y0 + 1), ax), ay);
+    return lv_srgb_to_linear(c.xyz);
+}
+#endif
+
+inline lv_surface lv_surface_at(const lv_scene *sc, lv_ray r, lv_hit h)
+{
+    lv_surface s;
+    __global const float4 *v = &sc->tri_vertices[3 * h.tri];
+    float3 v0 = v[0].xyz, v1 = v[1].xyz, v2 = v[2].xyz;
+    float b0 = 1.0f - h.b1 - h.b2;
+    s.p = b0 * v0 + h.b1 * v1 + h.b2 * v2;
+    s.ng = normalize(cross(v1 - v0, v2 - v0));
+    s.front = dot(r.dir, s.ng) < 0.0f;
+    lv_triangle tri = sc->triangles[h.tri];
+    s.material = tri.material;
+    s.ns = s.ng;
+    if (tri.flags & LV_TRI_HAS_NORMALS) {
+        float3 n = b0 * vload3(tri.v[0], sc->normals) + h.b1 * vload3(tri.v[1], sc->normals) +
+                   h.b2 * vload3(tri.v[2], sc->normals);
+        float len2 = dot(n, n);
+        if (len2 > 0.0f && isfinite(len2)) {
+            n *= rsqrt(len2);
+            s.ns = dot(n, s.ng) < 0.0f ? -n : n;
+        }
+    }
+    s.uv = (float2)(0.0f);
+    if (tri.flags & LV_TRI_HAS_UVS)
+        s.uv = b0 * vload2(tri.v[0], sc->uvs) + h.b1 * vload2(tri.v[1], sc->uvs) +
+               h.b2 * vload2(tri.v[2], sc->uvs);
+    return s;
+}
+
+inline lv_bsdf lv_surface_bsdf(const lv_scene *sc, const lv_surface *s)
+{
+    __global const lv_material *m = &sc->materials[s->material];
+    lv_bsdf b;
+    b.type = m->bsdf;
+    b.base = LV_F3(m->base_color);
+#ifdef LV_FEATURE_TEXTURES
+    if (m->base_color_texture >= 0) b.base *= lv_texture_rgb(sc, m->base_color_texture, s->uv);
+#endif
+    b.alpha = m->alpha;
+    b.ior = m->ior;
+    b.specular = m->specular;
+    return b;
+}
+
+/* The shading frame at s for a ray arriving along dir, and whether the
+ * surface scatters light on that side at all. Opaque surfaces turn the frame
+ * toward the viewer when double-sided and are black from behind otherwise;
+ * dielectrics keep +z on the front face. */
+inline int lv_shading_frame(const lv_scene *sc, const lv_surface *s, float3 dir, lv_frame *f)
+{
+    __global const lv_material *m = &sc->materials[s->material];
+    float3 n = s->ns;
+    if (!lv_bsdf_transmits(m->bsdf) && !s->front) {
+        if (!m->double_sided) return 0;
+        n = -n;
+    }
+    *f = lv_frame_make(n);
+    return 1;
+}
+
+#endif
