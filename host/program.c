@@ -21,14 +21,15 @@ static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
     return h;
 }
 
-static void cache_path(const lvcl_device *dev, const char *options, char *path, size_t size)
+static void cache_path(const lvcl_device *dev, const char *options, const unsigned char *source, size_t source_size,
+                       char *path, size_t size)
 {
     uint64_t h = 0xcbf29ce484222325ull;
     h = fnv1a(h, dev->name, strlen(dev->name));
     h = fnv1a(h, dev->platform_name, strlen(dev->platform_name));
     h = fnv1a(h, dev->driver_version, strlen(dev->driver_version));
     h = fnv1a(h, options, strlen(options));
-    h = fnv1a(h, lvcl_kernel_source, lvcl_kernel_source_size);
+    h = fnv1a(h, source, source_size);
     snprintf(path, size, "%s/program-%016llx.bin", lvcl_cache_dir(), (unsigned long long)h);
 }
 
@@ -87,14 +88,21 @@ static lvcl_error build_log_error(const lvcl_device *dev, cl_program program, cl
 lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math,
                               lvcl_program *prog, lvcl_status *st)
 {
-    memset(prog, 0, sizeof *prog);
-    snprintf(prog->options, sizeof prog->options, "-cl-std=CL1.2%s%s%s%s",
-             fast_math ? " -cl-fast-relaxed-math" : "",
-             features & LVCL_FEATURE_GLASS ? " -DLV_FEATURE_GLASS" : "",
+    char defines[128];
+    snprintf(defines, sizeof defines, "%s%s%s", features & LVCL_FEATURE_GLASS ? " -DLV_FEATURE_GLASS" : "",
              features & LVCL_FEATURE_TEXTURES ? " -DLV_FEATURE_TEXTURES" : "",
              features & LVCL_FEATURE_PUNCTUAL ? " -DLV_FEATURE_PUNCTUAL" : "");
+    return lvcl_program_build_source(dev, lvcl_kernel_source, lvcl_kernel_source_size, defines, fast_math, prog, st);
+}
+
+lvcl_error lvcl_program_build_source(const lvcl_device *dev, const unsigned char *source, size_t source_size,
+                                     const char *defines, int fast_math, lvcl_program *prog, lvcl_status *st)
+{
+    memset(prog, 0, sizeof *prog);
+    snprintf(prog->options, sizeof prog->options, "-cl-std=CL1.2%s%s", fast_math ? " -cl-fast-relaxed-math" : "",
+             defines);
     char path[4096];
-    cache_path(dev, prog->options, path, sizeof path);
+    cache_path(dev, prog->options, source, source_size, path, sizeof path);
     double start = lvcl_seconds();
     cl_int err;
 
@@ -116,8 +124,8 @@ lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fas
         prog->program = NULL;
     }
 
-    const char *src = (const char *)lvcl_kernel_source;
-    prog->program = clCreateProgramWithSource(dev->context, 1, &src, &lvcl_kernel_source_size, &err);
+    const char *src = (const char *)source;
+    prog->program = clCreateProgramWithSource(dev->context, 1, &src, &source_size, &err);
     if (err != CL_SUCCESS)
         return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot create the kernel program: %s", lvcl_cl_error_name(err));
     err = clBuildProgram(prog->program, 1, &dev->id, prog->options, NULL, NULL);

@@ -23,6 +23,11 @@ typedef struct {
 lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math,
                               lvcl_program *prog, lvcl_status *st);
 
+/* The same for another program source (the tests' kernels), with `defines`
+ * appended to the options. */
+lvcl_error lvcl_program_build_source(const lvcl_device *dev, const unsigned char *source, size_t size,
+                                     const char *defines, int fast_math, lvcl_program *prog, lvcl_status *st);
+
 void lvcl_program_release(lvcl_program *prog);
 
 /* Creates a kernel of the program by name. */

@@ -2,7 +2,6 @@
 
 #include <stdio.h>
 
-#include "program.h"
 
 static void json_string(FILE *f, const char *s)
 {
@@ -20,28 +19,29 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
     FILE *f = fopen(path, "w");
     if (!f) return lvcl_fail(st, LVCL_ERR_IO, "cannot write stats to %s", path);
     const lvcl_render_result *r = s->result;
+    const lvcl_session *ss = s->session;
     double pixel_samples = (double)r->width * r->height * r->samples;
     fprintf(f, "{\n  \"scene\": ");
     json_string(f, s->options->scene);
     fprintf(f, ",\n  \"mode\": ");
     json_string(f, s->options->mode);
     fprintf(f, ",\n  \"device\": ");
-    json_string(f, s->device->name);
-    fprintf(f, ",\n  \"device_index\": %d,\n  \"platform\": ", s->device->index);
-    json_string(f, s->device->platform_name);
+    json_string(f, ss->device.name);
+    fprintf(f, ",\n  \"device_index\": %d,\n  \"platform\": ", ss->device.index);
+    json_string(f, ss->device.platform_name);
     fprintf(f,
             ",\n  \"triangles\": %zu,\n  \"triangles_skipped\": %zu,\n  \"bvh_nodes\": %zu,\n"
             "  \"bvh_depth\": %d,\n  \"bvh_bytes\": %zu,\n  \"device_bytes\": %zu,\n",
-            s->bvh->triangle_count, s->bvh->skipped, s->bvh->node_count, s->bvh->depth,
-            s->bvh->node_count * sizeof(lv_bvh_node), s->device_bytes);
+            ss->bvh.triangle_count, ss->bvh.skipped, ss->bvh.node_count, ss->bvh.depth,
+            ss->bvh.node_count * sizeof(lv_bvh_node), ss->device_scene.device_bytes);
     fprintf(f, "  \"kernel_options\": ");
-    json_string(f, s->program->options);
+    json_string(f, ss->program.options);
     fprintf(f,
             ",\n  \"kernel_from_cache\": %s,\n  \"kernel_build_seconds\": %.4f,\n"
             "  \"scene_load_seconds\": %.4f,\n  \"bvh_build_seconds\": %.4f,\n  \"startup_seconds\": %.4f,\n"
             "  \"first_launch_seconds\": %.4f,\n  \"render_seconds\": %.4f,\n",
-            s->program->from_cache ? "true" : "false", s->program->build_seconds, s->scene_load_seconds,
-            s->bvh_build_seconds, s->startup_seconds, r->first_launch_seconds, r->render_seconds);
+            ss->program.from_cache ? "true" : "false", ss->program.build_seconds, s->scene_load_seconds,
+            ss->bvh_build_seconds, s->startup_seconds, r->first_launch_seconds, r->render_seconds);
     fprintf(f,
             "  \"width\": %d,\n  \"height\": %d,\n  \"spp\": %d,\n  \"samples_per_second\": %.1f,\n"
             "  \"seed\": %u,\n  \"max_depth\": %d\n}\n",

@@ -181,10 +181,16 @@ inline float3 lv_bsdf_eval(const lv_bsdf *b, float3 wo, float3 wi, int mode)
         return wo.z > 0.0f && wi.z > 0.0f ? b->base * (wi.z * LV_INV_PI) : (float3)(0.0f);
     case LV_BSDF_PLASTIC: {
         if (wo.z <= 0.0f || wi.z <= 0.0f) return (float3)(0.0f);
-        float3 m = normalize(wo + wi);
-        float3 f = lv_plastic_fresnel(b, dot(wo, m));
-        float3 r = (1.0f - f) * b->base * (wi.z * LV_INV_PI);
-        if (b->alpha >= LV_SMOOTH_ALPHA) r += f * lv_ggx_reflection(wo, wi, b->alpha);
+        /* Light reaching the diffuse base crosses the layer twice, so the base
+         * is weighted by (1 - F) at both angles: reciprocal, and it never
+         * reflects more than the layer lets through (the glTF formula, which
+         * uses (1 - F) at the half vector, exceeds 1 at grazing angles). */
+        float3 r = (1.0f - lv_plastic_fresnel(b, wo.z)) * (1.0f - lv_plastic_fresnel(b, wi.z)) * b->base *
+                   (wi.z * LV_INV_PI);
+        if (b->alpha >= LV_SMOOTH_ALPHA) {
+            float3 m = normalize(wo + wi);
+            r += lv_plastic_fresnel(b, dot(wo, m)) * lv_ggx_reflection(wo, wi, b->alpha);
+        }
         return r;
     }
     case LV_BSDF_CONDUCTOR: {

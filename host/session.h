@@ -1,0 +1,45 @@
+/* A rendering session: a scene made ready on one device (BVH built, buffers
+ * uploaded, kernels built) and the passes run on it. lvcl's main, the tests
+ * and the benchmarks all render through this. */
+#ifndef LVCL_SESSION_H
+#define LVCL_SESSION_H
+
+#include "bvh.h"
+#include "camera.h"
+#include "device_scene.h"
+#include "program.h"
+#include "render_pt.h"
+#include "scene.h"
+
+typedef struct {
+    const char *device;  /* --device value, NULL for the default */
+    unsigned seed;
+    int max_depth;
+    int fast_math;
+} lvcl_session_config;
+
+typedef struct {
+    lvcl_scene scene;
+    lvcl_bvh bvh;
+    lvcl_packed_scene packed;
+    lvcl_device device;
+    lvcl_device_scene device_scene;
+    lvcl_program program;
+    unsigned features;
+    double bvh_build_seconds;
+} lvcl_session;
+
+/* Loads a scene from a .gltf/.glb path or an embedded scene name. */
+lvcl_error lvcl_scene_load(const char *name, lvcl_scene *scene, lvcl_status *st);
+
+/* Takes ownership of *scene (left zeroed) and prepares it on the device.
+ * On failure the session is closed again. */
+lvcl_error lvcl_session_open(lvcl_session *s, lvcl_scene *scene, const lvcl_session_config *cfg, lvcl_status *st);
+
+/* Path-traces a width x height image (0 = from the camera's aspect). */
+lvcl_error lvcl_session_render_pt(lvcl_session *s, int width, int height, const lvcl_pt_settings *settings,
+                                  lvcl_render_result *out, lvcl_status *st);
+
+void lvcl_session_close(lvcl_session *s);
+
+#endif

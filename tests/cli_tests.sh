@@ -1,0 +1,79 @@
+#!/bin/sh
+# Command-line tests of BUILD/lvcl: bad input of every kind must end with one
+# line "lvcl: error: ..." and a non-zero status, never a crash; good input
+# must render, write its files and report its statistics.
+build=${1:-build}
+lvcl="$build/lvcl"
+data=$(dirname "$0")/data/gltf
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+pass() { echo "PASS $1"; }
+fail() { echo "FAIL $1: $2"; }
+
+# expect_error NAME EXPECTED_STATUS ARGS...: one line on stderr naming an
+# error, the expected exit status, nothing from a sanitizer or a signal.
+expect_error() {
+    name=$1 want=$2
+    shift 2
+    "$lvcl" -q "$@" >"$tmp/stdout" 2>"$tmp/err"
+    status=$?
+    lines=$(wc -l <"$tmp/err")
+    if [ "$status" -ne "$want" ]; then
+        fail "$name" "exit status $status, expected $want; stderr: $(head -3 "$tmp/err")"
+    elif [ "$lines" -ne 1 ] || ! grep -q '^lvcl: error: ' "$tmp/err"; then
+        fail "$name" "expected one error line, got $lines: $(head -3 "$tmp/err")"
+    else
+        pass "$name"
+    fi
+}
+
+expect_error "missing file" 1 "$tmp/no-such-scene.gltf"
+expect_error "malformed JSON" 1 "$data/malformed.gltf"
+expect_error "truncated .glb" 1 "$data/truncated.glb"
+expect_error "buffer index out of range" 1 "$data/bad_buffer_index.gltf"
+expect_error "accessor past its buffer" 1 "$data/accessor_past_end.gltf"
+expect_error "bufferView index out of range" 1 "$data/bad_bufferview_index.gltf"
+expect_error "index value out of range" 1 "$data/bad_index_value.gltf"
+expect_error "node cycle" 1 "$data/node_cycle.gltf"
+expect_error "required extension not supported" 1 "$data/draco_required.gltf"
+expect_error "scene without triangles" 1 "$data/no_triangles.gltf"
+expect_error "unknown flag" 2 --frobnicate cornell
+expect_error "flag without value" 2 cornell --spp
+expect_error "spp not a number" 2 --spp many cornell
+expect_error "spp zero" 2 --spp 0 cornell
+expect_error "negative width" 2 --width -5 cornell
+expect_error "unknown mode" 2 --mode magic cornell
+expect_error "two scenes" 2 cornell furnace
+expect_error "unknown device name" 2 --device tpu cornell
+expect_error "device index out of range" 1 --device 99 cornell
+expect_error "unwritable output" 1 --spp 1 --width 8 -o "$tmp/no/such/dir/x.png" cornell
+expect_error "unknown output format" 1 --spp 1 --width 8 -o "$tmp/x.unknownformat" cornell
+
+if "$lvcl" --help | grep -q -- '--device'; then pass "--help lists the flags"; else fail "--help" "no --device in the text"; fi
+if "$lvcl" --list-devices | grep -q '^0 '; then pass "--list-devices"; else fail "--list-devices" "no device 0"; fi
+
+# A small render writes both default outputs, in out/ under the working directory.
+(cd "$tmp" && "$OLDPWD/$lvcl" -q --spp 2 --width 32 cornell) 2>"$tmp/err"
+if [ -s "$tmp/out/cornell.exr" ] && [ -s "$tmp/out/cornell.png" ]; then pass "default outputs in out/"
+else fail "default outputs in out/" "$(cat "$tmp/err")"; fi
+
+# Stats: the fields the README promises, and a warm cache on the second run.
+"$lvcl" -q --spp 2 --width 32 --stats "$tmp/s1.json" -o "$tmp/a.exr" cornell 2>/dev/null
+"$lvcl" -q --spp 2 --width 32 --stats "$tmp/s2.json" -o "$tmp/b.exr" cornell 2>/dev/null
+missing=""
+for key in device triangles bvh_build_seconds bvh_bytes kernel_build_seconds kernel_from_cache render_seconds \
+    samples_per_second startup_seconds; do
+    grep -q "\"$key\"" "$tmp/s1.json" 2>/dev/null || missing="$missing $key"
+done
+if [ -z "$missing" ]; then pass "stats fields"; else fail "stats fields" "missing:$missing"; fi
+if grep -q '"kernel_from_cache": true' "$tmp/s2.json" 2>/dev/null; then pass "second run loads kernels from cache"
+else fail "second run loads kernels from cache" "$(grep cache "$tmp/s2.json")"; fi
+if cmp -s "$tmp/a.exr" "$tmp/b.exr"; then pass "same seed, same image"; else fail "same seed, same image" "EXR files differ"; fi
+
+# Non-finite vertices are skipped with a warning, and the image stays finite.
+"$lvcl" -q --spp 2 --width 32 -o "$tmp/nan.exr" "$data/nan_vertex.gltf" 2>"$tmp/err"
+status=$?
+if [ $status -eq 0 ] && grep -q 'warning' "$tmp/err" && "$build/lvcl-compare" "$tmp/nan.exr" "$tmp/nan.exr" | grep -qv 'nan'
+then pass "NaN vertices skipped with a warning"
+else fail "NaN vertices skipped with a warning" "status $status: $(cat "$tmp/err")"; fi

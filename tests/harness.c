@@ -1,0 +1,105 @@
+#include "harness.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../host/materials.h"
+
+extern const unsigned char lvcl_test_kernel_source[];
+extern const size_t lvcl_test_kernel_source_size;
+
+static void die(const char *what, const char *why)
+{
+    printf("FAIL harness: %s: %s\n", what, why);
+    exit(1);
+}
+
+void harness_cl(cl_int err, const char *what)
+{
+    if (err != CL_SUCCESS) die(what, lvcl_cl_error_name(err));
+}
+
+void harness_open(const char *spec, lvcl_device *dev, lvcl_program *prog)
+{
+    lvcl_status st = {0};
+    lvcl_device_prepare_environment();
+    if (!spec) spec = getenv("LVCL_TEST_DEVICE");
+    if (lvcl_device_open(spec, dev, &st)) die("opening the device", st.message);
+    if (lvcl_program_build_source(dev, lvcl_test_kernel_source, lvcl_test_kernel_source_size,
+                                  " -DLV_FEATURE_GLASS -DLV_FEATURE_TEXTURES -DLV_FEATURE_PUNCTUAL", 1, prog, &st))
+        die("building the test kernels", st.message);
+}
+
+void harness_close(lvcl_device *dev, lvcl_program *prog)
+{
+    lvcl_program_release(prog);
+    lvcl_device_close(dev);
+}
+
+void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *s)
+{
+    memset(s, 0, sizeof *s);
+    s->vertex_count = 3 * count;
+    s->triangle_count = count;
+    s->positions = malloc(9 * count * sizeof(float));
+    s->normals = calloc(9 * count, sizeof(float));
+    s->uvs = calloc(6 * count, sizeof(float));
+    s->indices = malloc(3 * count * sizeof(uint32_t));
+    s->tri_material = calloc(count, sizeof(uint32_t));
+    s->tri_flags = calloc(count, sizeof(uint32_t));
+    s->materials = calloc(1, sizeof *s->materials);
+    if (!s->positions || !s->normals || !s->uvs || !s->indices || !s->tri_material || !s->tri_flags || !s->materials)
+        die("making a scene", "out of memory");
+    memcpy(s->positions, tris, 9 * count * sizeof(float));
+    for (size_t i = 0; i < 3 * count; i++) s->indices[i] = (uint32_t)i;
+    s->material_count = 1;
+    lvcl_material_desc *m = &s->materials[0];
+    m->base_color[0] = m->base_color[1] = m->base_color[2] = m->base_color[3] = 0.5f;
+    m->base_color_texture = -1;
+    m->ior = 1.5f;
+    m->double_sided = 1;
+}
+
+void harness_run(const lvcl_device *dev, cl_kernel k, size_t global)
+{
+    size_t local = 64;
+    global = (global + local - 1) / local * local;
+    harness_cl(clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL), "launching");
+    harness_cl(clFinish(dev->queue), "running");
+}
+
+void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_scene *scene,
+                   const char *kernel_name, const float *rays, size_t count, float *results)
+{
+    lvcl_status st = {0};
+    lvcl_bvh bvh;
+    lvcl_packed_scene packed;
+    lvcl_device_scene ds;
+    if (lvcl_bvh_build(scene->positions, scene->indices, scene->triangle_count, &bvh, &st) ||
+        lvcl_pack_scene(scene, &bvh, 0, 8, &packed, &st) || lvcl_device_scene_upload(dev, scene, &packed, &ds, &st))
+        die("preparing the scene", st.message);
+    cl_kernel k;
+    if (lvcl_kernel_create(prog, kernel_name, &k, &st)) die("creating the kernel", st.message);
+    cl_int err;
+    cl_mem rbuf = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, count * 8 * sizeof(float),
+                                 (void *)rays, &err);
+    harness_cl(err, "allocating rays");
+    cl_mem obuf = clCreateBuffer(dev->context, CL_MEM_WRITE_ONLY, count * 4 * sizeof(float), NULL, &err);
+    harness_cl(err, "allocating results");
+    int a = lvcl_device_scene_set_args(&ds, k, 0);
+    cl_uint n = (cl_uint)count;
+    if (a < 0) die("setting arguments", "scene");
+    harness_cl(clSetKernelArg(k, (cl_uint)a, sizeof rbuf, &rbuf), "arg");
+    harness_cl(clSetKernelArg(k, (cl_uint)a + 1, sizeof n, &n), "arg");
+    harness_cl(clSetKernelArg(k, (cl_uint)a + 2, sizeof obuf, &obuf), "arg");
+    harness_run(dev, k, count);
+    harness_cl(clEnqueueReadBuffer(dev->queue, obuf, CL_TRUE, 0, count * 4 * sizeof(float), results, 0, NULL, NULL),
+               "reading results");
+    clReleaseMemObject(rbuf);
+    clReleaseMemObject(obuf);
+    clReleaseKernel(k);
+    lvcl_device_scene_release(&ds);
+    lvcl_packed_scene_free(&packed);
+    lvcl_bvh_free(&bvh);
+}

@@ -1,0 +1,28 @@
+/* Shared set-up for the tests that run kernels: a device, the test program
+ * (tests/kernels/unit_tests.cl) and scenes made from triangle lists. */
+#ifndef LVCL_TEST_HARNESS_H
+#define LVCL_TEST_HARNESS_H
+
+#include "../host/session.h"
+
+/* Opens device `spec` (NULL: $LVCL_TEST_DEVICE or the default) and builds
+ * the test program on it. Exits the test program with a message on failure. */
+void harness_open(const char *spec, lvcl_device *dev, lvcl_program *prog);
+void harness_close(lvcl_device *dev, lvcl_program *prog);
+
+/* A scene of `count` triangles given as 9 floats each, all one diffuse
+ * material; the scene owns copies. */
+void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *scene);
+
+/* Traces rays (8 floats each, the layout of t_trace) through the scene with
+ * kernel `kernel_name`; results get 4 floats per ray. */
+void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_scene *scene,
+                   const char *kernel_name, const float *rays, size_t count, float *results);
+
+/* Runs a 1-D kernel over `global` items (padded to 64) and waits. */
+void harness_run(const lvcl_device *dev, cl_kernel k, size_t global);
+
+/* Aborts the test program with a message if err is not CL_SUCCESS. */
+void harness_cl(cl_int err, const char *what);
+
+#endif

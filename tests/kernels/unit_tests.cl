@@ -1,0 +1,144 @@
+/* Kernels that exercise lvcl's device code directly, for tests/test_kernels.c.
+ * Built with every feature switch on, so all BSDFs are present. */
+#include "../../kernels/direction_map.h"
+#include "../../kernels/path.h"
+
+inline float3 uniform_sphere(float2 u)
+{
+    float z = 1.0f - 2.0f * u.x;
+    float r = sqrt(fmax(0.0f, 1.0f - z * z));
+    float phi = 2.0f * LV_PI * u.y;
+    return (float3)(r * cos(phi), r * sin(phi), z);
+}
+
+/* Histogram of uniformly distributed directions over the 2 n^2 bins. */
+__kernel void t_direction_histogram(uint n, uint per_item, __global uint *counts)
+{
+    lv_rng rng = lv_rng_make(7u, get_global_id(0), 0u);
+    for (uint k = 0; k < per_item; k++) {
+        uint bin = lv_direction_bin(uniform_sphere(lv_rng_next2(&rng)), n);
+        atomic_inc(&counts[bin]);
+    }
+}
+
+/* Directions drawn inside each bin must map back to it; counts misses. */
+__kernel void t_direction_roundtrip(uint n, uint per_item, __global uint *misses)
+{
+    uint bin = get_global_id(0);
+    if (bin >= 2u * n * n) return;
+    lv_rng rng = lv_rng_make(11u, bin, 0u);
+    for (uint k = 0; k < per_item; k++) {
+        /* Stay a little inside the bin: its edges are shared with neighbours. */
+        float2 u = 0.02f + 0.96f * lv_rng_next2(&rng);
+        float3 w = lv_bin_direction(bin, n, u);
+        if (lv_direction_bin(w, n) != bin || fabs(length(w) - 1.0f) > 1e-4f) atomic_inc(misses);
+    }
+}
+
+/* Monte Carlo moments of one BSDF seen from one direction. config: 8 floats
+ * per BSDF (type, base rgb, alpha, ior, specular, mode); wos: 4 floats per
+ * direction. out: 8 floats per (config, wo):
+ *   0  integral of pdf over the sphere (uniform sampling)
+ *   1  fraction of lv_bsdf_sample_dir calls giving a non-delta direction
+ *   2  integral of luminance(eval) over the sphere
+ *   3  mean luminance(weight) of non-delta samples (failures count 0)
+ *   4  mean luminance(weight) of all samples, delta included: the albedo
+ *   5  largest relative reciprocity error f(wo,wi)/|cos wi| vs f(wi,wo)/|cos wo|
+ *   6  largest relative mismatch between a sample's weight*pdf and eval
+ *   7  largest relative mismatch between a sample's pdf and lv_bsdf_pdf */
+__kernel void t_bsdf_moments(__global const float *config, uint count, __global const float4 *wos, uint n_wo,
+                             uint samples, __global float *out)
+{
+    uint item = get_global_id(0);
+    if (item >= count) return;
+    __global const float *c = config + 8 * (item / n_wo);
+    lv_bsdf b;
+    b.type = (uint)c[0];
+    b.base = (float3)(c[1], c[2], c[3]);
+    b.alpha = c[4];
+    b.ior = c[5];
+    b.specular = c[6];
+    int mode = (int)c[7];
+    float3 wo = normalize(wos[item % n_wo].xyz);
+    lv_rng rng = lv_rng_make(3u, item, 0u);
+
+    float pdf_int = 0.0f, eval_int = 0.0f, recip = 0.0f;
+    for (uint k = 0; k < samples; k++) {
+        float3 w = uniform_sphere(lv_rng_next2(&rng));
+        pdf_int += lv_bsdf_pdf(&b, wo, w);
+        float3 f = lv_bsdf_eval(&b, wo, w, mode);
+        eval_int += lv_luminance(f);
+        /* Reciprocity holds for reflection; refraction is tested by energy. */
+        if (wo.z * w.z > 0.0f && fabs(w.z) > 0.05f) {
+            float a = lv_luminance(f) / fabs(w.z);
+            float r = lv_luminance(lv_bsdf_eval(&b, w, wo, mode)) / fabs(wo.z);
+            float scale = fmax(fmax(a, r), 1e-3f);
+            recip = fmax(recip, fabs(a - r) / scale);
+        }
+    }
+    float ok = 0.0f, smooth_weight = 0.0f, all_weight = 0.0f, weight_err = 0.0f, pdf_err = 0.0f;
+    for (uint k = 0; k < samples; k++) {
+        lv_bsdf_sample s;
+        float3 u = (float3)(lv_rng_next2(&rng), lv_rng_next(&rng));
+        if (!lv_bsdf_sample_dir(&b, wo, u, mode, &s)) continue;
+        float wl = lv_luminance(s.weight);
+        all_weight += wl;
+        if (s.delta) continue;
+        ok += 1.0f;
+        smooth_weight += wl;
+        float pdf = lv_bsdf_pdf(&b, wo, s.wi);
+        float e = lv_luminance(lv_bsdf_eval(&b, wo, s.wi, mode));
+        pdf_err = fmax(pdf_err, fabs(pdf - s.pdf) / fmax(pdf, 1e-3f));
+        weight_err = fmax(weight_err, fabs(wl * s.pdf - e) / fmax(e, 1e-3f));
+    }
+    __global float *o = out + 8 * item;
+    o[0] = 4.0f * LV_PI * pdf_int / (float)samples;
+    o[1] = ok / (float)samples;
+    o[2] = 4.0f * LV_PI * eval_int / (float)samples;
+    o[3] = smooth_weight / (float)samples;
+    o[4] = all_weight / (float)samples;
+    o[5] = recip;
+    o[6] = weight_err;
+    o[7] = pdf_err;
+}
+
+/* Rays: 8 floats each (origin xyz, tmax, dir xyz, unused). Results: 4 per
+ * ray (t, prim_id or -1, any-hit flag, unused). */
+__kernel void t_trace(LV_SCENE_PARAMS, __global const float *rays, uint count, __global float *results)
+{
+    LV_SCENE_OPEN(sc);
+    uint i = get_global_id(0);
+    if (i >= count) return;
+    __global const float *q = rays + 8 * i;
+    lv_ray r;
+    r.origin = (float3)(q[0], q[1], q[2]);
+    r.tmax = q[3];
+    r.dir = (float3)(q[4], q[5], q[6]);
+    lv_hit h = lv_trace(&sc, r, 0);
+    results[4 * i + 0] = h.t;
+    results[4 * i + 1] = h.tri == LV_NO_HIT ? -1.0f : (float)sc.triangles[h.tri].prim_id;
+    results[4 * i + 2] = lv_trace(&sc, r, 1).tri == LV_NO_HIT ? 0.0f : 1.0f;
+}
+
+/* The same rays against every triangle, without the BVH. */
+__kernel void t_trace_brute_force(LV_SCENE_PARAMS, __global const float *rays, uint count, __global float *results)
+{
+    LV_SCENE_OPEN(sc);
+    uint i = get_global_id(0);
+    if (i >= count) return;
+    __global const float *q = rays + 8 * i;
+    lv_ray r;
+    r.origin = (float3)(q[0], q[1], q[2]);
+    r.tmax = q[3];
+    r.dir = (float3)(q[4], q[5], q[6]);
+    lv_sheared_ray s = lv_shear_ray(r);
+    float t = r.tmax, b1, b2;
+    int best = -1;
+    for (uint k = 0; k < sc.info.triangle_count; k++) {
+        __global const float4 *v = &sc.tri_vertices[3 * k];
+        if (lv_intersect_triangle(&s, v[0], v[1], v[2], &t, &b1, &b2)) best = (int)k;
+    }
+    results[4 * i + 0] = t;
+    results[4 * i + 1] = best < 0 ? -1.0f : (float)sc.triangles[best].prim_id;
+    results[4 * i + 2] = best < 0 ? 0.0f : 1.0f;
+}
