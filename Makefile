@@ -103,7 +103,7 @@ test: all
 ASAN_FLAGS := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 test-asan: $(BUILD)/.deps-ok
 	$(MAKE) BUILD=$(BUILD)/asan CFLAGS="$(ASAN_FLAGS)" CXXFLAGS="$(ASAN_FLAGS)" \
-	  $(BUILD)/asan/lvcl $(BUILD)/asan/tests/test_gltf_import
+	  $(BUILD)/asan/lvcl $(BUILD)/asan/lvcl-compare $(BUILD)/asan/tests/test_gltf_import
 	@ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=tests/asan/lsan.supp \
 	  tests/run.sh $(BUILD)/asan --asan
 
@@ -139,3 +139,33 @@ validate-converter: $(VENV)/.stamp
 
 clean:
 	rm -rf $(BUILD) out
+
+# ---- benchmarks ----
+# lvcl-bench rays: ray throughput on the workloads of bench/RAYS.md (shared
+# notes). Where Debian's libembree-dev (Embree 3) is installed, the same rays
+# are also traced with Embree and the ratio reported; otherwise the JSON says
+# "embree": null.
+.PHONY: bench
+EMBREE_HEADER := /usr/include/embree3/rtcore.h
+BENCH_SOURCES := bench/rays.c
+BENCH_FLAGS :=
+BENCH_LIBS :=
+ifneq ($(wildcard $(EMBREE_HEADER)),)
+BENCH_SOURCES += bench/embree_compare.c
+BENCH_FLAGS += -DLVCL_HAVE_EMBREE -fopenmp
+BENCH_LIBS += -lembree3
+endif
+
+$(BUILD)/lvcl-bench: $(BENCH_SOURCES) bench/rays.h host/*.h $(BUILD)/liblvcl.a
+	$(CC) $(ALL_CFLAGS) $(BENCH_FLAGS) -o $@ $(BENCH_SOURCES) $(BUILD)/liblvcl.a $(LIBS) $(BENCH_LIBS)
+
+# A ~1M-triangle scene made by the project's own generator (not checked in).
+BIG_SCENE := $(BUILD)/bench/big_room.glb
+$(BIG_SCENE): bench/make_big_scene.py
+	@mkdir -p $(@D)
+	python3 bench/make_big_scene.py $@
+
+bench: $(BUILD)/lvcl-bench $(BIG_SCENE)
+	@mkdir -p $(BUILD)/bench
+	$(BUILD)/lvcl-bench rays cornell | tee $(BUILD)/bench/rays_cornell.jsonl
+	$(BUILD)/lvcl-bench rays $(BIG_SCENE) | tee $(BUILD)/bench/rays_big_room.jsonl

@@ -10,6 +10,9 @@ lvcl_error lvcl_fail(lvcl_status *st, lvcl_error code, const char *fmt, ...)
         va_start(ap, fmt);
         vsnprintf(st->message, sizeof st->message, fmt, ap);
         va_end(ap);
+        /* Messages from libraries may span lines; an error is one line. */
+        for (char *c = st->message; *c; c++)
+            if (*c == '\n' || *c == '\r') *c = ' ';
         st->code = code;
     }
     return code;

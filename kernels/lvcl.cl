@@ -1,3 +1,4 @@
 /* The one OpenCL program of lvcl: every pass's kernels, built together so
  * that one compile (and one cache entry) serves a whole run. */
 #include "pt.cl"
+#include "rays.cl"

@@ -142,3 +142,41 @@ __kernel void t_trace_brute_force(LV_SCENE_PARAMS, __global const float *rays, u
     results[4 * i + 1] = best < 0 ? -1.0f : (float)sc.triangles[best].prim_id;
     results[4 * i + 2] = best < 0 ? 0.0f : 1.0f;
 }
+
+/* Self-intersection after the principled offset: each ray's closest hit is
+ * re-shot from lv_offset_origin(hit point, geometric normal on the new ray's
+ * side), as the path tracer does. reshoot: per ray, the new direction in the
+ * frame of that normal (xyz, z > 0) and w > 0 to stay on the side the ray
+ * came from (reflection) or w < 0 to cross the surface (transmission).
+ * Results: 4 floats per ray (prim_id first hit or -1, prim_id the new ray
+ * hits or -1, its t, distance of the new origin from the hit point). */
+__kernel void t_offset_rays(LV_SCENE_PARAMS, __global const float *rays, uint count, __global const float4 *reshoot,
+                            __global float *results)
+{
+    LV_SCENE_OPEN(sc);
+    uint i = get_global_id(0);
+    if (i >= count) return;
+    __global const float *q = rays + 8 * i;
+    __global float *o = results + 4 * i;
+    lv_ray r;
+    r.origin = (float3)(q[0], q[1], q[2]);
+    r.tmax = q[3];
+    r.dir = (float3)(q[4], q[5], q[6]);
+    lv_hit h = lv_trace(&sc, r, 0);
+    o[0] = o[1] = -1.0f;
+    o[2] = o[3] = 0.0f;
+    if (h.tri == LV_NO_HIT) return;
+    lv_surface s = lv_surface_at(&sc, r, h);
+    float3 ng_in = dot(r.dir, s.ng) < 0.0f ? s.ng : -s.ng; /* towards the arriving ray */
+    float4 l = reshoot[i];
+    float3 n = l.w > 0.0f ? ng_in : -ng_in;
+    lv_ray r2;
+    r2.origin = lv_offset_origin(s.p, n, sc.info.scene_scale);
+    r2.dir = lv_to_world(lv_frame_make(n), l.xyz);
+    r2.tmax = LV_FAR;
+    lv_hit h2 = lv_trace(&sc, r2, 0);
+    o[0] = (float)sc.triangles[h.tri].prim_id;
+    o[1] = h2.tri == LV_NO_HIT ? -1.0f : (float)sc.triangles[h2.tri].prim_id;
+    o[2] = h2.t;
+    o[3] = length(r2.origin - s.p);
+}

@@ -1,0 +1,192 @@
+/* The Embree 3 side of the ray-throughput benchmark: the same triangles and
+ * the same rays as lvcl, traced on every CPU thread. */
+#include "rays.h"
+
+#include <embree3/rtcore.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../host/timer.h"
+
+struct bench_embree {
+    RTCDevice device;
+    RTCScene scene;
+};
+
+bench_embree *bench_embree_create(const float *positions, size_t vertex_count, const uint32_t *indices,
+                                  size_t triangle_count, double *build_seconds)
+{
+    bench_embree *e = calloc(1, sizeof *e);
+    if (!e || !(e->device = rtcNewDevice(NULL))) {
+        free(e);
+        return NULL;
+    }
+    double start = lvcl_seconds();
+    e->scene = rtcNewScene(e->device);
+    /* Full SAH quality, like lvcl's binned-SAH build: the comparison is of
+     * traversal, and a cheaper tree would handicap Embree. */
+    rtcSetSceneBuildQuality(e->scene, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry g = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                       vertex_count);
+    unsigned *ix = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+                                           triangle_count);
+    if (!v || !ix) {
+        rtcReleaseGeometry(g);
+        bench_embree_destroy(e);
+        return NULL;
+    }
+    memcpy(v, positions, vertex_count * 3 * sizeof(float));
+    memcpy(ix, indices, triangle_count * 3 * sizeof(unsigned));
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(e->scene, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(e->scene);
+    *build_seconds = lvcl_seconds() - start;
+    return e;
+}
+
+#ifndef BENCH_EMBREE_MODE
+#define BENCH_EMBREE_MODE 0
+#endif
+
+static void set_ray(struct RTCRay *r, const bench_ray *b)
+{
+    r->org_x = b->origin[0];
+    r->org_y = b->origin[1];
+    r->org_z = b->origin[2];
+    r->tnear = 0.0f;
+    r->dir_x = b->dir[0];
+    r->dir_y = b->dir[1];
+    r->dir_z = b->dir[2];
+    r->time = 0.0f;
+    r->tfar = b->tmax;
+    r->mask = 0xffffffffu;
+    r->id = 0;
+    r->flags = 0;
+}
+
+static void trace_one(RTCScene scene, const bench_ray *b, int any_hit, bench_hit *h)
+{
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    memset(h, 0, sizeof *h);
+    if (any_hit) {
+        struct RTCRay r;
+        set_ray(&r, b);
+        rtcOccluded1(scene, &ctx, &r);
+        h->t = b->tmax;
+        h->prim_id = r.tfar < 0.0f ? 0u : BENCH_NO_HIT; /* Embree sets tfar = -inf when occluded */
+        return;
+    }
+    struct RTCRayHit rh;
+    set_ray(&rh.ray, b);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &ctx, &rh);
+    h->t = rh.ray.tfar;
+    h->prim_id = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? BENCH_NO_HIT : rh.hit.primID;
+}
+
+#define PACKET 16
+
+/* Rays [first, first + n) as one packet of up to 16 (SoA). */
+static void trace_packet(RTCScene scene, const bench_ray *rays, size_t n, int any_hit, bench_hit *hits)
+{
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    struct RTCRayHit16 rh __attribute__((aligned(64)));
+    int valid[PACKET] __attribute__((aligned(64)));
+    for (size_t k = 0; k < PACKET; k++) {
+        valid[k] = k < n ? -1 : 0;
+        const bench_ray *b = &rays[k < n ? k : 0];
+        rh.ray.org_x[k] = b->origin[0];
+        rh.ray.org_y[k] = b->origin[1];
+        rh.ray.org_z[k] = b->origin[2];
+        rh.ray.dir_x[k] = b->dir[0];
+        rh.ray.dir_y[k] = b->dir[1];
+        rh.ray.dir_z[k] = b->dir[2];
+        rh.ray.tnear[k] = 0.0f;
+        rh.ray.tfar[k] = b->tmax;
+        rh.ray.time[k] = 0.0f;
+        rh.ray.mask[k] = 0xffffffffu;
+        rh.ray.id[k] = 0;
+        rh.ray.flags[k] = 0;
+        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    if (any_hit) rtcOccluded16(valid, scene, &ctx, &rh.ray);
+    else rtcIntersect16(valid, scene, &ctx, &rh);
+    for (size_t k = 0; k < n; k++) {
+        bench_hit *h = &hits[k];
+        memset(h, 0, sizeof *h);
+        if (any_hit) {
+            h->t = rays[k].tmax;
+            h->prim_id = rh.ray.tfar[k] < 0.0f ? 0u : BENCH_NO_HIT;
+        } else {
+            h->t = rh.ray.tfar[k];
+            h->prim_id = rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? BENCH_NO_HIT : rh.hit.primID[k];
+        }
+    }
+}
+
+static void trace_stream(RTCScene scene, const bench_ray *rays, size_t n, int any_hit, bench_hit *hits)
+{
+    enum { CHUNK = 256 };
+    struct RTCRayHit rh[CHUNK];
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (size_t k = 0; k < n; k++) {
+        set_ray(&rh[k].ray, &rays[k]);
+        rh[k].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    }
+    if (any_hit) rtcOccluded1M(scene, &ctx, &rh[0].ray, (unsigned)n, sizeof(struct RTCRayHit));
+    else rtcIntersect1M(scene, &ctx, rh, (unsigned)n, sizeof(struct RTCRayHit));
+    for (size_t k = 0; k < n; k++) {
+        bench_hit *h = &hits[k];
+        memset(h, 0, sizeof *h);
+        if (any_hit) {
+            h->t = rays[k].tmax;
+            h->prim_id = rh[k].ray.tfar < 0.0f ? 0u : BENCH_NO_HIT;
+        } else {
+            h->t = rh[k].ray.tfar;
+            h->prim_id = rh[k].hit.geomID == RTC_INVALID_GEOMETRY_ID ? BENCH_NO_HIT : rh[k].hit.primID;
+        }
+    }
+}
+
+void bench_embree_trace(bench_embree *e, const bench_ray *rays, size_t count, int any_hit, bench_hit *hits)
+{
+    int mode = getenv("BENCH_EMBREE_MODE") ? atoi(getenv("BENCH_EMBREE_MODE")) : BENCH_EMBREE_MODE;
+    if (mode == 0) {
+#pragma omp parallel for schedule(dynamic, 1024)
+        for (size_t i = 0; i < count; i++) trace_one(e->scene, &rays[i], any_hit, &hits[i]);
+    } else if (mode == 1) {
+        size_t packets = (count + PACKET - 1) / PACKET;
+#pragma omp parallel for schedule(dynamic, 64)
+        for (size_t p = 0; p < packets; p++) {
+            size_t first = p * PACKET, n = count - first < PACKET ? count - first : PACKET;
+            trace_packet(e->scene, &rays[first], n, any_hit, &hits[first]);
+        }
+    } else {
+        size_t chunks = (count + 255) / 256;
+#pragma omp parallel for schedule(dynamic, 4)
+        for (size_t p = 0; p < chunks; p++) {
+            size_t first = p * 256, n = count - first < 256 ? count - first : 256;
+            trace_stream(e->scene, &rays[first], n, any_hit, &hits[first]);
+        }
+    }
+}
+
+const char *bench_embree_method(void)
+{
+    return "rtcIntersect1/rtcOccluded1, OpenMP over all threads";
+}
+
+void bench_embree_destroy(bench_embree *e)
+{
+    if (!e) return;
+    if (e->scene) rtcReleaseScene(e->scene);
+    if (e->device) rtcReleaseDevice(e->device);
+    free(e);
+}

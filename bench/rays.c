@@ -1,0 +1,399 @@
+/* lvcl-bench rays: ray throughput of lvcl's traversal on three workloads
+ * (primary, diffuse, shadow; see bench/RAYS.md in the shared notes), and
+ * of Embree on the very same rays where Embree was found at build time.
+ * Prints one JSON object per line: the set-up, then one per workload. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../host/session.h"
+#include "../host/timer.h"
+#include "rays.h"
+
+#define LOCAL_SIZE 64 /* as the renderer; global sizes are padded to it */
+
+typedef struct {
+    const char *device;
+    int width;
+    int repeat;
+    unsigned seed;
+    const char *scene;
+} options;
+
+typedef struct {
+    options opt;
+    lvcl_session s;
+    cl_kernel primary, closest, any, secondary;
+    bench_embree *embree;
+    double embree_build_seconds;
+    char device_json[300]; /* the device name as a JSON string */
+} bench;
+
+typedef struct {
+    size_t hits;
+    uint32_t checksum;
+    double mean_distance;
+} summary;
+
+static void usage(void)
+{
+    fprintf(stderr, "usage: lvcl-bench rays [--device D] [--width W] [--repeat N] [--seed S] SCENE\n"
+                    "  SCENE: a .gltf/.glb path or an embedded scene name (cornell, furnace)\n"
+                    "  --width W   primary-ray image width (default 1024; height from the camera's aspect)\n"
+                    "  --repeat N  timed runs per workload, the median is reported (default 5)\n");
+}
+
+static int parse_options(int argc, char **argv, options *o)
+{
+    *o = (options){NULL, 1024, 5, 0, NULL};
+    if (argc < 2 || strcmp(argv[1], "rays")) return 0;
+    for (int i = 2; i < argc; i++) {
+        const char *a = argv[i];
+        int has_value = i + 1 < argc;
+        if (!strcmp(a, "--device") && has_value) o->device = argv[++i];
+        else if (!strcmp(a, "--width") && has_value) o->width = atoi(argv[++i]);
+        else if (!strcmp(a, "--repeat") && has_value) o->repeat = atoi(argv[++i]);
+        else if (!strcmp(a, "--seed") && has_value) o->seed = (unsigned)strtoul(argv[++i], NULL, 10);
+        else if (a[0] != '-' && !o->scene) o->scene = a;
+        else return 0;
+    }
+    return o->scene && o->width > 0 && o->repeat > 0;
+}
+
+/* s as a quoted JSON string (control characters dropped). */
+static void json_string(char *out, size_t size, const char *s)
+{
+    size_t n = 0;
+    out[n++] = '"';
+    for (; *s && n + 3 < size; s++) {
+        if ((unsigned char)*s < 0x20) continue;
+        if (*s == '"' || *s == '\\') out[n++] = '\\';
+        out[n++] = *s;
+    }
+    out[n++] = '"';
+    out[n] = '\0';
+}
+
+static lvcl_error cl_check(cl_int err, const char *what, lvcl_status *st)
+{
+    return err == CL_SUCCESS ? LVCL_OK : lvcl_fail(st, LVCL_ERR_DEVICE, "%s failed: %s", what, lvcl_cl_error_name(err));
+}
+
+static cl_mem device_buffer(bench *b, size_t bytes, const void *data, lvcl_status *st)
+{
+    cl_int err;
+    cl_mem m = clCreateBuffer(b->s.device.context, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0),
+                              bytes ? bytes : 16, (void *)data, &err);
+    if (err != CL_SUCCESS) {
+        lvcl_fail(st, LVCL_ERR_DEVICE, "allocating %.1f MiB failed: %s", bytes / 1048576.0, lvcl_cl_error_name(err));
+        return NULL;
+    }
+    return m;
+}
+
+static lvcl_error launch(bench *b, cl_kernel k, size_t count, const char *what, lvcl_status *st)
+{
+    size_t local = LOCAL_SIZE, global = (count + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
+    if (global == 0) return LVCL_OK;
+    lvcl_error e = cl_check(clEnqueueNDRangeKernel(b->s.device.queue, k, 1, NULL, &global, &local, 0, NULL, NULL),
+                            what, st);
+    return e ? e : cl_check(clFinish(b->s.device.queue), what, st);
+}
+
+static lvcl_error read_back(bench *b, cl_mem m, size_t bytes, void *out, lvcl_status *st)
+{
+    return cl_check(clEnqueueReadBuffer(b->s.device.queue, m, CL_TRUE, 0, bytes, out, 0, NULL, NULL), "reading back",
+                    st);
+}
+
+static int compare_seconds(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Sorts the timings; returns the median. */
+static double median(double *t, int n)
+{
+    qsort(t, (size_t)n, sizeof *t, compare_seconds);
+    return n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+}
+
+/* Times the trace kernel alone, after one untimed launch (PoCL compiles a
+ * kernel's machine code on its first launch). */
+static lvcl_error time_lvcl(bench *b, cl_mem rays, cl_mem hits, size_t count, int any_hit, double *seconds,
+                            lvcl_status *st)
+{
+    cl_kernel k = any_hit ? b->any : b->closest;
+    int arg = lvcl_device_scene_set_args(&b->s.device_scene, k, 0);
+    cl_uint n = (cl_uint)count;
+    if (arg < 0 || clSetKernelArg(k, (cl_uint)arg, sizeof rays, &rays) != CL_SUCCESS ||
+        clSetKernelArg(k, (cl_uint)arg + 1, sizeof n, &n) != CL_SUCCESS ||
+        clSetKernelArg(k, (cl_uint)arg + 2, sizeof hits, &hits) != CL_SUCCESS)
+        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the trace kernel's arguments");
+    lvcl_error e = launch(b, k, count, "tracing", st);
+    for (int r = 0; r < b->opt.repeat && !e; r++) {
+        double start = lvcl_seconds();
+        e = launch(b, k, count, "tracing", st);
+        seconds[r] = lvcl_seconds() - start;
+    }
+    return e;
+}
+
+static void time_embree(bench *b, const bench_ray *rays, size_t count, int any_hit, bench_hit *hits,
+                        double *seconds)
+{
+    bench_embree_trace(b->embree, rays, count, any_hit, hits); /* warm caches and threads */
+    for (int r = 0; r < b->opt.repeat; r++) {
+        double start = lvcl_seconds();
+        bench_embree_trace(b->embree, rays, count, any_hit, hits);
+        seconds[r] = lvcl_seconds() - start;
+    }
+}
+
+/* Closest hits: hit count, sum of prim_ids mod 2^32, mean hit distance.
+ * Occlusion, which has no hit distance or well-defined occluder: occluded
+ * count, sum of occluded rays' indices mod 2^32, their mean light distance. */
+static summary summarize(const bench_ray *rays, const bench_hit *hits, size_t count, int any_hit)
+{
+    summary s = {0, 0, 0.0};
+    for (size_t i = 0; i < count; i++) {
+        if (hits[i].prim_id == BENCH_NO_HIT) continue;
+        s.hits++;
+        s.checksum += any_hit ? (uint32_t)i : hits[i].prim_id;
+        s.mean_distance += any_hit ? rays[i].tmax / 0.999 : hits[i].t;
+    }
+    if (s.hits) s.mean_distance /= (double)s.hits;
+    return s;
+}
+
+/* Rays on which the two tracers disagree: hit or miss, or which triangle. */
+static size_t count_differences(const bench_hit *a, const bench_hit *b, size_t count, int any_hit)
+{
+    size_t d = 0;
+    for (size_t i = 0; i < count; i++) {
+        int ha = a[i].prim_id != BENCH_NO_HIT, hb = b[i].prim_id != BENCH_NO_HIT;
+        d += ha != hb || (!any_hit && a[i].prim_id != b[i].prim_id);
+    }
+    return d;
+}
+
+static void print_embree(bench *b, const bench_ray *rays, const bench_hit *hits, size_t count, int any_hit,
+                         double lvcl_seconds_median)
+{
+    if (!b->embree) {
+        printf(", \"embree\": null");
+        return;
+    }
+    bench_hit *eh = malloc((count ? count : 1) * sizeof *eh);
+    double *t = malloc((size_t)b->opt.repeat * sizeof *t);
+    if (!eh || !t) {
+        free(eh);
+        free(t);
+        printf(", \"embree\": null");
+        return;
+    }
+    time_embree(b, rays, count, any_hit, eh, t);
+    double sec = median(t, b->opt.repeat);
+    summary s = summarize(rays, eh, count, any_hit);
+    printf(", \"embree_mrays\": %.3f, \"embree_mrays_best\": %.3f, \"embree_seconds\": %.6f, \"embree_hits\": %zu, "
+           "\"embree_checksum\": %u, \"embree_mean_distance\": %.7g, \"differing_rays\": %zu, \"ratio\": %.4f",
+           count / sec * 1e-6, count / t[0] * 1e-6, sec, s.hits, s.checksum, s.mean_distance,
+           count_differences(hits, eh, count, any_hit), sec / lvcl_seconds_median);
+    free(eh);
+    free(t);
+}
+
+/* Traces `count` rays from the device buffer `rays` into `hits`, times lvcl
+ * and Embree on them and prints the workload's line. The rays and hits
+ * read back are returned in *rays_out and *hits_out (the caller frees). */
+static lvcl_error run_workload(bench *b, const char *name, cl_mem rays, cl_mem hits, size_t count, int any_hit,
+                               bench_ray **rays_out, bench_hit **hits_out, lvcl_status *st)
+{
+    double *t = malloc((size_t)b->opt.repeat * sizeof *t);
+    bench_ray *hr = malloc((count ? count : 1) * sizeof *hr);
+    bench_hit *hh = malloc((count ? count : 1) * sizeof *hh);
+    lvcl_error e = !t || !hr || !hh ? lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory") : LVCL_OK;
+    if (!e) e = time_lvcl(b, rays, hits, count, any_hit, t, st);
+    if (!e) e = read_back(b, rays, count * sizeof *hr, hr, st);
+    if (!e) e = read_back(b, hits, count * sizeof *hh, hh, st);
+    if (e) {
+        free(t);
+        free(hr);
+        free(hh);
+        return e;
+    }
+    double sec = median(t, b->opt.repeat);
+    summary s = summarize(hr, hh, count, any_hit);
+    printf("{\"workload\": \"%s\", \"device\": %s, \"triangles\": %zu, \"rays\": %zu, \"query\": \"%s\", "
+           "\"mrays\": %.3f, \"mrays_best\": %.3f, \"seconds\": %.6f, \"hits\": %zu, \"checksum\": %u, "
+           "\"mean_distance\": %.7g",
+           name, b->device_json, b->s.scene.triangle_count, count, any_hit ? "any" : "closest", count / sec * 1e-6,
+           count / t[0] * 1e-6, sec, s.hits, s.checksum, s.mean_distance);
+    print_embree(b, hr, hh, count, any_hit, sec);
+    printf("}\n");
+    fflush(stdout);
+    free(t);
+    *rays_out = hr;
+    *hits_out = hh;
+    return LVCL_OK;
+}
+
+static lvcl_error create_kernels(bench *b, lvcl_status *st)
+{
+    lvcl_error e;
+    if ((e = lvcl_kernel_create(&b->s.program, "lv_rays_primary", &b->primary, st)) ||
+        (e = lvcl_kernel_create(&b->s.program, "lv_rays_trace_closest", &b->closest, st)) ||
+        (e = lvcl_kernel_create(&b->s.program, "lv_rays_trace_any", &b->any, st)) ||
+        (e = lvcl_kernel_create(&b->s.program, "lv_rays_secondary", &b->secondary, st)))
+        return e;
+    return LVCL_OK;
+}
+
+static lvcl_error generate_primary(bench *b, const lv_camera *cam, cl_mem rays, lvcl_status *st)
+{
+    if (clSetKernelArg(b->primary, 0, sizeof *cam, cam) != CL_SUCCESS ||
+        clSetKernelArg(b->primary, 1, sizeof rays, &rays) != CL_SUCCESS)
+        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the primary-ray kernel's arguments");
+    return launch(b, b->primary, (size_t)cam->width * cam->height, "generating primary rays", st);
+}
+
+/* Emissive triangles lead the light table (host/device_scene.c). */
+static cl_uint emissive_count(const lvcl_packed_scene *p)
+{
+    cl_uint n = 0;
+    while (n < p->light_count && p->lights[n].kind == LV_LIGHT_AREA) n++;
+    return n;
+}
+
+static lvcl_error generate_secondary(bench *b, cl_mem primary, cl_mem primary_hits, cl_mem hit_pixels, size_t count,
+                                     cl_uint emitters, cl_mem diffuse, cl_mem shadow, lvcl_status *st)
+{
+    const float *lo = b->s.packed.bounds_min, *hi = b->s.packed.bounds_max;
+    float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    float offset = 1e-5f * diag;
+    cl_uint n = (cl_uint)count;
+    cl_kernel k = b->secondary;
+    int a = lvcl_device_scene_set_args(&b->s.device_scene, k, 0);
+    if (a < 0 || clSetKernelArg(k, (cl_uint)a, sizeof primary, &primary) != CL_SUCCESS ||
+        clSetKernelArg(k, (cl_uint)a + 1, sizeof primary_hits, &primary_hits) != CL_SUCCESS ||
+        clSetKernelArg(k, (cl_uint)a + 2, sizeof hit_pixels, &hit_pixels) != CL_SUCCESS ||
+        clSetKernelArg(k, (cl_uint)a + 3, sizeof n, &n) != CL_SUCCESS ||
+        clSetKernelArg(k, (cl_uint)a + 4, sizeof offset, &offset) != CL_SUCCESS ||
+        clSetKernelArg(k, (cl_uint)a + 5, sizeof emitters, &emitters) != CL_SUCCESS ||
+        clSetKernelArg(k, (cl_uint)a + 6, sizeof diffuse, &diffuse) != CL_SUCCESS ||
+        clSetKernelArg(k, (cl_uint)a + 7, sizeof shadow, &shadow) != CL_SUCCESS)
+        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the secondary-ray kernel's arguments");
+    return launch(b, k, count, "generating secondary rays", st);
+}
+
+/* The pixels whose primary ray hit, in pixel order: the secondary rays'
+ * sources. */
+static uint32_t *hit_pixel_list(const bench_hit *hits, size_t count, size_t *n)
+{
+    uint32_t *list = malloc((count ? count : 1) * sizeof *list);
+    *n = 0;
+    for (size_t i = 0; list && i < count; i++)
+        if (hits[i].prim_id != BENCH_NO_HIT) list[(*n)++] = (uint32_t)i;
+    return list;
+}
+
+static void print_setup(bench *b, int width, int height)
+{
+    char scene[300];
+    json_string(scene, sizeof scene, b->opt.scene);
+    printf("{\"bench\": \"rays\", \"scene\": %s, \"device\": %s, \"triangles\": %zu, \"bvh_triangles\": %zu, "
+           "\"bvh_nodes\": %zu, \"bvh_build_seconds\": %.4f, \"kernel_build_seconds\": %.3f, "
+           "\"kernel_from_cache\": %s, \"width\": %d, \"height\": %d, \"repeat\": %d",
+           scene, b->device_json, b->s.scene.triangle_count, b->s.bvh.triangle_count, b->s.bvh.node_count,
+           b->s.bvh_build_seconds, b->s.program.build_seconds, b->s.program.from_cache ? "true" : "false", width,
+           height, b->opt.repeat);
+    if (b->embree)
+        printf(", \"embree\": \"%s\", \"embree_build_seconds\": %.4f", bench_embree_method(),
+               b->embree_build_seconds);
+    else
+        printf(", \"embree\": null");
+    printf("}\n");
+    fflush(stdout);
+}
+
+/* Runs the three workloads; device buffers are released on the way out. */
+static lvcl_error run(bench *b, lvcl_status *st)
+{
+    int w, h;
+    lvcl_image_size(&b->s.scene.camera, b->opt.width, 0, &w, &h);
+    lv_camera cam = lvcl_camera_make(&b->s.scene.camera, b->s.packed.bounds_min, b->s.packed.bounds_max, w, h);
+    size_t pixels = (size_t)w * h, n_sec = 0;
+    print_setup(b, w, h);
+
+    cl_mem mem[6] = {0}; /* primary rays, primary hits, hit pixels, diffuse, shadow, secondary hits */
+    bench_ray *pr = NULL, *dr = NULL, *sr = NULL;
+    bench_hit *ph = NULL, *dh = NULL, *sh = NULL;
+    uint32_t *pix = NULL;
+    cl_uint emitters = emissive_count(&b->s.packed);
+    lvcl_error e = LVCL_OK;
+    if (!(mem[0] = device_buffer(b, pixels * sizeof(bench_ray), NULL, st)) ||
+        !(mem[1] = device_buffer(b, pixels * sizeof(bench_hit), NULL, st)))
+        e = st->code;
+    if (!e) e = generate_primary(b, &cam, mem[0], st);
+    if (!e) e = run_workload(b, "primary", mem[0], mem[1], pixels, 0, &pr, &ph, st);
+    if (!e && !(pix = hit_pixel_list(ph, pixels, &n_sec)))
+        e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory");
+    if (!e && (!(mem[2] = device_buffer(b, n_sec * sizeof *pix, pix, st)) ||
+               !(mem[3] = device_buffer(b, n_sec * sizeof(bench_ray), NULL, st)) ||
+               !(mem[4] = device_buffer(b, n_sec * sizeof(bench_ray), NULL, st)) ||
+               !(mem[5] = device_buffer(b, n_sec * sizeof(bench_hit), NULL, st))))
+        e = st->code;
+    if (!e) e = generate_secondary(b, mem[0], mem[1], mem[2], n_sec, emitters, mem[3], mem[4], st);
+    if (!e) e = run_workload(b, "diffuse", mem[3], mem[5], n_sec, 0, &dr, &dh, st);
+    if (!e && emitters == 0)
+        printf("{\"workload\": \"shadow\", \"device\": %s, \"skipped\": \"the scene has no emissive triangles\"}\n",
+               b->device_json);
+    else if (!e)
+        e = run_workload(b, "shadow", mem[4], mem[5], n_sec, 1, &sr, &sh, st);
+
+    for (int i = 0; i < 6; i++)
+        if (mem[i]) clReleaseMemObject(mem[i]);
+    free(pr), free(ph), free(dr), free(dh), free(sr), free(sh), free(pix);
+    return e;
+}
+
+static void release_kernels(bench *b)
+{
+    cl_kernel all[] = {b->primary, b->closest, b->any, b->secondary};
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+        if (all[i]) clReleaseKernel(all[i]);
+}
+
+int main(int argc, char **argv)
+{
+    bench b;
+    memset(&b, 0, sizeof b);
+    if (!parse_options(argc, argv, &b.opt)) {
+        usage();
+        return 2;
+    }
+    lvcl_device_prepare_environment();
+    lvcl_status st = {0};
+    lvcl_scene scene = {0};
+    /* Fast math as the renderer uses by default: the traversal measured is
+     * the one lvcl renders with. */
+    lvcl_session_config cfg = {b.opt.device, b.opt.seed, 1, 1};
+    lvcl_error e = lvcl_scene_load(b.opt.scene, &scene, &st);
+    if (!e) e = lvcl_session_open(&b.s, &scene, &cfg, &st);
+    if (!e) e = create_kernels(&b, &st);
+    if (!e) {
+        json_string(b.device_json, sizeof b.device_json, b.s.device.name);
+        b.embree = bench_embree_create(b.s.scene.positions, b.s.scene.vertex_count, b.s.scene.indices,
+                                       b.s.scene.triangle_count, &b.embree_build_seconds);
+        e = run(&b, &st);
+    }
+    if (e) fprintf(stderr, "lvcl-bench: error: %s\n", st.message);
+    bench_embree_destroy(b.embree);
+    release_kernels(&b);
+    lvcl_scene_free(&scene);
+    lvcl_session_close(&b.s);
+    return e ? 1 : 0;
+}

@@ -1,0 +1,99 @@
+/* Ray-throughput benchmark (bench/rays.c, workloads in bench/RAYS.md of the
+ * shared notes): rays are generated into buffers by one set of kernels and
+ * traced by another, so tracing can be timed on its own and the same rays
+ * handed to another tracer.
+ *
+ * Buffer layouts (mirrored in bench/rays.h):
+ *   ray: two float4 per ray, (origin.xyz, tmax) and (dir.xyz, 0); dir is unit.
+ *   hit: one uint4 per ray, (as_uint(t), prim_id, leaf triangle, 0); on a
+ *        miss prim_id and the leaf triangle are LV_NO_HIT and t is tmax.
+ *        prim_id is the glTF-order index that checksums use; the leaf index
+ *        lets the secondary-ray kernel find the triangle's vertices. */
+#include "camera.h"
+#include "rng.h"
+#include "sampling.h"
+
+inline lv_ray lv_rays_load(__global const float4 *rays, uint i)
+{
+    float4 a = rays[2 * i], b = rays[2 * i + 1];
+    lv_ray r;
+    r.origin = a.xyz;
+    r.tmax = a.w;
+    r.dir = b.xyz;
+    return r;
+}
+
+inline void lv_rays_store(__global float4 *rays, uint i, float3 origin, float3 dir, float tmax)
+{
+    rays[2 * i] = (float4)(origin, tmax);
+    rays[2 * i + 1] = (float4)(dir, 0.0f);
+}
+
+/* One ray through the centre of every pixel, row 0 at the top. */
+__kernel void lv_rays_primary(lv_camera camera, __global float4 *rays)
+{
+    uint i = get_global_id(0);
+    if (i >= camera.width * camera.height) return;
+    lv_ray r = lv_camera_ray(camera, i % camera.width, i / camera.width, (float2)(0.5f, 0.5f));
+    lv_rays_store(rays, i, r.origin, r.dir, r.tmax);
+}
+
+inline void lv_rays_trace(const lv_scene *sc, __global const float4 *rays, uint i, int any_hit, __global uint4 *hits)
+{
+    lv_hit h = lv_trace(sc, lv_rays_load(rays, i), any_hit);
+    uint prim = h.tri == LV_NO_HIT ? LV_NO_HIT : sc->triangles[h.tri].prim_id;
+    hits[i] = (uint4)(as_uint(h.t), prim, h.tri, 0u);
+}
+
+__kernel void lv_rays_trace_closest(LV_SCENE_PARAMS, __global const float4 *rays, uint count, __global uint4 *hits)
+{
+    LV_SCENE_OPEN(sc);
+    uint i = get_global_id(0);
+    if (i >= count) return;
+    lv_rays_trace(&sc, rays, i, 0, hits);
+}
+
+__kernel void lv_rays_trace_any(LV_SCENE_PARAMS, __global const float4 *rays, uint count, __global uint4 *hits)
+{
+    LV_SCENE_OPEN(sc);
+    uint i = get_global_id(0);
+    if (i >= count) return;
+    lv_rays_trace(&sc, rays, i, 1, hits);
+}
+
+/* From the primary hit of pixel hit_pixels[i]: a cosine-distributed diffuse
+ * ray and a shadow ray to a point on an emissive triangle, both leaving from
+ * p + offset * n with n the geometric normal facing the incoming ray. The
+ * emissive triangles are the first `emissive_count` entries of the light
+ * table (area lights come before punctual ones); one is chosen uniformly,
+ * not by power, so that another tracer's harness need not know the
+ * materials. Random numbers are keyed by (seed, pixel), as in the renderer. */
+__kernel void lv_rays_secondary(LV_SCENE_PARAMS, __global const float4 *primary, __global const uint4 *primary_hits,
+                                __global const uint *hit_pixels, uint count, float offset, uint emissive_count,
+                                __global float4 *diffuse, __global float4 *shadow)
+{
+    LV_SCENE_OPEN(sc);
+    uint i = get_global_id(0);
+    if (i >= count) return;
+    uint pixel = hit_pixels[i];
+    lv_ray r = lv_rays_load(primary, pixel);
+    uint4 h = primary_hits[pixel];
+
+    __global const float4 *v = &sc.tri_vertices[3 * h.z];
+    float3 n = normalize(cross(v[1].xyz - v[0].xyz, v[2].xyz - v[0].xyz));
+    if (dot(n, r.dir) > 0.0f) n = -n;
+    float3 o = r.origin + as_float(h.x) * r.dir + offset * n;
+
+    lv_rng rng = lv_rng_make(sc.info.seed, pixel, 0u);
+    float3 d = lv_to_world(lv_frame_make(n), lv_sample_cosine_hemisphere(lv_rng_next2(&rng)));
+    lv_rays_store(diffuse, i, o, d, LV_FAR);
+
+    if (emissive_count == 0) return;
+    uint pick = min((uint)(lv_rng_next(&rng) * (float)emissive_count), emissive_count - 1u);
+    __global const float4 *lv = &sc.tri_vertices[3 * sc.lights[pick].index];
+    float2 b = lv_sample_triangle(lv_rng_next2(&rng));
+    float3 target = (1.0f - b.x - b.y) * lv[0].xyz + b.x * lv[1].xyz + b.y * lv[2].xyz;
+    float3 to = target - o;
+    float dist = length(to);
+    lv_rays_store(shadow, i, o, dist > 0.0f ? to / dist : n, 0.999f * dist);
+}
