@@ -24,29 +24,34 @@ typedef struct {
     int depth;
 } builder;
 
+/* Plain comparisons: fminf/fmaxf are library calls here (NaN rules), and
+ * the builder feeds them only finite values. */
+static inline float min_f(float a, float b) { return a < b ? a : b; }
+static inline float max_f(float a, float b) { return a > b ? a : b; }
+
 static box3 box_empty(void)
 {
     box3 b = {{FLT_MAX, FLT_MAX, FLT_MAX}, {-FLT_MAX, -FLT_MAX, -FLT_MAX}};
     return b;
 }
 
-static void box_grow_point(box3 *b, const float p[3])
+static inline void box_grow_point(box3 *b, const float p[3])
 {
     for (int k = 0; k < 3; k++) {
-        b->lo[k] = fminf(b->lo[k], p[k]);
-        b->hi[k] = fmaxf(b->hi[k], p[k]);
+        b->lo[k] = min_f(b->lo[k], p[k]);
+        b->hi[k] = max_f(b->hi[k], p[k]);
     }
 }
 
-static void box_grow_box(box3 *b, const box3 *o)
+static inline void box_grow_box(box3 *b, const box3 *o)
 {
     for (int k = 0; k < 3; k++) {
-        b->lo[k] = fminf(b->lo[k], o->lo[k]);
-        b->hi[k] = fmaxf(b->hi[k], o->hi[k]);
+        b->lo[k] = min_f(b->lo[k], o->lo[k]);
+        b->hi[k] = max_f(b->hi[k], o->hi[k]);
     }
 }
 
-static float box_area(const box3 *b)
+static inline float box_area(const box3 *b)
 {
     float d[3];
     for (int k = 0; k < 3; k++) d[k] = b->hi[k] - b->lo[k];
@@ -139,7 +144,7 @@ static size_t sah_partition(builder *bd, size_t first, size_t count, const box3 
     /* Costs relative to the parent's area: one traversal step plus one
      * intersection per triangle, against intersecting them all here. */
     float parent_area = box_area(bounds);
-    float split_cost = best_axis < 0 ? FLT_MAX : 1.0f + best_cost / fmaxf(parent_area, FLT_MIN);
+    float split_cost = best_axis < 0 ? FLT_MAX : 1.0f + best_cost / max_f(parent_area, FLT_MIN);
     if (best_axis < 0 || (split_cost >= (float)count && count <= MAX_LEAF_SIZE)) {
         if (count <= MAX_LEAF_SIZE) return 0;
         return count / 2; /* all centroids coincide: any split will do */
