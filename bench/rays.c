@@ -186,7 +186,7 @@ static void print_embree(bench *b, const bench_ray *rays, const bench_hit *hits,
         printf(", \"embree\": null");
         return;
     }
-    bench_hit *eh = malloc((count ? count : 1) * sizeof *eh);
+    bench_hit *eh = calloc(count ? count : 1, sizeof *eh);
     double *t = malloc((size_t)b->opt.repeat * sizeof *t);
     if (!eh || !t) {
         free(eh);

@@ -5,6 +5,11 @@
 #include "geometry.h"
 #include "scene.h"
 
+/* The watertight test needs its edge functions evaluated exactly alike for
+ * the two triangles sharing an edge; fusing a*b - c*d into an FMA breaks
+ * that symmetry and lets rays slip through shared edges. */
+#pragma OPENCL FP_CONTRACT OFF
+
 /* Must be at least LVCL_BVH_MAX_DEPTH + 1 (host/bvh.h). */
 #define LV_TRAVERSAL_STACK 64
 #define LV_NO_HIT 0xffffffffu
