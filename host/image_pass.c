@@ -1,4 +1,4 @@
-#include "render_pt.h"
+#include "image_pass.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -14,28 +14,25 @@ static lvcl_error cl_check(cl_int err, const char *what, lvcl_status *st)
     return err == CL_SUCCESS ? LVCL_OK : lvcl_fail(st, LVCL_ERR_DEVICE, "%s failed: %s", what, lvcl_cl_error_name(err));
 }
 
-lvcl_error lvcl_render_pt(const lvcl_device *dev, const lvcl_program *prog, const lvcl_device_scene *ds,
-                          const lv_camera *camera, const lvcl_pt_settings *settings, lvcl_render_result *out,
-                          lvcl_status *st)
+lvcl_error lvcl_image_pass(const lvcl_device *dev, cl_kernel kernel, cl_uint camera_arg, const lv_camera *camera,
+                           const lvcl_pass_settings *settings, lvcl_render_result *out, lvcl_status *st)
 {
     memset(out, 0, sizeof *out);
     size_t pixels = (size_t)camera->width * camera->height;
-    cl_kernel kernel;
-    lvcl_error e = lvcl_kernel_create(prog, "lv_pt_pass", &kernel, st);
-    if (e) return e;
+    lvcl_error e;
     cl_int err;
     cl_mem sum = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, pixels * 4 * sizeof(float), NULL, &err);
-    if ((e = cl_check(err, "allocating the image", st))) goto done_kernel;
+    if ((e = cl_check(err, "allocating the image", st))) return e;
     float zero = 0.0f;
     if ((e = cl_check(clEnqueueFillBuffer(dev->queue, sum, &zero, sizeof zero, 0, pixels * 4 * sizeof(float), 0,
                                           NULL, NULL),
                       "clearing the image", st)))
         goto done;
 
-    int arg = lvcl_device_scene_set_args(ds, kernel, 0);
-    if (arg < 0 || clSetKernelArg(kernel, (cl_uint)arg, sizeof *camera, camera) != CL_SUCCESS ||
-        clSetKernelArg(kernel, (cl_uint)arg + 2, sizeof(cl_mem), &sum) != CL_SUCCESS) {
-        e = lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the path tracer's arguments");
+    cl_uint arg = camera_arg;
+    if (clSetKernelArg(kernel, arg, sizeof *camera, camera) != CL_SUCCESS ||
+        clSetKernelArg(kernel, arg + 2, sizeof(cl_mem), &sum) != CL_SUCCESS) {
+        e = lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the camera pass's arguments");
         goto done;
     }
     size_t global = (pixels + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE, local = LOCAL_SIZE;
@@ -46,10 +43,10 @@ lvcl_error lvcl_render_pt(const lvcl_device *dev, const lvcl_program *prog, cons
     int s = 0;
     while (s < settings->spp) {
         cl_uint index = (cl_uint)s;
-        clSetKernelArg(kernel, (cl_uint)arg + 1, sizeof index, &index);
+        clSetKernelArg(kernel, arg + 1, sizeof index, &index);
         if ((e = cl_check(clEnqueueNDRangeKernel(dev->queue, kernel, 1, NULL, &global, &local, 0, NULL, NULL),
-                          "launching the path tracer", st)) ||
-            (e = cl_check(clFinish(dev->queue), "running the path tracer", st)))
+                          "launching the camera pass", st)) ||
+            (e = cl_check(clFinish(dev->queue), "running the camera pass", st)))
             goto done;
         s++;
         double elapsed = lvcl_seconds() - start;
@@ -86,7 +83,5 @@ done:
         out->rgb = NULL;
     }
     clReleaseMemObject(sum);
-done_kernel:
-    clReleaseKernel(kernel);
     return e;
 }

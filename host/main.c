@@ -45,9 +45,6 @@ static lvcl_error run(const lvcl_options *o, lvcl_session *s, lvcl_render_result
                       lvcl_status *st)
 {
     lvcl_error e;
-    if (strcmp(o->mode, "pt"))
-        return lvcl_fail(st, LVCL_ERR_UNSUPPORTED, "mode '%s' is not implemented yet; use --mode pt", o->mode);
-
     lvcl_scene scene = {0};
     double t = lvcl_seconds();
     if ((e = lvcl_scene_load(o->scene, &scene, st))) return e;
@@ -57,9 +54,16 @@ static lvcl_error run(const lvcl_options *o, lvcl_session *s, lvcl_render_result
     if ((e = lvcl_session_open(s, &scene, &cfg, st))) return e;
     stats->session = s;
 
-    lvcl_pt_settings ps = {o->spp, o->time_limit, !o->quiet};
+    lvcl_render_request req = {0};
+    req.mode = !strcmp(o->mode, "lv") ? LVCL_MODE_LV : !strcmp(o->mode, "lv-all") ? LVCL_MODE_LV_ALL : LVCL_MODE_PT;
+    req.width = o->width;
+    req.height = o->height;
+    req.pass = (lvcl_pass_settings){o->spp, o->time_limit, !o->quiet};
+    req.volume = (lvcl_volume_settings){o->cells, o->cell_size, o->dirs, (uint64_t)o->particles, 0, !o->quiet};
+    req.integrate = !strcmp(o->gather, "integrate");
+    req.threshold = o->threshold;
     stats->startup_seconds = lvcl_seconds() - stats->process_start;
-    if ((e = lvcl_session_render_pt(s, o->width, o->height, &ps, res, st))) return e;
+    if ((e = lvcl_session_render(s, &req, res, st))) return e;
     stats->result = res;
     return write_outputs(o, res, st);
 }

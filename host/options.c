@@ -8,6 +8,9 @@
 #include <string.h>
 
 #define DEFAULT_SCENE "cornell"
+/* Light-volume defaults, chosen by measurement (docs/light-volume.md). */
+#define LVCL_DEFAULT_CELLS 32
+#define LVCL_DEFAULT_PARTICLES 1e6
 
 static lvcl_error parse_int(const char *flag, const char *s, long lo, long hi, long *out, lvcl_status *st)
 {
@@ -38,6 +41,10 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
     o->spp = 64;
     o->max_depth = 64;
     o->fast_math = 1;
+    o->cells = LVCL_DEFAULT_CELLS;
+    o->dirs = 11;
+    o->particles = LVCL_DEFAULT_PARTICLES;
+    o->gather = "sample";
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         /* Flags that take no value. */
@@ -53,7 +60,9 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         }
         /* Flags that take a value. */
         static const char *with_value[] = {"--device", "--mode", "-o", "--output", "--stats", "--spp", "--width",
-                                           "--height", "--seed", "--max-depth", "--exposure", "--time-limit"};
+                                           "--height", "--seed", "--max-depth", "--exposure", "--time-limit",
+                                           "--cells", "--cell-size", "--dirs", "--particles", "--threshold",
+                                           "--gather"};
         int known = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++) known |= !strcmp(a, with_value[k]);
         if (!known) return lvcl_fail(st, LVCL_ERR_USAGE, "unknown option '%s' (see --help)", a);
@@ -73,10 +82,18 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         else if (!strcmp(a, "--max-depth")) { e = parse_int(a, v, 1, 1024, &n, st); o->max_depth = (int)n; }
         else if (!strcmp(a, "--exposure")) { e = parse_real(a, v, -64, 64, &x, st); o->exposure = x; }
         else if (!strcmp(a, "--time-limit")) { e = parse_real(a, v, 0, 1e9, &x, st); o->time_limit = x; }
+        else if (!strcmp(a, "--cells")) { e = parse_int(a, v, 1, 1024, &n, st); o->cells = (int)n; }
+        else if (!strcmp(a, "--cell-size")) { e = parse_real(a, v, 1e-9, 1e9, &x, st); o->cell_size = x; }
+        else if (!strcmp(a, "--dirs")) { e = parse_int(a, v, 1, 64, &n, st); o->dirs = (int)n; }
+        else if (!strcmp(a, "--particles")) { e = parse_real(a, v, 1, 4294967295.0, &x, st); o->particles = floor(x); }
+        else if (!strcmp(a, "--threshold")) { e = parse_real(a, v, 1e-12, 1e12, &x, st); o->threshold = x; }
+        else if (!strcmp(a, "--gather")) o->gather = v;
         if (e) return e;
     }
     if (strcmp(o->mode, "pt") && strcmp(o->mode, "lv") && strcmp(o->mode, "lv-all"))
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown mode '%s' (expected pt, lv or lv-all)", o->mode);
+    if (strcmp(o->gather, "sample") && strcmp(o->gather, "integrate"))
+        return lvcl_fail(st, LVCL_ERR_USAGE, "unknown gather '%s' (expected sample or integrate)", o->gather);
     if (!o->scene) o->scene = DEFAULT_SCENE;
     return LVCL_OK;
 }
@@ -90,7 +107,15 @@ void lvcl_options_print_help(const char *program)
            "\n"
            "  --device cpu|gpu|N   OpenCL device (default: first GPU, else CPU)\n"
            "  --list-devices       list OpenCL devices and exit\n"
-           "  --mode pt            rendering method: pt = path tracing (lv, lv-all: not implemented yet)\n"
+           "  --mode pt|lv|lv-all  pt: path tracing; lv: light volume for indirect light, shadow rays\n"
+           "                       for direct (default pt); lv-all: the light volume answers all light\n"
+           "  --particles N        light volume: particles traced (default 1e6)\n"
+           "  --cells N            light volume: cells along the longest axis (default 32)\n"
+           "  --cell-size M        light volume: cell size in metres (overrides --cells)\n"
+           "  --dirs N             light volume: N x N direction bins per hemisphere (default 11)\n"
+           "  --threshold M        lv: reflected rays hitting closer than M metres continue as paths\n"
+           "                       (default the cell diagonal)\n"
+           "  --gather sample|integrate  lv: read one BSDF-sampled bin, or integrate over all bins\n"
            "  --spp N              samples per pixel (default 64)\n"
            "  --width N, --height N  image size (default 512 wide, height from the camera's aspect)\n"
            "  --seed N             random seed (default 0); the same seed gives the same image\n"

@@ -15,6 +15,12 @@ typedef struct {
     unsigned seed;
     int max_depth;
     double exposure;
+    int cells;              /* light volume: cells along the longest axis */
+    double cell_size;       /* metres, 0 = from cells */
+    int dirs;               /* n x n bins per hemisphere */
+    double particles;
+    double threshold;       /* near-hit distance, 0 = cell diagonal */
+    const char *gather;     /* "sample" or "integrate" */
     double time_limit;
     int quiet;
     int fast_math;

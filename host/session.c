@@ -1,5 +1,6 @@
 #include "session.h"
 
+#include <math.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -40,17 +41,62 @@ fail:
     return e;
 }
 
-lvcl_error lvcl_session_render_pt(lvcl_session *s, int width, int height, const lvcl_pt_settings *settings,
+/* Sets a camera pass kernel's scene arguments (and the light volume's, for
+ * the gather); returns the index of its camera argument, or -1. */
+static int set_pass_args(lvcl_session *s, cl_kernel k, const lvcl_render_request *req)
+{
+    int a = lvcl_device_scene_set_args(&s->device_scene, k, 0);
+    if (a < 0 || req->mode == LVCL_MODE_PT) return a;
+    cl_uint i = (cl_uint)a;
+    cl_uint flags = (req->mode == LVCL_MODE_LV_ALL ? 1u : 0u) | (req->integrate ? 2u : 0u);
+    float threshold = (float)(req->threshold > 0 ? req->threshold : sqrt(3.0) * s->volume.info.cell_size);
+    if (clSetKernelArg(k, i, sizeof s->volume.info, &s->volume.info) ||
+        clSetKernelArg(k, i + 1, sizeof(cl_mem), &s->volume.cell_slot_buf) ||
+        clSetKernelArg(k, i + 2, sizeof(cl_mem), &s->volume.tallies_buf) ||
+        clSetKernelArg(k, i + 3, sizeof flags, &flags) || clSetKernelArg(k, i + 4, sizeof threshold, &threshold))
+        return -1;
+    return (int)i + 5;
+}
+
+lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
+                               lvcl_status *st)
+{
+    lvcl_error e;
+    if (req->mode != LVCL_MODE_PT) {
+        lvcl_volume_release(&s->volume);
+        lvcl_volume_settings vs = req->volume;
+        vs.store_emitted = req->mode == LVCL_MODE_LV_ALL;
+        if ((e = lvcl_volume_create(&s->device, &s->packed, &vs, &s->volume, st)) ||
+            (e = lvcl_volume_trace(&s->device, &s->program, &s->device_scene, &vs, &s->volume, st)))
+            return e;
+    }
+    int w, h;
+    lvcl_image_size(&s->scene.camera, req->width, req->height, &w, &h);
+    lv_camera cam = lvcl_camera_make(&s->scene.camera, s->packed.bounds_min, s->packed.bounds_max, w, h);
+    cl_kernel k;
+    if ((e = lvcl_kernel_create(&s->program, req->mode == LVCL_MODE_PT ? "lv_pt_pass" : "lv_gather_pass", &k, st)))
+        return e;
+    int camera_arg = set_pass_args(s, k, req);
+    e = camera_arg < 0 ? lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the camera pass's arguments")
+                       : lvcl_image_pass(&s->device, k, (cl_uint)camera_arg, &cam, &req->pass, out, st);
+    clReleaseKernel(k);
+    return e;
+}
+
+lvcl_error lvcl_session_render_pt(lvcl_session *s, int width, int height, const lvcl_pass_settings *settings,
                                   lvcl_render_result *out, lvcl_status *st)
 {
-    int w, h;
-    lvcl_image_size(&s->scene.camera, width, height, &w, &h);
-    lv_camera cam = lvcl_camera_make(&s->scene.camera, s->packed.bounds_min, s->packed.bounds_max, w, h);
-    return lvcl_render_pt(&s->device, &s->program, &s->device_scene, &cam, settings, out, st);
+    lvcl_render_request req = {0};
+    req.mode = LVCL_MODE_PT;
+    req.width = width;
+    req.height = height;
+    req.pass = *settings;
+    return lvcl_session_render(s, &req, out, st);
 }
 
 void lvcl_session_close(lvcl_session *s)
 {
+    lvcl_volume_release(&s->volume);
     lvcl_program_release(&s->program);
     lvcl_device_scene_release(&s->device_scene);
     lvcl_device_close(&s->device);

@@ -8,7 +8,8 @@
 #include "camera.h"
 #include "device_scene.h"
 #include "program.h"
-#include "render_pt.h"
+#include "image_pass.h"
+#include "light_volume.h"
 #include "scene.h"
 
 typedef struct {
@@ -25,9 +26,21 @@ typedef struct {
     lvcl_device device;
     lvcl_device_scene device_scene;
     lvcl_program program;
+    lvcl_light_volume volume; /* lv modes only */
     unsigned features;
     double bvh_build_seconds;
 } lvcl_session;
+
+typedef enum { LVCL_MODE_PT, LVCL_MODE_LV, LVCL_MODE_LV_ALL } lvcl_mode;
+
+typedef struct {
+    lvcl_mode mode;
+    int width, height;          /* 0 = from the camera's aspect */
+    lvcl_pass_settings pass;
+    lvcl_volume_settings volume;
+    int integrate;              /* the gather integrates over all bins instead of sampling one */
+    double threshold;           /* near-hit distance in metres; 0 = the cell diagonal */
+} lvcl_render_request;
 
 /* Loads a scene from a .gltf/.glb path or an embedded scene name. */
 lvcl_error lvcl_scene_load(const char *name, lvcl_scene *scene, lvcl_status *st);
@@ -36,8 +49,12 @@ lvcl_error lvcl_scene_load(const char *name, lvcl_scene *scene, lvcl_status *st)
  * On failure the session is closed again. */
 lvcl_error lvcl_session_open(lvcl_session *s, lvcl_scene *scene, const lvcl_session_config *cfg, lvcl_status *st);
 
+/* Renders an image: path tracing, or particle trace then final gather. */
+lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
+                               lvcl_status *st);
+
 /* Path-traces a width x height image (0 = from the camera's aspect). */
-lvcl_error lvcl_session_render_pt(lvcl_session *s, int width, int height, const lvcl_pt_settings *settings,
+lvcl_error lvcl_session_render_pt(lvcl_session *s, int width, int height, const lvcl_pass_settings *settings,
                                   lvcl_render_result *out, lvcl_status *st);
 
 void lvcl_session_close(lvcl_session *s);

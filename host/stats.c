@@ -44,9 +44,21 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
             ss->bvh_build_seconds, s->startup_seconds, r->first_launch_seconds, r->render_seconds);
     fprintf(f,
             "  \"width\": %d,\n  \"height\": %d,\n  \"spp\": %d,\n  \"samples_per_second\": %.1f,\n"
-            "  \"seed\": %u,\n  \"max_depth\": %d\n}\n",
+            "  \"seed\": %u,\n  \"max_depth\": %d",
             r->width, r->height, r->samples, r->render_seconds > 0 ? pixel_samples / r->render_seconds : 0.0,
             s->options->seed, s->options->max_depth);
+    const lvcl_light_volume *v = &ss->volume;
+    if (v->particles) {
+        const lv_grid_info *g = &v->info;
+        fprintf(f,
+                ",\n  \"grid\": [%u, %u, %u],\n  \"cell_size\": %g,\n  \"dirs\": %u,\n  \"cells_allocated\": %u,\n"
+                "  \"light_volume_bytes\": %zu,\n  \"particles\": %llu,\n  \"particle_trace_seconds\": %.4f,\n"
+                "  \"particles_per_second\": %.1f",
+                g->dims[0], g->dims[1], g->dims[2], g->cell_size, g->dirs, g->slot_count,
+                v->tally_bytes + v->cell_count * sizeof(uint32_t), (unsigned long long)v->particles, v->trace_seconds,
+                v->trace_seconds > 0 ? (double)v->particles / v->trace_seconds : 0.0);
+    }
+    fprintf(f, "\n}\n");
     if (fclose(f) != 0) return lvcl_fail(st, LVCL_ERR_IO, "cannot write stats to %s", path);
     return LVCL_OK;
 }

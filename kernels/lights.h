@@ -93,4 +93,55 @@ inline float lv_light_pdf(const lv_scene *sc, uint tri, float3 dir, float t, flo
     return sc->lights[light].pdf_select * lv_area_to_solid_angle(1.0f / area, t * t, dot(dir, ng));
 }
 
+/* A particle leaving a light: where, which way, and its power relative to
+ * the total emitted power (luminance watts), so that particles carry equal
+ * shares when lights are chosen by power. */
+typedef struct {
+    float3 origin;
+    float3 dir;
+    float3 weight;
+} lv_emission_sample;
+
+inline int lv_sample_emission(const lv_scene *sc, float2 u_light, float2 u_dir, float u_pick, lv_emission_sample *es)
+{
+    if (sc->info.light_count == 0 || !(sc->info.total_light_power > 0.0f)) return 0;
+    uint i = lv_pick_light(sc, u_pick);
+    lv_light light = sc->lights[i];
+    float select_power = light.pdf_select * sc->info.total_light_power;
+#ifdef LV_FEATURE_PUNCTUAL
+    if (light.kind == LV_LIGHT_PUNCTUAL) {
+        lv_punctual_light l = sc->punctuals[light.index];
+        es->origin = LV_F3(l.position);
+        float3 intensity = LV_F3(l.intensity);
+        if (l.type == LV_PUNCTUAL_SPOT) {
+            /* Uniform over the outer cone, pdf 1 / (2 pi (1 - cos_outer)). */
+            float z = 1.0f - u_dir.x * (1.0f - l.cos_outer);
+            float r = sqrt(fmax(0.0f, 1.0f - z * z)), phi = 2.0f * LV_PI * u_dir.y;
+            lv_frame f = lv_frame_make(LV_F3(l.direction));
+            es->dir = lv_to_world(f, (float3)(r * cos(phi), r * sin(phi), z));
+            es->weight = intensity * lv_spot_falloff(l, es->dir) * (2.0f * LV_PI * (1.0f - l.cos_outer)) / select_power;
+        } else {
+            float z = 1.0f - 2.0f * u_dir.x;
+            float r = sqrt(fmax(0.0f, 1.0f - z * z)), phi = 2.0f * LV_PI * u_dir.y;
+            es->dir = (float3)(r * cos(phi), r * sin(phi), z);
+            es->weight = intensity * (4.0f * LV_PI) / select_power;
+        }
+        return 1;
+    }
+#endif
+    /* Uniform on the triangle, cosine-distributed about its front normal:
+     * weight = Le pi A / (probability of this light x total power). */
+    __global const float4 *v = &sc->tri_vertices[3 * light.index];
+    float2 b = lv_sample_triangle(u_light);
+    float3 e1 = v[1].xyz - v[0].xyz, e2 = v[2].xyz - v[0].xyz;
+    float3 n = cross(e1, e2);
+    float area = 0.5f * length(n);
+    n = normalize(n);
+    es->origin = lv_offset_origin(v[0].xyz + b.x * e1 + b.y * e2, n, sc->info.scene_scale);
+    es->dir = lv_to_world(lv_frame_make(n), lv_sample_cosine_hemisphere(u_dir));
+    float3 le = LV_F3(sc->materials[sc->triangles[light.index].material].emission);
+    es->weight = le * (LV_PI * area / select_power);
+    return 1;
+}
+
 #endif

@@ -8,15 +8,17 @@
 
 #include "camera.h"
 #include "lights.h"
+#include "light_volume.h"
 #include "rng.h"
 
 /* Paths longer than this many segments may end by Russian roulette. */
 #define LV_RR_DEPTH 5
 
 /* Direct light at surface s from one light sample, MIS-weighted against
- * BSDF sampling. ng_out is the geometric normal on the side wo leaves from. */
-inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, const lv_bsdf *b, lv_frame f,
-                              float3 wo, float3 ng_out, lv_rng *rng)
+ * BSDF sampling unless `mis` is 0. ng_out is the geometric normal on the
+ * side wo leaves from. */
+inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, const lv_bsdf *b, lv_frame f, float3 wo,
+                              float3 ng_out, int mis, lv_rng *rng)
 {
     lv_light_sample ls;
     float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
@@ -30,28 +32,81 @@ inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, const lv_
     float3 origin = lv_offset_origin(s->p, n_side, sc->info.scene_scale);
     float3 d = ls.target - origin;
     if (lv_occluded(sc, origin, d, 0.9999f)) return (float3)(0.0f);
-    float w = ls.delta ? 1.0f : lv_power_heuristic(ls.pdf, lv_bsdf_pdf(b, wo, wi));
+    float w = ls.delta || !mis ? 1.0f : lv_power_heuristic(ls.pdf, lv_bsdf_pdf(b, wo, wi));
     return fcos * ls.li * (w / ls.pdf);
 }
 
-/* Radiance arriving along ray r at its origin. */
-inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint max_depth)
+/* How the final gather reads the light volume (NULL: plain path tracing). */
+typedef struct {
+    lv_grid grid;
+    __global const long *tallies;
+    uint flags;      /* LV_GATHER_* */
+    float threshold; /* a BSDF ray hitting closer than this continues as a path */
+} lv_gather;
+
+#define LV_GATHER_ALL 1u       /* the volume holds all light, emitted too: no shadow rays */
+#define LV_GATHER_INTEGRATE 2u /* integrate the BSDF over every bin instead of sampling one */
+
+/* Rough enough that the light volume answers for the light it reflects;
+ * smoother surfaces continue the path (paper section 5). */
+#define LV_GATHER_MIN_ALPHA 0.1f
+
+inline int lv_gather_here(const lv_bsdf *b)
+{
+    if (b->type == LV_BSDF_DIFFUSE || b->type == LV_BSDF_PLASTIC) return 1;
+    return b->type == LV_BSDF_CONDUCTOR && b->alpha >= LV_GATHER_MIN_ALPHA;
+}
+
+/* The BSDF-weighted sum of the volume's radiance over every bin at p. */
+inline float3 lv_gather_integrate(const lv_gather *g, const lv_bsdf *b, lv_frame f, float3 wo, float3 p)
+{
+    uint slot = lv_grid_slot_at(&g->grid, p);
+    if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
+    float3 sum = (float3)(0.0f);
+    uint n = g->grid.g.dirs;
+    for (uint bin = 0; bin < g->grid.g.bins; bin++) {
+        float3 travel = lv_bin_direction(bin, n, (float2)(0.5f, 0.5f));
+        float3 fcos = lv_bsdf_eval(b, wo, lv_to_local(f, -travel), LV_RADIANCE);
+        if (lv_max3(fcos) > 0.0f) sum += fcos * lv_volume_radiance(&g->grid, g->tallies, p, travel);
+    }
+    return sum * lv_bin_solid_angle(n);
+}
+
+/* Radiance arriving along ray r at its origin, by path tracing or, with a
+ * gather, by the light volume at the first rough surface (paper section 5):
+ * there shadow rays give direct light (unless the volume holds all light),
+ * and a BSDF ray that travels further than the threshold ends the path with
+ * a volume lookup at a jittered point around the surface. */
+inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint max_depth, const lv_gather *g)
 {
     float3 radiance = (float3)(0.0f);
     float3 beta = (float3)(1.0f);
     float prev_pdf = 0.0f;
     int prev_delta = 1; /* the camera ray counts as a delta sample: no MIS */
+    int all_light = g && (g->flags & LV_GATHER_ALL);
+    int lookup_pending = 0;
+    float3 lookup_point = (float3)(0.0f);
     for (uint depth = 1; depth <= max_depth; depth++) {
         lv_hit h = lv_trace(sc, r, 0);
-        if (h.tri == LV_NO_HIT) break;
-        lv_surface s = lv_surface_at(sc, r, h);
-        __global const lv_material *m = &sc->materials[s.material];
-
-        float3 le = LV_F3(m->emission);
-        if (s.front && lv_max3(le) > 0.0f) {
-            float w = prev_delta ? 1.0f : lv_power_heuristic(prev_pdf, lv_light_pdf(sc, h.tri, r.dir, h.t, s.ng));
-            radiance += beta * le * w;
+        int far = h.tri == LV_NO_HIT || (lookup_pending && h.t > g->threshold);
+        lv_surface s;
+        __global const lv_material *m = 0;
+        if (h.tri != LV_NO_HIT) {
+            s = lv_surface_at(sc, r, h);
+            m = &sc->materials[s.material];
+            float3 le = LV_F3(m->emission);
+            if (s.front && lv_max3(le) > 0.0f && !(all_light && !prev_delta)) {
+                float w = prev_delta ? 1.0f : lv_power_heuristic(prev_pdf, lv_light_pdf(sc, h.tri, r.dir, h.t, s.ng));
+                radiance += beta * le * w;
+            }
         }
+        if (lookup_pending && far) {
+            /* Light arriving from r.dir travels along -r.dir. */
+            radiance += beta * lv_volume_radiance(&g->grid, g->tallies, lookup_point, -r.dir);
+            break;
+        }
+        lookup_pending = 0;
+        if (h.tri == LV_NO_HIT) break;
 #ifdef LV_FEATURE_GLASS
         /* The segment just traced ran inside a glass volume. */
         if (m->bsdf == LV_BSDF_GLASS && !s.front) beta *= exp(-LV_F3(m->attenuation) * h.t);
@@ -63,9 +118,15 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         lv_bsdf b = lv_surface_bsdf(sc, &s);
         float3 wo = lv_to_local(f, -r.dir);
         float3 ng_out = dot(r.dir, s.ng) < 0.0f ? s.ng : -s.ng;
+        int gather = g && lv_gather_here(&b);
+        int integrate = gather && (g->flags & LV_GATHER_INTEGRATE);
 
-        if (depth + 1 <= max_depth && lv_bsdf_has_smooth_lobe(&b))
-            radiance += beta * lv_direct_light(sc, &s, &b, f, wo, ng_out, rng);
+        if (depth + 1 <= max_depth && lv_bsdf_has_smooth_lobe(&b) && !all_light)
+            radiance += beta * lv_direct_light(sc, &s, &b, f, wo, ng_out, !integrate, rng);
+        if (integrate) {
+            radiance += beta * lv_gather_integrate(g, &b, f, wo, lv_jitter_lookup(&g->grid, s.p, rng));
+            break;
+        }
 
         lv_bsdf_sample bs;
         float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
@@ -79,8 +140,14 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         prev_pdf = bs.pdf;
         prev_delta = bs.delta;
         if (!lv_finite3(beta) || lv_max3(beta) <= 0.0f) break;
-
-        if (depth >= LV_RR_DEPTH) {
+        if (gather) {
+            lookup_point = lv_jitter_lookup(&g->grid, s.p, rng);
+            if (all_light) { /* no threshold: the volume answers at once */
+                radiance += beta * lv_volume_radiance(&g->grid, g->tallies, lookup_point, -wi);
+                break;
+            }
+            lookup_pending = 1;
+        } else if (depth >= LV_RR_DEPTH) {
             float q = fmin(lv_max3(beta), 0.95f);
             if (lv_rng_next(rng) >= q) break;
             beta /= q;

@@ -9,6 +9,6 @@ __kernel void lv_pt_pass(LV_SCENE_PARAMS, lv_camera camera, uint sample_index, _
     if (pixel >= camera.width * camera.height) return;
     lv_rng rng = lv_rng_make(sc.info.seed, pixel, sample_index);
     lv_ray r = lv_camera_ray(camera, pixel % camera.width, pixel / camera.width, lv_rng_next2(&rng));
-    float3 l = lv_path_radiance(&sc, r, &rng, sc.info.max_depth);
+    float3 l = lv_path_radiance(&sc, r, &rng, sc.info.max_depth, 0);
     sum[pixel] += (float4)(l, 1.0f);
 }

@@ -120,4 +120,28 @@ typedef struct {
     float pad[2];
 } lv_scene_info;
 
+/* The light volume (DESIGN.md section 1): a regular grid of cubic cells
+ * over the scene bounds; each stored cell holds 2 n^2 directional bins of
+ * RGB tallies, 64-bit fixed point (LV_TALLY_SCALE units per unit). A tally
+ * accumulates (particle weight / particle count) x (track length / cell
+ * size), where a particle's weight is its power over the total emitted
+ * power; radiance follows as total_power x tally x cell_size / (V x bin
+ * solid angle), with V the cell's lit volume. */
+#define LV_EMPTY_CELL 0xffffffffu
+#define LV_TALLY_SCALE 1099511627776.0f /* 2^40 */
+/* Largest single contribution accepted, in tally units of 1: with it every
+ * bin stays far below 2^63 (see docs/light-volume.md). */
+#define LV_TALLY_MAX_CONTRIBUTION 1048576.0f
+
+typedef struct {
+    float origin[3];   /* corner of cell (0,0,0) */
+    float cell_size;   /* metres */
+    lv_u32 dims[3];    /* cells along x, y, z */
+    lv_u32 dirs;       /* n: n x n bins per hemisphere */
+    lv_u32 slot_count; /* cells stored */
+    lv_u32 bins;       /* 2 n^2 */
+    float total_power; /* luminance watts emitted by all lights */
+    float particles;   /* particles traced in all (for normalisation) */
+} lv_grid_info;
+
 #endif

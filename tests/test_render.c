@@ -35,7 +35,7 @@ static int render(const char *what, lvcl_scene *scene, const char *device, unsig
     lvcl_session s;
     lvcl_session_config cfg = {device, seed, 64, 1};
     lvcl_render_result r = {0};
-    lvcl_pt_settings ps = {spp, 0.0, 0};
+    lvcl_pass_settings ps = {spp, 0.0, 0};
     memset(im, 0, sizeof *im);
     if (lvcl_session_open(&s, scene, &cfg, &st) || lvcl_session_render_pt(&s, width, height, &ps, &r, &st)) {
         CHECK(what, 0, "render failed: %s", st.message);

@@ -1,0 +1,205 @@
+#include "light_volume.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "progress.h"
+#include "timer.h"
+
+#define LOCAL_SIZE 64
+/* Particles per launch: big enough to keep a device busy, small enough for
+ * progress and for --time-limit to be checked often. */
+#define BATCH (1u << 18)
+
+static size_t cell_index(const lv_grid_info *g, int x, int y, int z)
+{
+    return (size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z);
+}
+
+/* Marks the cells each triangle's bounding box touches. */
+static void mark_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, uint8_t *mark)
+{
+    float inv = 1.0f / g->cell_size;
+    for (size_t t = 0; t < p->triangle_count; t++) {
+        const float *v = &p->tri_vertices[12 * t];
+        int lo[3], hi[3];
+        for (int k = 0; k < 3; k++) {
+            float a = fminf(v[k], fminf(v[4 + k], v[8 + k])), b = fmaxf(v[k], fmaxf(v[4 + k], v[8 + k]));
+            lo[k] = (int)floorf((a - g->origin[k]) * inv);
+            hi[k] = (int)floorf((b - g->origin[k]) * inv);
+            if (lo[k] < 0) lo[k] = 0;
+            if (hi[k] > (int)g->dims[k] - 1) hi[k] = (int)g->dims[k] - 1;
+        }
+        for (int z = lo[2]; z <= hi[2]; z++)
+            for (int y = lo[1]; y <= hi[1]; y++)
+                for (int x = lo[0]; x <= hi[0]; x++) mark[cell_index(g, x, y, z)] = 1;
+    }
+}
+
+/* A lookup jitters up to half a cell from a surface, so the cells next to
+ * geometry cells are stored too. */
+static size_t assign_slots(const lv_grid_info *g, const uint8_t *mark, uint32_t *slot)
+{
+    size_t count = 0;
+    for (int z = 0; z < (int)g->dims[2]; z++)
+        for (int y = 0; y < (int)g->dims[1]; y++)
+            for (int x = 0; x < (int)g->dims[0]; x++) {
+                int near = 0;
+                for (int dz = -1; dz <= 1 && !near; dz++)
+                    for (int dy = -1; dy <= 1 && !near; dy++)
+                        for (int dx = -1; dx <= 1 && !near; dx++) {
+                            int a = x + dx, b = y + dy, c = z + dz;
+                            if (a < 0 || b < 0 || c < 0 || a >= (int)g->dims[0] || b >= (int)g->dims[1] ||
+                                c >= (int)g->dims[2])
+                                continue;
+                            near = mark[cell_index(g, a, b, c)];
+                        }
+                slot[cell_index(g, x, y, z)] = near ? (uint32_t)count++ : LV_EMPTY_CELL;
+            }
+    return count;
+}
+
+lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p, const lvcl_volume_settings *s,
+                              lvcl_light_volume *vol, lvcl_status *st)
+{
+    memset(vol, 0, sizeof *vol);
+    if (s->dirs < 1 || s->dirs > 64) return lvcl_fail(st, LVCL_ERR_USAGE, "--dirs must be from 1 to 64");
+    lv_grid_info *g = &vol->info;
+    float extent[3], longest = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        extent[k] = p->bounds_max[k] - p->bounds_min[k];
+        longest = fmaxf(longest, extent[k]);
+    }
+    g->cell_size = s->cell_size > 0 ? (float)s->cell_size : longest / (float)(s->cells > 0 ? s->cells : 1);
+    if (!(g->cell_size > 0.0f)) return lvcl_fail(st, LVCL_ERR_UNSUPPORTED, "the scene has no extent for a light volume");
+    /* One spare cell on every side holds lookups jittered off the bounds. */
+    double cells = 1.0;
+    for (int k = 0; k < 3; k++) {
+        double d = ceil(extent[k] / g->cell_size) + 2.0;
+        if (d < 1.0) d = 1.0;
+        g->dims[k] = (lv_u32)d;
+        g->origin[k] = p->bounds_min[k] - g->cell_size;
+        cells *= d;
+    }
+    if (cells > 1 << 28)
+        return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "a %ux%ux%u light-volume grid is too large (cell size %g m)",
+                         g->dims[0], g->dims[1], g->dims[2], g->cell_size);
+    g->dirs = (lv_u32)s->dirs;
+    g->bins = 2 * g->dirs * g->dirs;
+    g->total_power = p->info.total_light_power;
+
+    vol->cell_count = (size_t)cells;
+    uint8_t *mark = calloc(vol->cell_count, 1);
+    vol->cell_slot = malloc(vol->cell_count * sizeof(uint32_t));
+    if (!mark || !vol->cell_slot) {
+        free(mark);
+        lvcl_volume_release(vol);
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for a %zu-cell grid", vol->cell_count);
+    }
+    mark_geometry(p, g, mark);
+    g->slot_count = (lv_u32)assign_slots(g, mark, vol->cell_slot);
+    free(mark);
+
+    vol->tally_bytes = (size_t)g->slot_count * g->bins * 3 * sizeof(int64_t);
+    if (vol->tally_bytes > dev->max_alloc || vol->tally_bytes + vol->cell_count * 4 > dev->global_mem) {
+        lvcl_error e = lvcl_fail(st, LVCL_ERR_TOO_LARGE,
+                                 "the light volume needs %.1f MiB (%u cells x %u bins) but %s allows %.1f MiB in one "
+                                 "buffer; use fewer --cells or --dirs",
+                                 vol->tally_bytes / 1048576.0, g->slot_count, g->bins, dev->name,
+                                 dev->max_alloc / 1048576.0);
+        lvcl_volume_release(vol);
+        return e;
+    }
+    cl_int err;
+    vol->cell_slot_buf = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                        vol->cell_count * sizeof(uint32_t), vol->cell_slot, &err);
+    if (err == CL_SUCCESS)
+        vol->tallies_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
+                                          vol->tally_bytes ? vol->tally_bytes : 8, NULL, &err);
+    if (err != CL_SUCCESS) {
+        lvcl_volume_release(vol);
+        return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "cannot allocate the light volume on %s: %s", dev->name,
+                         lvcl_cl_error_name(err));
+    }
+    return LVCL_OK;
+}
+
+static lvcl_error cl_ok(cl_int err, const char *what, lvcl_status *st)
+{
+    return err == CL_SUCCESS ? LVCL_OK : lvcl_fail(st, LVCL_ERR_DEVICE, "%s failed: %s", what, lvcl_cl_error_name(err));
+}
+
+lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_device_scene *ds,
+                             const lvcl_volume_settings *s, lvcl_light_volume *vol, lvcl_status *st)
+{
+    lvcl_error e;
+    if (s->particles == 0 || s->particles > UINT32_MAX)
+        return lvcl_fail(st, LVCL_ERR_USAGE, "--particles must be from 1 to %u", UINT32_MAX);
+    cl_long zero = 0;
+    if ((e = cl_ok(clEnqueueFillBuffer(dev->queue, vol->tallies_buf, &zero, sizeof zero, 0,
+                                       vol->tally_bytes ? vol->tally_bytes : 8, 0, NULL, NULL),
+                   "clearing the light volume", st)))
+        return e;
+    vol->info.particles = (float)s->particles;
+    cl_kernel k;
+    if ((e = lvcl_kernel_create(prog, "lv_particle_trace", &k, st))) return e;
+    int a = lvcl_device_scene_set_args(ds, k, 0);
+    float inv_n = (float)(1.0 / (double)s->particles);
+    cl_uint store = s->store_emitted ? 1 : 0;
+    if (a < 0 || clSetKernelArg(k, (cl_uint)a, sizeof vol->info, &vol->info) ||
+        clSetKernelArg(k, (cl_uint)a + 1, sizeof(cl_mem), &vol->cell_slot_buf) ||
+        clSetKernelArg(k, (cl_uint)a + 2, sizeof(cl_mem), &vol->tallies_buf) ||
+        clSetKernelArg(k, (cl_uint)a + 5, sizeof inv_n, &inv_n) || clSetKernelArg(k, (cl_uint)a + 6, sizeof store, &store)) {
+        clReleaseKernel(k);
+        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the particle tracer's arguments");
+    }
+    lvcl_progress bar;
+    lvcl_progress_start(&bar, "particles", s->progress);
+    double start = lvcl_seconds();
+    for (uint64_t first = 0; first < s->particles; first += BATCH) {
+        cl_uint f = (cl_uint)first, count = (cl_uint)(s->particles - first < BATCH ? s->particles - first : BATCH);
+        size_t local = LOCAL_SIZE, global = (count + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
+        clSetKernelArg(k, (cl_uint)a + 3, sizeof f, &f);
+        clSetKernelArg(k, (cl_uint)a + 4, sizeof count, &count);
+        if ((e = cl_ok(clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL),
+                       "launching the particle trace", st)) ||
+            (e = cl_ok(clFinish(dev->queue), "running the particle trace", st)))
+            break;
+        lvcl_progress_update(&bar, (double)(first + count), (double)s->particles, "particles");
+    }
+    lvcl_progress_finish(&bar);
+    vol->trace_seconds = lvcl_seconds() - start;
+    vol->particles = s->particles;
+    clReleaseKernel(k);
+    return e;
+}
+
+lvcl_error lvcl_volume_read(const lvcl_device *dev, const lvcl_light_volume *vol, int64_t **tallies, lvcl_status *st)
+{
+    *tallies = malloc(vol->tally_bytes ? vol->tally_bytes : 8);
+    if (!*tallies) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory reading the light volume");
+    lvcl_error e = cl_ok(clEnqueueReadBuffer(dev->queue, vol->tallies_buf, CL_TRUE, 0, vol->tally_bytes, *tallies, 0,
+                                             NULL, NULL),
+                         "reading the light volume", st);
+    if (e) {
+        free(*tallies);
+        *tallies = NULL;
+    }
+    return e;
+}
+
+double lvcl_volume_radiance(const lv_grid_info *g, int64_t tally, double lit_fraction)
+{
+    double omega = 2.0 * 3.14159265358979 / ((double)g->dirs * g->dirs);
+    return (double)g->total_power * ((double)tally / LV_TALLY_SCALE) /
+           ((double)g->cell_size * g->cell_size * lit_fraction * omega);
+}
+
+void lvcl_volume_release(lvcl_light_volume *vol)
+{
+    if (vol->cell_slot_buf) clReleaseMemObject(vol->cell_slot_buf);
+    if (vol->tallies_buf) clReleaseMemObject(vol->tallies_buf);
+    free(vol->cell_slot);
+    memset(vol, 0, sizeof *vol);
+}

@@ -1,0 +1,49 @@
+/* The light volume on the host: choosing the grid, allocating cells only
+ * where geometry is (and where a jittered lookup can land), and running the
+ * particle trace into it on the device. */
+#ifndef LVCL_LIGHT_VOLUME_H
+#define LVCL_LIGHT_VOLUME_H
+
+#include <stdint.h>
+
+#include "device_scene.h"
+#include "program.h"
+
+typedef struct {
+    int cells;            /* cells along the longest axis (used if cell_size is 0) */
+    double cell_size;     /* metres; 0 = from `cells` */
+    int dirs;             /* n: n x n bins per hemisphere */
+    uint64_t particles;
+    int store_emitted;    /* lv-all: tally the segments leaving the lights too */
+    int progress;
+} lvcl_volume_settings;
+
+typedef struct {
+    lv_grid_info info;
+    uint32_t *cell_slot;      /* host copy of the index grid */
+    size_t cell_count;        /* dims[0] * dims[1] * dims[2] */
+    cl_mem cell_slot_buf, tallies_buf;
+    size_t tally_bytes;
+    double trace_seconds;
+    uint64_t particles;
+} lvcl_light_volume;
+
+/* Chooses the grid over the packed scene's bounds and allocates the cells
+ * that triangles touch, grown by one cell in every direction. */
+lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *packed,
+                              const lvcl_volume_settings *settings, lvcl_light_volume *vol, lvcl_status *st);
+
+/* Traces settings->particles particles into the (cleared) volume. */
+lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_device_scene *ds,
+                             const lvcl_volume_settings *settings, lvcl_light_volume *vol, lvcl_status *st);
+
+/* Reads the tallies back (slot_count x bins x 3 int64, malloc'ed). */
+lvcl_error lvcl_volume_read(const lvcl_device *dev, const lvcl_light_volume *vol, int64_t **tallies,
+                            lvcl_status *st);
+
+/* Radiance of tally value t (one channel) in a cell of lit volume fraction v. */
+double lvcl_volume_radiance(const lv_grid_info *g, int64_t tally, double lit_fraction);
+
+void lvcl_volume_release(lvcl_light_volume *vol);
+
+#endif

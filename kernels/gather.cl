@@ -1,0 +1,22 @@
+/* The final gather (paper section 5): camera rays, one sample per pixel per
+ * launch, with the light volume answering at rough surfaces. */
+#include "path.h"
+
+__kernel void lv_gather_pass(LV_SCENE_PARAMS, lv_grid_info grid_info, __global const uint *cell_slot,
+                             __global const long *tallies, uint flags, float threshold, lv_camera camera,
+                             uint sample_index, __global float4 *sum)
+{
+    LV_SCENE_OPEN(sc);
+    uint pixel = get_global_id(0);
+    if (pixel >= camera.width * camera.height) return;
+    lv_gather g;
+    g.grid.g = grid_info;
+    g.grid.cell_slot = cell_slot;
+    g.tallies = tallies;
+    g.flags = flags;
+    g.threshold = threshold;
+    lv_rng rng = lv_rng_make(sc.info.seed, pixel, sample_index);
+    lv_ray r = lv_camera_ray(camera, pixel % camera.width, pixel / camera.width, lv_rng_next2(&rng));
+    float3 l = lv_path_radiance(&sc, r, &rng, sc.info.max_depth, &g);
+    sum[pixel] += (float4)(l, 1.0f);
+}

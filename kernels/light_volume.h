@@ -1,0 +1,135 @@
+/* The light volume: tallying particle segments into cells (paper eq. 5) and
+ * reading radiance back. See lv_grid_info in shared_types.h for the layout:
+ * cell_slot maps a cell (x + dims.x (y + dims.y z)) to its slot or
+ * LV_EMPTY_CELL; slot s, bin b, channel c is tallies[(s * bins + b) * 3 + c]. */
+#ifndef LV_LIGHT_VOLUME_H
+#define LV_LIGHT_VOLUME_H
+
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+
+#include "direction_map.h"
+#include "rng.h"
+#include "traverse.h"
+
+typedef struct {
+    lv_grid_info g;
+    __global const uint *cell_slot;
+} lv_grid;
+
+inline float3 lv_grid_origin(const lv_grid *grid)
+{
+    return LV_F3(grid->g.origin);
+}
+
+/* The slot of the cell holding point p, or LV_EMPTY_CELL. */
+inline uint lv_grid_slot_at(const lv_grid *grid, float3 p)
+{
+    float3 c = (p - lv_grid_origin(grid)) / grid->g.cell_size;
+    if (c.x < 0.0f || c.y < 0.0f || c.z < 0.0f) return LV_EMPTY_CELL;
+    uint x = (uint)c.x, y = (uint)c.y, z = (uint)c.z;
+    if (x >= grid->g.dims[0] || y >= grid->g.dims[1] || z >= grid->g.dims[2]) return LV_EMPTY_CELL;
+    return grid->cell_slot[x + grid->g.dims[0] * (y + grid->g.dims[1] * z)];
+}
+
+/* Adds an RGB amount (in tally units of 1) to one bin. Non-finite or
+ * negative amounts are dropped; huge ones are clamped, so no bin can
+ * overflow (see LV_TALLY_MAX_CONTRIBUTION). */
+inline void lv_tally_add(__global long *tallies, uint slot, uint bins, uint bin, float3 amount)
+{
+    __global long *t = tallies + ((size_t)slot * bins + bin) * 3;
+    float a[3] = {amount.x, amount.y, amount.z};
+    for (int c = 0; c < 3; c++) {
+        if (!(a[c] > 0.0f) || !isfinite(a[c])) continue;
+        long units = (long)(fmin(a[c], LV_TALLY_MAX_CONTRIBUTION) * LV_TALLY_SCALE);
+        if (units > 0) atom_add((volatile __global long *)&t[c], units);
+    }
+}
+
+/* Adds the segment origin + t dir, t in [t0, t1] (dir unit, t in metres),
+ * carrying `weight` (power over total power, over particle count) at t0, to
+ * every stored cell it crosses, in bin `bin`. sigma > 0 absorbs along the
+ * segment (inside glass). A 3-D DDA (Amanatides and Woo) walks the cells. */
+inline void lv_tally_segment(const lv_grid *grid, __global long *tallies, float3 origin, float3 dir, float t0,
+                             float t1, uint bin, float3 weight, float3 sigma)
+{
+    const float h = grid->g.cell_size;
+    float3 dims = (float3)((float)grid->g.dims[0], (float)grid->g.dims[1], (float)grid->g.dims[2]);
+    /* In cell units, relative to the grid's corner. */
+    float3 o = (origin - lv_grid_origin(grid)) / h;
+    float3 inv = lv_safe_inverse(dir);
+    float3 lo = (0.0f - o) * inv, hi = (dims - o) * inv;
+    float3 tn = fmin(lo, hi), tf = fmax(lo, hi);
+    float s0 = fmax(t0 / h, fmax(tn.x, fmax(tn.y, tn.z)));
+    float s1 = fmin(t1 / h, fmin(tf.x, fmin(tf.y, tf.z)));
+    if (!(s0 < s1)) return;
+
+    float3 p = o + dir * (0.5f * (s0 + fmin(s1, s0 + 1e-3f)));
+    int3 cell = clamp(convert_int3(floor(p)), (int3)(0), convert_int3(dims) - 1);
+    int3 step = (int3)(dir.x >= 0.0f ? 1 : -1, dir.y >= 0.0f ? 1 : -1, dir.z >= 0.0f ? 1 : -1);
+    float3 next_boundary = convert_float3(cell) + select((float3)(0.0f), (float3)(1.0f), step > 0);
+    /* Axes the segment runs parallel to are never crossed. */
+    float3 s_next = select((next_boundary - o) * inv, (float3)(LV_FAR), fabs(dir) < 1e-30f);
+    float3 s_delta = fabs(inv);
+    float s = s0;
+    int3 idims = convert_int3(dims);
+    while (s < s1) {
+        float s_exit = fmin(s1, fmin(s_next.x, fmin(s_next.y, s_next.z)));
+        uint slot = grid->cell_slot[cell.x + idims.x * (cell.y + idims.y * cell.z)];
+        if (slot != LV_EMPTY_CELL && s_exit > s) {
+            /* Track length in cell units, with the absorption integrated over it. */
+            float3 amount;
+            if (sigma.x > 0.0f || sigma.y > 0.0f || sigma.z > 0.0f) {
+                float3 a = exp(-sigma * (s * h - t0)), b = exp(-sigma * (s_exit * h - t0));
+                amount = select((a - b) / (sigma * h), (float3)(s_exit - s), sigma <= 0.0f);
+            } else {
+                amount = (float3)(s_exit - s);
+            }
+            lv_tally_add(tallies, slot, grid->g.bins, bin, weight * amount);
+        }
+        s = s_exit;
+        if (s_next.x <= s_next.y && s_next.x <= s_next.z) {
+            cell.x += step.x;
+            s_next.x += s_delta.x;
+        } else if (s_next.y <= s_next.z) {
+            cell.y += step.y;
+            s_next.y += s_delta.y;
+        } else {
+            cell.z += step.z;
+            s_next.z += s_delta.z;
+        }
+        if (any(cell < 0) || any(cell >= idims)) break;
+    }
+}
+
+/* The lit volume of a stored cell, in cell units (1 = the whole cell).
+ * The subcell-visibility pass will replace this estimate. */
+inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
+{
+    (void)grid;
+    (void)slot;
+    return 1.0f;
+}
+
+/* Radiance (W m^-2 sr^-1) of the light travelling along `dir` through the
+ * cell at p, from the tallies of paper eq. 5. */
+inline float3 lv_volume_radiance(const lv_grid *grid, __global const long *tallies, float3 p, float3 dir)
+{
+    uint slot = lv_grid_slot_at(grid, p);
+    if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
+    uint bin = lv_direction_bin(dir, grid->g.dirs);
+    __global const long *t = tallies + ((size_t)slot * grid->g.bins + bin) * 3;
+    float3 tally = (float3)((float)t[0], (float)t[1], (float)t[2]) * (1.0f / LV_TALLY_SCALE);
+    float v = lv_cell_lit_volume(grid, slot);
+    float scale = grid->g.total_power / (grid->g.cell_size * grid->g.cell_size * v * lv_bin_solid_angle(grid->g.dirs));
+    return tally * scale;
+}
+
+/* A uniform point in the cell-sized box around p: lookups there average
+ * neighbouring cells, which hides the grid (paper section 4.2). */
+inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, lv_rng *rng)
+{
+    float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
+    return p + (u - 0.5f) * grid->g.cell_size;
+}
+
+#endif

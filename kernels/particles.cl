@@ -1,0 +1,75 @@
+/* The particle trace (paper section 4.1): particles leave the lights with
+ * equal shares of the emitted power, scatter by the surfaces' BSDFs and end
+ * by Russian roulette; every straight segment adds power x track length to
+ * the cells it crosses, in the bin of its direction (eq. 5). Tallies are
+ * integer atomics, so the result does not depend on the order of work. */
+#include "light_volume.h"
+#include "path.h"
+
+/* Different from every pixel stream of the camera passes. */
+#define LV_PARTICLE_STREAM 0x9e3779b9u
+
+__kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __global const uint *cell_slot,
+                                __global long *tallies, uint first, uint count, float inv_total_particles,
+                                uint store_emitted)
+{
+    LV_SCENE_OPEN(sc);
+    uint id = get_global_id(0);
+    if (id >= count) return;
+    lv_grid grid;
+    grid.g = grid_info;
+    grid.cell_slot = cell_slot;
+    lv_rng rng = lv_rng_make(sc.info.seed ^ LV_PARTICLE_STREAM, first + id, 0u);
+
+    lv_emission_sample es;
+    float2 ul = lv_rng_next2(&rng), ud = lv_rng_next2(&rng);
+    if (!lv_sample_emission(&sc, ul, ud, lv_rng_next(&rng), &es)) return;
+    float3 throughput = es.weight;
+    lv_ray r;
+    r.origin = es.origin;
+    r.dir = es.dir;
+    r.tmax = LV_FAR;
+    for (uint depth = 1; depth <= sc.info.max_depth; depth++) {
+        lv_hit h = lv_trace(&sc, r, 0);
+        lv_surface s;
+        float3 sigma = (float3)(0.0f);
+        __global const lv_material *m = 0;
+        if (h.tri != LV_NO_HIT) {
+            s = lv_surface_at(&sc, r, h);
+            m = &sc.materials[s.material];
+#ifdef LV_FEATURE_GLASS
+            if (m->bsdf == LV_BSDF_GLASS && !s.front) sigma = LV_F3(m->attenuation);
+#endif
+        }
+        /* Emitted light (the first segment) is left to shadow rays in lv mode. */
+        if (depth > 1 || store_emitted)
+            lv_tally_segment(&grid, tallies, r.origin, r.dir, 0.0f, h.t, lv_direction_bin(r.dir, grid.g.dirs),
+                             throughput * inv_total_particles, sigma);
+        if (h.tri == LV_NO_HIT || depth == sc.info.max_depth) break;
+        throughput *= exp(-sigma * h.t);
+
+        lv_frame f;
+        if (!lv_shading_frame(&sc, &s, r.dir, &f)) break;
+        lv_bsdf b = lv_surface_bsdf(&sc, &s);
+        float3 wo = lv_to_local(f, -r.dir);
+        float3 ng_out = dot(r.dir, s.ng) < 0.0f ? s.ng : -s.ng;
+        lv_bsdf_sample bs;
+        float3 u = (float3)(lv_rng_next2(&rng), lv_rng_next(&rng));
+        if (!lv_bsdf_sample_dir(&b, wo, u, LV_IMPORTANCE, &bs)) break;
+        float3 wi = lv_to_world(f, bs.wi);
+        int reflected = dot(wi, ng_out) > 0.0f;
+        if (reflected != (bs.wi.z * wo.z > 0.0f)) break;
+        throughput *= bs.weight;
+        if (!lv_finite3(throughput) || lv_max3(throughput) <= 0.0f) break;
+        if (depth >= LV_RR_DEPTH) {
+            /* Relative to the particle's starting power, so that bright
+             * lights' particles are not culled for being bright. */
+            float q = fmin(lv_max3(throughput) / lv_max3(es.weight), 0.95f);
+            if (lv_rng_next(&rng) >= q) break;
+            throughput /= q;
+        }
+        r.origin = lv_offset_origin(s.p, reflected ? ng_out : -ng_out, sc.info.scene_scale);
+        r.dir = wi;
+        r.tmax = LV_FAR;
+    }
+}
