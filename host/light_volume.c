@@ -17,7 +17,8 @@ static size_t cell_index(const lv_grid_info *g, int x, int y, int z)
     return (size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z);
 }
 
-/* Marks the cells each triangle's bounding box touches. */
+/* Marks the cells each triangle's bounding box touches (conservative for
+ * slanted triangles; see docs/light-volume.md). */
 static void mark_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, uint8_t *mark)
 {
     float inv = 1.0f / g->cell_size;
@@ -26,8 +27,9 @@ static void mark_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, uin
         int lo[3], hi[3];
         for (int k = 0; k < 3; k++) {
             float a = fminf(v[k], fminf(v[4 + k], v[8 + k])), b = fmaxf(v[k], fmaxf(v[4 + k], v[8 + k]));
-            lo[k] = (int)floorf((a - g->origin[k]) * inv);
-            hi[k] = (int)floorf((b - g->origin[k]) * inv);
+            /* A surface lying on a cell boundary belongs to the cells on both sides. */
+            lo[k] = (int)floorf((a - g->origin[k]) * inv - 1e-4f);
+            hi[k] = (int)floorf((b - g->origin[k]) * inv + 1e-4f);
             if (lo[k] < 0) lo[k] = 0;
             if (hi[k] > (int)g->dims[k] - 1) hi[k] = (int)g->dims[k] - 1;
         }

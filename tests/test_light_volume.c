@@ -1,0 +1,205 @@
+/* The light volume against closed forms: the estimator of paper eq. 5 in
+ * front of a large emitting plane, the white furnace in lv-all mode, energy
+ * (tallied track length = emitted power x mean path length), determinism
+ * run to run and device to device. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../host/metrics.h"
+#include "check.h"
+#include "harness.h"
+
+typedef struct {
+    lvcl_session session;
+    lvcl_light_volume volume;
+    int64_t *tallies;
+} traced_volume;
+
+/* Opens a session on `scene` (consumed) and traces a volume into it. */
+static int trace(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_volume_settings *vs,
+                 traced_volume *tv)
+{
+    lvcl_status st = {0};
+    lvcl_session_config cfg = {device, seed, 64, 1};
+    memset(tv, 0, sizeof *tv);
+    if (lvcl_session_open(&tv->session, scene, &cfg, &st) ||
+        lvcl_volume_create(&tv->session.device, &tv->session.packed, vs, &tv->volume, &st) ||
+        lvcl_volume_trace(&tv->session.device, &tv->session.program, &tv->session.device_scene, vs, &tv->volume,
+                          &st) ||
+        lvcl_volume_read(&tv->session.device, &tv->volume, &tv->tallies, &st)) {
+        CHECK("light volume trace", 0, "%s", st.message);
+        return 0;
+    }
+    return 1;
+}
+
+static void release(traced_volume *tv)
+{
+    free(tv->tallies);
+    lvcl_volume_release(&tv->volume);
+    lvcl_session_close(&tv->session);
+}
+
+static int64_t tally(const traced_volume *tv, uint32_t slot, uint32_t bin, int c)
+{
+    return tv->tallies[((size_t)slot * tv->volume.info.bins + bin) * 3 + c];
+}
+
+static uint32_t slot_of(const traced_volume *tv, int x, int y, int z)
+{
+    const lv_grid_info *g = &tv->volume.info;
+    return tv->volume.cell_slot[(size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z)];
+}
+
+/* The direction-map convention of kernels/direction_map.h: bins below n^2
+ * hold directions with z >= 0. */
+static int bin_goes_up(const lv_grid_info *g, uint32_t bin)
+{
+    return bin < g->dirs * g->dirs;
+}
+
+/* (a) A 6 m square emitter of radiance Le facing +z, cells of 1 m: in the
+ * cell just above its middle, every upward bin away from the horizon sees
+ * radiance Le, and every downward bin sees nothing. With 6 x 6 bins per
+ * hemisphere the inner 4 x 4 upward bins hold directions within 56 degrees
+ * of vertical, which from anywhere in the cell meet the plane within 2 m of
+ * its centre. */
+static void test_emitting_plane(void)
+{
+    const float le = 3.0f, half = 3.0f;
+    /* Two triangles of the plane, counter-clockwise seen from above, and a
+     * zero-area triangle 3 m up that only stretches the bounds (the BVH
+     * leaves it out) so that the grid has cells above the plane. */
+    const float tris[] = {-half, -half, 0, half, -half, 0, half, half, 0,   -half, -half, 0, half, half, 0,
+                          -half, half,  0, 0,    0,     3, 0,    0,    3, 0,     0,     3};
+    lvcl_scene scene;
+    harness_triangle_scene(tris, 3, &scene);
+    lvcl_material_desc *m = &scene.materials[0];
+    m->base_color[0] = m->base_color[1] = m->base_color[2] = 0.0f; /* absorbs what returns */
+    m->emissive[0] = m->emissive[1] = m->emissive[2] = le;
+    lvcl_volume_settings vs = {0, 1.0, 6, 8000000, 1, 0};
+    traced_volume tv;
+    if (!trace(&scene, NULL, 1, &vs, &tv)) return;
+    const lv_grid_info *g = &tv.volume.info;
+    /* Cell (x, y) over the plane's centre, z in [0, 1) m. */
+    int cx = (int)((0.5f - g->origin[0]) / g->cell_size), cz = (int)((0.5f - g->origin[2]) / g->cell_size);
+    uint32_t slot = slot_of(&tv, cx, cx, cz);
+    CHECK("emitting plane: the cell above it is stored", slot != LV_EMPTY_CELL, "cell (%d,%d,%d) empty", cx, cx, cz);
+    if (slot == LV_EMPTY_CELL) {
+        release(&tv);
+        return;
+    }
+    /* A particle crossing the cell adds about (1/N) x (mean chord 2/3) to one
+     * bin; the count of crossings gives each bin's statistical error. */
+    double worst = 0.0, worst_sigmas = 0.0, mean_up = 0.0, down = 0.0;
+    int up_bins = 0;
+    uint32_t n = g->dirs;
+    for (uint32_t b = 0; b < g->bins; b++) {
+        double l = lvcl_volume_radiance(g, tally(&tv, slot, b, 0), 1.0);
+        if (!bin_goes_up(g, b)) {
+            down += l;
+            continue;
+        }
+        uint32_t i = b % n, j = b / n;
+        if (i == 0 || j == 0 || i == n - 1 || j == n - 1) continue; /* near the horizon */
+        double crossings = (double)tally(&tv, slot, b, 0) / LV_TALLY_SCALE * g->particles / (2.0 / 3.0);
+        double sigma = le * 1.5 / sqrt(crossings > 1 ? crossings : 1);
+        double err = fabs(l - le);
+        if (err / sigma > worst_sigmas) worst_sigmas = err / sigma;
+        if (err / le > worst) worst = err / le;
+        mean_up += l;
+        up_bins++;
+    }
+    mean_up /= up_bins;
+    printf("  emitting plane: mean radiance of %d upward bins %.4f (Le %.1f), worst bin %.1f%% = %.1f sigma\n",
+           up_bins, mean_up, le, 100 * worst, worst_sigmas);
+    CHECK("emitting plane: upward bins average Le within 1%", fabs(mean_up - le) < 0.01 * le, "mean %.4f", mean_up);
+    CHECK("emitting plane: every upward bin is Le within 5 sigma", worst_sigmas < 5.0, "worst %.1f sigma",
+          worst_sigmas);
+    CHECK("emitting plane: downward bins are empty", down == 0.0, "sum %.4g", down);
+    release(&tv);
+}
+
+/* (b, c) The white furnace (a 2 m closed cube, albedo 0.5, Le 1) with the
+ * grid aligned to its walls, 4 cells across so that every cell inside is
+ * next to a wall and stored: the field radiance is Le / (1 - a) = 2 in every
+ * cell and direction, and the tallied track length is the emitted power
+ * times the mean path length: 1 / (1 - a) segments of mean chord 4V/S. */
+static void test_furnace(void)
+{
+    lvcl_scene scene;
+    lvcl_status st = {0};
+    if (lvcl_scene_load("furnace", &scene, &st)) {
+        CHECK("furnace scene", 0, "%s", st.message);
+        return;
+    }
+    lvcl_volume_settings vs = {4, 0, 6, 2000000, 1, 0};
+    traced_volume tv;
+    if (!trace(&scene, NULL, 2, &vs, &tv)) return;
+    const lv_grid_info *g = &tv.volume.info;
+    double worst = 0.0, total = 0.0;
+    int cells = 0;
+    for (int z = 1; z <= 4; z++)
+        for (int y = 1; y <= 4; y++)
+            for (int x = 1; x <= 4; x++) {
+                uint32_t slot = slot_of(&tv, x, y, z);
+                if (slot == LV_EMPTY_CELL) continue;
+                double sum = 0.0;
+                for (uint32_t b = 0; b < g->bins; b++) {
+                    sum += lvcl_volume_radiance(g, tally(&tv, slot, b, 0), 1.0);
+                    total += (double)tally(&tv, slot, b, 0) / LV_TALLY_SCALE;
+                }
+                double mean = sum / g->bins;
+                if (fabs(mean - 2.0) > worst) worst = fabs(mean - 2.0);
+                cells++;
+            }
+    printf("  furnace: %d cells inside, worst cell mean off by %.4f\n", cells, worst);
+    CHECK("lv-all furnace: all 64 cells inside are stored", cells == 64, "%d cells", cells);
+    CHECK("lv-all furnace: every cell's radiance is Le/(1-a) = 2 within 2%", worst < 0.04, "worst deviation %.4f",
+          worst);
+    /* Tallies hold (power share / N) x (length / h): the sum over all bins
+     * times h is the mean tracked length per particle, in metres. */
+    double mean_path = total * g->cell_size, expected = 2.0 * (4.0 * 8.0 / 24.0);
+    printf("  furnace: mean tracked length per particle %.4f m, expected %.4f m\n", mean_path, expected);
+    CHECK("lv-all furnace: tallied length = emitted power x mean path length within 1%",
+          fabs(mean_path - expected) < 0.01 * expected, "%.4f m against %.4f m", mean_path, expected);
+    release(&tv);
+}
+
+/* (d) The same seed gives the same volume bit for bit: run to run, and on
+ * every other device present. */
+static void test_determinism(void)
+{
+    lvcl_volume_settings vs = {12, 0, 5, 300000, 0, 0};
+    traced_volume first;
+    lvcl_scene scene;
+    lvcl_status st = {0};
+    if (lvcl_scene_load("cornell", &scene, &st) || !trace(&scene, "0", 9, &vs, &first)) return;
+    int n = lvcl_device_count();
+    for (int run = 0; run < 1 + (n > 1); run++) {
+        const char *device = run == 0 ? "0" : "1";
+        traced_volume again;
+        if (lvcl_scene_load("cornell", &scene, &st) || !trace(&scene, device, 9, &vs, &again)) break;
+        int same = first.volume.tally_bytes == again.volume.tally_bytes &&
+                   memcmp(first.tallies, again.tallies, first.volume.tally_bytes) == 0;
+        CHECK(run == 0 ? "light volume: same seed, same tallies bit for bit"
+                       : "light volume: device 1 gives device 0's tallies bit for bit",
+              same, "the tallies differ");
+        release(&again);
+    }
+    if (n < 2) SKIP("light volume: cross-device", "only one OpenCL device present");
+    release(&first);
+}
+
+int main(int argc, char **argv)
+{
+    (void)argc;
+    (void)argv;
+    setenv("POCL_DEVICES", "pthread basic", 0);
+    lvcl_device_prepare_environment();
+    test_emitting_plane();
+    test_furnace();
+    test_determinism();
+    CHECK_EXIT();
+}
