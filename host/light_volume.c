@@ -144,36 +144,54 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
                    "clearing the light volume", st)))
         return e;
     vol->info.particles = (float)s->particles;
+    cl_int err;
+    cl_mem counter = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, sizeof(cl_uint), NULL, &err);
+    if ((e = cl_ok(err, "allocating the segment counter", st))) return e;
     cl_kernel k;
-    if ((e = lvcl_kernel_create(prog, "lv_particle_trace", &k, st))) return e;
+    if ((e = lvcl_kernel_create(prog, "lv_particle_trace", &k, st))) {
+        clReleaseMemObject(counter);
+        return e;
+    }
     int a = lvcl_device_scene_set_args(ds, k, 0);
     float inv_n = (float)(1.0 / (double)s->particles);
     cl_uint store = s->store_emitted ? 1 : 0;
     if (a < 0 || clSetKernelArg(k, (cl_uint)a, sizeof vol->info, &vol->info) ||
         clSetKernelArg(k, (cl_uint)a + 1, sizeof(cl_mem), &vol->cell_slot_buf) ||
         clSetKernelArg(k, (cl_uint)a + 2, sizeof(cl_mem), &vol->tallies_buf) ||
-        clSetKernelArg(k, (cl_uint)a + 5, sizeof inv_n, &inv_n) || clSetKernelArg(k, (cl_uint)a + 6, sizeof store, &store)) {
+        clSetKernelArg(k, (cl_uint)a + 5, sizeof inv_n, &inv_n) || clSetKernelArg(k, (cl_uint)a + 6, sizeof store, &store) ||
+        clSetKernelArg(k, (cl_uint)a + 7, sizeof counter, &counter)) {
         clReleaseKernel(k);
+        clReleaseMemObject(counter);
         return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the particle tracer's arguments");
     }
     lvcl_progress bar;
     lvcl_progress_start(&bar, "particles", s->progress);
     double start = lvcl_seconds();
+    vol->segments = 0;
     for (uint64_t first = 0; first < s->particles; first += BATCH) {
+        /* A 32-bit count per batch cannot overflow; the total is 64-bit. */
+        cl_uint segments = 0;
         cl_uint f = (cl_uint)first, count = (cl_uint)(s->particles - first < BATCH ? s->particles - first : BATCH);
         size_t local = LOCAL_SIZE, global = (count + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
         clSetKernelArg(k, (cl_uint)a + 3, sizeof f, &f);
         clSetKernelArg(k, (cl_uint)a + 4, sizeof count, &count);
-        if ((e = cl_ok(clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL),
+        if ((e = cl_ok(clEnqueueWriteBuffer(dev->queue, counter, CL_FALSE, 0, sizeof segments, &segments, 0, NULL,
+                                            NULL),
+                       "clearing the segment counter", st)) ||
+            (e = cl_ok(clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL),
                        "launching the particle trace", st)) ||
-            (e = cl_ok(clFinish(dev->queue), "running the particle trace", st)))
+            (e = cl_ok(clEnqueueReadBuffer(dev->queue, counter, CL_TRUE, 0, sizeof segments, &segments, 0, NULL,
+                                           NULL),
+                       "running the particle trace", st)))
             break;
+        vol->segments += segments;
         lvcl_progress_update(&bar, (double)(first + count), (double)s->particles, "particles");
     }
     lvcl_progress_finish(&bar);
     vol->trace_seconds = lvcl_seconds() - start;
     vol->particles = s->particles;
     clReleaseKernel(k);
+    clReleaseMemObject(counter);
     return e;
 }
 

@@ -26,6 +26,7 @@ typedef struct {
     size_t tally_bytes;
     double trace_seconds;
     uint64_t particles;
+    uint64_t segments;        /* straight path pieces traced */
 } lvcl_light_volume;
 
 /* Chooses the grid over the packed scene's bounds and allocates the cells

@@ -53,10 +53,11 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
         fprintf(f,
                 ",\n  \"grid\": [%u, %u, %u],\n  \"cell_size\": %g,\n  \"dirs\": %u,\n  \"cells_allocated\": %u,\n"
                 "  \"light_volume_bytes\": %zu,\n  \"particles\": %llu,\n  \"particle_trace_seconds\": %.4f,\n"
-                "  \"particles_per_second\": %.1f",
+                "  \"particles_per_second\": %.1f,\n  \"segments\": %llu,\n  \"segments_per_second\": %.1f",
                 g->dims[0], g->dims[1], g->dims[2], g->cell_size, g->dirs, g->slot_count,
                 v->tally_bytes + v->cell_count * sizeof(uint32_t), (unsigned long long)v->particles, v->trace_seconds,
-                v->trace_seconds > 0 ? (double)v->particles / v->trace_seconds : 0.0);
+                v->trace_seconds > 0 ? (double)v->particles / v->trace_seconds : 0.0, (unsigned long long)v->segments,
+                v->trace_seconds > 0 ? (double)v->segments / v->trace_seconds : 0.0);
     }
     fprintf(f, "\n}\n");
     if (fclose(f) != 0) return lvcl_fail(st, LVCL_ERR_IO, "cannot write stats to %s", path);

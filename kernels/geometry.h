@@ -51,19 +51,20 @@ inline float3 lv_to_world(lv_frame f, float3 v)
     return v.x * f.t + v.y * f.b + v.z * f.n;
 }
 
-/* Moves a surface point off its surface along the geometric normal n (on
- * the side the new ray leaves from), so that the new ray cannot hit the
- * surface it starts on. Far from the origin the step is a fixed number of
- * float ulps, which scales with |p|; near the origin, where ulps vanish, it
- * is a fixed fraction of the scene size (the idea of Waechter and Binder,
- * Ray Tracing Gems ch. 6, made independent of the scene's units). */
+/* Moves a surface point off its surface along the unit normal n (on the
+ * side the new ray leaves from), so that the new ray cannot hit the surface
+ * it starts on. A point interpolated from a triangle's vertices lies within
+ * a few float ulps of the true plane, coordinate by coordinate; the step
+ * along n covers that error projected on n (the bound pbrt-v4 uses, with a
+ * wide margin), plus a millionth of the scene's size for points near the
+ * origin, where ulps vanish. Each coordinate then moves one ulp further
+ * along n, so rounding the sum cannot bring it back. Every term scales with
+ * the scene, so millimetre and kilometre scenes behave alike. */
 inline float3 lv_offset_origin(float3 p, float3 n, float scene_scale)
 {
-    const float near_origin = scene_scale * (1.0f / 32.0f);
-    const float absolute_step = scene_scale * (1.0f / 65536.0f);
-    int3 ulps = convert_int3(256.0f * n);
-    float3 stepped = as_float3(as_int3(p) + select(ulps, -ulps, as_int3(p) < 0));
-    return select(stepped, p + absolute_step * n, fabs(p) < near_origin);
+    float step = 0x1p-18f * dot(fabs(n), fabs(p)) + 0x1p-20f * scene_scale;
+    float3 q = p + step * n;
+    return nextafter(q, q + n);
 }
 
 #endif

@@ -124,12 +124,17 @@ inline float3 lv_volume_radiance(const lv_grid *grid, __global const long *talli
     return tally * scale;
 }
 
-/* A uniform point in the cell-sized box around p: lookups there average
- * neighbouring cells, which hides the grid (paper section 4.2). */
-inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, lv_rng *rng)
+/* A uniform point in the cell-sized box around p (paper section 4.2: the
+ * lookup then averages neighbouring cells, which hides the grid), folded to
+ * the side of the surface that the light arrives on: the half of the box
+ * behind the surface holds no light that can reach p, and reading it would
+ * darken every surface by about half. n is that side's normal. */
+inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, float3 n, lv_rng *rng)
 {
-    float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
-    return p + (u - 0.5f) * grid->g.cell_size;
+    float3 offset = ((float3)(lv_rng_next2(rng), lv_rng_next(rng)) - 0.5f) * grid->g.cell_size;
+    float behind = dot(offset, n);
+    if (behind < 0.0f) offset -= 2.0f * behind * n;
+    return p + offset;
 }
 
 #endif

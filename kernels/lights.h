@@ -100,6 +100,7 @@ typedef struct {
     float3 origin;
     float3 dir;
     float3 weight;
+    uint triangle; /* the emitting triangle, or LV_NO_HIT for punctual lights */
 } lv_emission_sample;
 
 inline int lv_sample_emission(const lv_scene *sc, float2 u_light, float2 u_dir, float u_pick, lv_emission_sample *es)
@@ -112,6 +113,7 @@ inline int lv_sample_emission(const lv_scene *sc, float2 u_light, float2 u_dir, 
     if (light.kind == LV_LIGHT_PUNCTUAL) {
         lv_punctual_light l = sc->punctuals[light.index];
         es->origin = LV_F3(l.position);
+        es->triangle = LV_NO_HIT;
         float3 intensity = LV_F3(l.intensity);
         if (l.type == LV_PUNCTUAL_SPOT) {
             /* Uniform over the outer cone, pdf 1 / (2 pi (1 - cos_outer)). */
@@ -138,6 +140,7 @@ inline int lv_sample_emission(const lv_scene *sc, float2 u_light, float2 u_dir, 
     float area = 0.5f * length(n);
     n = normalize(n);
     es->origin = lv_offset_origin(v[0].xyz + b.x * e1 + b.y * e2, n, sc->info.scene_scale);
+    es->triangle = light.index;
     es->dir = lv_to_world(lv_frame_make(n), lv_sample_cosine_hemisphere(u_dir));
     float3 le = LV_F3(sc->materials[sc->triangles[light.index].material].emission);
     es->weight = le * (LV_PI * area / select_power);

@@ -11,7 +11,7 @@
 
 __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __global const uint *cell_slot,
                                 __global long *tallies, uint first, uint count, float inv_total_particles,
-                                uint store_emitted)
+                                uint store_emitted, __global uint *segment_count)
 {
     LV_SCENE_OPEN(sc);
     uint id = get_global_id(0);
@@ -25,12 +25,11 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
     float2 ul = lv_rng_next2(&rng), ud = lv_rng_next2(&rng);
     if (!lv_sample_emission(&sc, ul, ud, lv_rng_next(&rng), &es)) return;
     float3 throughput = es.weight;
-    lv_ray r;
-    r.origin = es.origin;
-    r.dir = es.dir;
-    r.tmax = LV_FAR;
+    uint segments = 0;
+    lv_ray r = lv_ray_make(es.origin, es.dir, LV_FAR, es.triangle);
     for (uint depth = 1; depth <= sc.info.max_depth; depth++) {
         lv_hit h = lv_trace(&sc, r, 0);
+        segments++;
         lv_surface s;
         float3 sigma = (float3)(0.0f);
         __global const lv_material *m = 0;
@@ -68,8 +67,7 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
             if (lv_rng_next(&rng) >= q) break;
             throughput /= q;
         }
-        r.origin = lv_offset_origin(s.p, reflected ? ng_out : -ng_out, sc.info.scene_scale);
-        r.dir = wi;
-        r.tmax = LV_FAR;
+        r = lv_ray_make(lv_offset_origin(s.p, reflected ? ng_out : -ng_out, sc.info.scene_scale), wi, LV_FAR, h.tri);
     }
+    atomic_add(segment_count, segments);
 }

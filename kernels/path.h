@@ -17,8 +17,8 @@
 /* Direct light at surface s from one light sample, MIS-weighted against
  * BSDF sampling unless `mis` is 0. ng_out is the geometric normal on the
  * side wo leaves from. */
-inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, const lv_bsdf *b, lv_frame f, float3 wo,
-                              float3 ng_out, int mis, lv_rng *rng)
+inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, uint tri, const lv_bsdf *b, lv_frame f,
+                              float3 wo, float3 ng_out, int mis, lv_rng *rng)
 {
     lv_light_sample ls;
     float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
@@ -31,7 +31,7 @@ inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, const lv_
     if (!lv_bsdf_transmits(b->type) && dot(ls.wi, ng_out) <= 0.0f) return (float3)(0.0f);
     float3 origin = lv_offset_origin(s->p, n_side, sc->info.scene_scale);
     float3 d = ls.target - origin;
-    if (lv_occluded(sc, origin, d, 0.9999f)) return (float3)(0.0f);
+    if (lv_occluded(sc, origin, d, 0.9999f, tri)) return (float3)(0.0f);
     float w = ls.delta || !mis ? 1.0f : lv_power_heuristic(ls.pdf, lv_bsdf_pdf(b, wo, wi));
     return fcos * ls.li * (w / ls.pdf);
 }
@@ -122,9 +122,9 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         int integrate = gather && (g->flags & LV_GATHER_INTEGRATE);
 
         if (depth + 1 <= max_depth && lv_bsdf_has_smooth_lobe(&b) && !all_light)
-            radiance += beta * lv_direct_light(sc, &s, &b, f, wo, ng_out, !integrate, rng);
+            radiance += beta * lv_direct_light(sc, &s, h.tri, &b, f, wo, ng_out, !integrate, rng);
         if (integrate) {
-            radiance += beta * lv_gather_integrate(g, &b, f, wo, lv_jitter_lookup(&g->grid, s.p, rng));
+            radiance += beta * lv_gather_integrate(g, &b, f, wo, lv_jitter_lookup(&g->grid, s.p, ng_out, rng));
             break;
         }
 
@@ -141,7 +141,7 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         prev_delta = bs.delta;
         if (!lv_finite3(beta) || lv_max3(beta) <= 0.0f) break;
         if (gather) {
-            lookup_point = lv_jitter_lookup(&g->grid, s.p, rng);
+            lookup_point = lv_jitter_lookup(&g->grid, s.p, ng_out, rng);
             if (all_light) { /* no threshold: the volume answers at once */
                 radiance += beta * lv_volume_radiance(&g->grid, g->tallies, lookup_point, -wi);
                 break;
@@ -152,9 +152,7 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
             if (lv_rng_next(rng) >= q) break;
             beta /= q;
         }
-        r.origin = lv_offset_origin(s.p, reflected ? ng_out : -ng_out, sc->info.scene_scale);
-        r.dir = wi;
-        r.tmax = LV_FAR;
+        r = lv_ray_make(lv_offset_origin(s.p, reflected ? ng_out : -ng_out, sc->info.scene_scale), wi, LV_FAR, h.tri);
     }
     return lv_finite3(radiance) ? radiance : (float3)(0.0f);
 }

@@ -18,7 +18,21 @@ typedef struct {
     float3 origin;
     float3 dir; /* need not be unit; t is in units of |dir| */
     float tmax;
+    uint skip;  /* the triangle the ray leaves from, or LV_NO_HIT */
 } lv_ray;
+
+/* skip: a ray leaving a surface ignores the triangle it starts on. A flat
+ * triangle cannot be met twice by a straight ray, and for thin triangles the
+ * computed distance is too inexact to tell leaving from arriving. */
+inline lv_ray lv_ray_make(float3 origin, float3 dir, float tmax, uint skip)
+{
+    lv_ray r;
+    r.origin = origin;
+    r.dir = dir;
+    r.tmax = tmax;
+    r.skip = skip;
+    return r;
+}
 
 typedef struct {
     float t;
@@ -126,6 +140,7 @@ inline lv_hit lv_trace(const lv_scene *sc, lv_ray r, int any_hit)
         __global const lv_bvh_node *n = &sc->nodes[node];
         if (n->count > 0) {
             for (int i = n->index; i < n->index + n->count; i++) {
+                if ((uint)i == r.skip) continue;
                 __global const float4 *v = &sc->tri_vertices[3 * i];
                 if (lv_intersect_triangle(&s, v[0], v[1], v[2], &hit.t, &hit.b1, &hit.b2)) {
                     hit.tri = (uint)i;
@@ -156,13 +171,9 @@ inline lv_hit lv_trace(const lv_scene *sc, lv_ray r, int any_hit)
     return hit;
 }
 
-inline int lv_occluded(const lv_scene *sc, float3 origin, float3 dir, float tmax)
+inline int lv_occluded(const lv_scene *sc, float3 origin, float3 dir, float tmax, uint skip)
 {
-    lv_ray r;
-    r.origin = origin;
-    r.dir = dir;
-    r.tmax = tmax;
-    return lv_trace(sc, r, 1).tri != LV_NO_HIT;
+    return lv_trace(sc, lv_ray_make(origin, dir, tmax, skip), 1).tri != LV_NO_HIT;
 }
 
 #endif

@@ -110,10 +110,7 @@ __kernel void t_trace(LV_SCENE_PARAMS, __global const float *rays, uint count, _
     uint i = get_global_id(0);
     if (i >= count) return;
     __global const float *q = rays + 8 * i;
-    lv_ray r;
-    r.origin = (float3)(q[0], q[1], q[2]);
-    r.tmax = q[3];
-    r.dir = (float3)(q[4], q[5], q[6]);
+    lv_ray r = lv_ray_make((float3)(q[0], q[1], q[2]), (float3)(q[4], q[5], q[6]), q[3], LV_NO_HIT);
     lv_hit h = lv_trace(&sc, r, 0);
     results[4 * i + 0] = h.t;
     results[4 * i + 1] = h.tri == LV_NO_HIT ? -1.0f : (float)sc.triangles[h.tri].prim_id;
@@ -127,10 +124,7 @@ __kernel void t_trace_brute_force(LV_SCENE_PARAMS, __global const float *rays, u
     uint i = get_global_id(0);
     if (i >= count) return;
     __global const float *q = rays + 8 * i;
-    lv_ray r;
-    r.origin = (float3)(q[0], q[1], q[2]);
-    r.tmax = q[3];
-    r.dir = (float3)(q[4], q[5], q[6]);
+    lv_ray r = lv_ray_make((float3)(q[0], q[1], q[2]), (float3)(q[4], q[5], q[6]), q[3], LV_NO_HIT);
     lv_sheared_ray s = lv_shear_ray(r);
     float t = r.tmax, b1, b2;
     int best = -1;
@@ -147,7 +141,8 @@ __kernel void t_trace_brute_force(LV_SCENE_PARAMS, __global const float *rays, u
  * re-shot from lv_offset_origin(hit point, geometric normal on the new ray's
  * side), as the path tracer does. reshoot: per ray, the new direction in the
  * frame of that normal (xyz, z > 0) and w > 0 to stay on the side the ray
- * came from (reflection) or w < 0 to cross the surface (transmission).
+ * came from (reflection) or w < 0 to cross the surface (transmission);
+ * |w| = 2 also skips the triangle left, as the renderer's rays do.
  * Results: 4 floats per ray (prim_id first hit or -1, prim_id the new ray
  * hits or -1, its t, distance of the new origin from the hit point). */
 __kernel void t_offset_rays(LV_SCENE_PARAMS, __global const float *rays, uint count, __global const float4 *reshoot,
@@ -158,10 +153,7 @@ __kernel void t_offset_rays(LV_SCENE_PARAMS, __global const float *rays, uint co
     if (i >= count) return;
     __global const float *q = rays + 8 * i;
     __global float *o = results + 4 * i;
-    lv_ray r;
-    r.origin = (float3)(q[0], q[1], q[2]);
-    r.tmax = q[3];
-    r.dir = (float3)(q[4], q[5], q[6]);
+    lv_ray r = lv_ray_make((float3)(q[0], q[1], q[2]), (float3)(q[4], q[5], q[6]), q[3], LV_NO_HIT);
     lv_hit h = lv_trace(&sc, r, 0);
     o[0] = o[1] = -1.0f;
     o[2] = o[3] = 0.0f;
@@ -170,10 +162,8 @@ __kernel void t_offset_rays(LV_SCENE_PARAMS, __global const float *rays, uint co
     float3 ng_in = dot(r.dir, s.ng) < 0.0f ? s.ng : -s.ng; /* towards the arriving ray */
     float4 l = reshoot[i];
     float3 n = l.w > 0.0f ? ng_in : -ng_in;
-    lv_ray r2;
-    r2.origin = lv_offset_origin(s.p, n, sc.info.scene_scale);
-    r2.dir = lv_to_world(lv_frame_make(n), l.xyz);
-    r2.tmax = LV_FAR;
+    lv_ray r2 = lv_ray_make(lv_offset_origin(s.p, n, sc.info.scene_scale), lv_to_world(lv_frame_make(n), l.xyz),
+                            LV_FAR, fabs(l.w) > 1.5f ? h.tri : LV_NO_HIT);
     lv_hit h2 = lv_trace(&sc, r2, 0);
     o[0] = (float)sc.triangles[h.tri].prim_id;
     o[1] = h2.tri == LV_NO_HIT ? -1.0f : (float)sc.triangles[h2.tri].prim_id;
