@@ -121,12 +121,14 @@ venv: $(VENV)/.stamp
 scenes:
 	python3 scenes/make_scenes.py
 
-# Regenerates the checked-in references (about 8 minutes on 2 cores).
+# Regenerates the checked-in references (about 25 minutes on 2 cores).
 references: $(VENV)/.stamp
 	$(VENV)/bin/python $(REFDIR)/render_reference.py scenes/cornell.gltf $(REFDIR)/cornell.exr \
 	  --spp 16384 --width 256 --height 256 --pass-spp 512
 	$(VENV)/bin/python $(REFDIR)/render_reference.py scenes/furnace.gltf $(REFDIR)/furnace.exr \
 	  --spp 4096 --width 64 --height 64 --pass-spp 1024
+	$(VENV)/bin/python $(REFDIR)/render_reference.py scenes/glass-table.gltf $(REFDIR)/glass-table.exr \
+	  --spp 20480 --width 256 --height 256 --pass-spp 512
 
 # Renders the shared references' scenes with the converter and compares, to
 # show the converter agrees with the independent one (needs ../shared).

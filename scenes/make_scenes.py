@@ -21,6 +21,19 @@ furnace.gltf  A white furnace: a closed cube room of side 2 m centred on the
               origin with every face facing inward, Lambertian albedo 0.5 and
               emitting radiance 1 from its (inward) front face, with the camera
               at the centre.  Every pixel should converge to Le / (1 - a) = 2.
+glass-table.gltf
+              The paper's "shoe under a glass table" (section 5).  A closed
+              room 4 m (x) by 2.6 m (y) by 3 m (z) with Lambertian doubleSided
+              walls of different albedos, a 1 m x 1 m ceiling area light 1 mm
+              below the ceiling emitting downwards with radiance 5, a table
+              whose top is a solid smooth glass slab (KHR_materials_transmission
+              1, KHR_materials_volume thickness 0.03, KHR_materials_ior 1.5,
+              roughness 0; a closed box wound outward, so the outside is the
+              front face) 1.2 m x 0.8 m x 3 cm at 0.72..0.75 m on four thin
+              grey legs, and a low-poly red "shoe" on the floor under the
+              slab (242 triangles in all), lit through the glass.  The camera
+              looks at the table from the front right and above (eye 1.05 m
+              high, yfov 50 degrees).
 
 Conventions (see DESIGN.md section 3): flat shading (no NORMAL attribute),
 indexed triangles, front face = counter-clockwise winding, one buffer stored
@@ -84,6 +97,16 @@ class Mesh:
             p0, p1, p2 = (self.positions[i] for i in (i0, i1, i2))
             assert dot(cross(sub(p1, p0), sub(p2, p0)), facing) > 0.0, self.name
 
+    def tri(self, corners, facing):
+        """Add triangle a,b,c, wound so that its front face points along
+        `facing`."""
+        a, b, c = corners
+        if dot(cross(sub(b, a), sub(c, a)), facing) < 0.0:
+            b, c = c, b
+        base = len(self.positions)
+        self.positions += [a, b, c]
+        self.indices += [base, base + 1, base + 2]
+
 
 def block(mesh, top, height):
     """A block standing on the floor: `top` lists its 4 top corners (metres)
@@ -97,6 +120,76 @@ def block(mesh, top, height):
         pb, qb = (p[0], 0.0, p[2]), (q[0], 0.0, q[2])
         mx, mz = (p[0] + q[0]) / 2.0 - cx, (p[2] + q[2]) / 2.0 - cz
         mesh.quad([pb, qb, q, p], (mx, 0.0, mz))
+
+
+def box(mesh, lo, hi):
+    """A closed axis-aligned box from corner `lo` to corner `hi`, all six
+    faces facing outward."""
+    for axis in range(3):
+        u, v = (axis + 1) % 3, (axis + 2) % 3
+        for s, c in ((-1.0, lo[axis]), (1.0, hi[axis])):
+            corners = []
+            for a, b in ((lo[u], lo[v]), (hi[u], lo[v]), (hi[u], hi[v]),
+                         (lo[u], hi[v])):
+                p = [0.0, 0.0, 0.0]
+                p[axis], p[u], p[v] = c, a, b
+                corners.append(tuple(p))
+            facing = [0.0, 0.0, 0.0]
+            facing[axis] = s
+            mesh.quad(corners, tuple(facing))
+
+
+def loft(mesh, rings):
+    """A closed-top solid lofted through `rings`, each a list of points
+    (same count, same order) at one height, bottom ring first.  Adds the
+    sides between consecutive rings (facing away from the ring centres) and
+    a fan over the top ring (facing up); no bottom face (it lies on the
+    floor)."""
+    n = len(rings[0])
+
+    def centre(r):
+        return tuple(sum(p[k] for p in r) / len(r) for k in range(3))
+
+    for lo, hi in zip(rings, rings[1:]):
+        c = centre(lo + hi)
+        for i in range(n):
+            j = (i + 1) % n
+            m = tuple((lo[i][k] + lo[j][k] + hi[i][k] + hi[j][k]) / 4.0
+                      for k in range(3))
+            mesh.quad([lo[i], lo[j], hi[j], hi[i]], (m[0] - c[0], 0.0, m[2] - c[2]))
+    top = rings[-1]
+    c = centre(top)
+    for i in range(n):
+        mesh.tri([c, top[i], top[(i + 1) % n]], (0.0, 1.0, 0.0))
+
+
+def look_at(eye, target, up=(0.0, 1.0, 0.0)):
+    """Unit quaternion (x, y, z, w) turning a glTF camera (looking down its
+    local -Z, +Y up) at `eye` towards `target`."""
+    def norm(a):
+        ln = math.sqrt(dot(a, a))
+        return (a[0] / ln, a[1] / ln, a[2] / ln)
+    back = norm(sub(eye, target))            # local +Z
+    right = norm(cross(up, back))            # local +X
+    upv = cross(back, right)                 # local +Y
+    # Rotation matrix with columns right, upv, back -> quaternion.
+    m00, m01, m02 = right[0], upv[0], back[0]
+    m10, m11, m12 = right[1], upv[1], back[1]
+    m20, m21, m22 = right[2], upv[2], back[2]
+    tr = m00 + m11 + m22
+    if tr > 0.0:
+        s = 2.0 * math.sqrt(tr + 1.0)
+        q = ((m21 - m12) / s, (m02 - m20) / s, (m10 - m01) / s, 0.25 * s)
+    elif m00 > m11 and m00 > m22:
+        s = 2.0 * math.sqrt(1.0 + m00 - m11 - m22)
+        q = (0.25 * s, (m01 + m10) / s, (m02 + m20) / s, (m21 - m12) / s)
+    elif m11 > m22:
+        s = 2.0 * math.sqrt(1.0 + m11 - m00 - m22)
+        q = ((m01 + m10) / s, 0.25 * s, (m12 + m21) / s, (m02 - m20) / s)
+    else:
+        s = 2.0 * math.sqrt(1.0 + m22 - m00 - m11)
+        q = ((m02 + m20) / s, (m12 + m21) / s, 0.25 * s, (m10 - m01) / s)
+    return [round(c, 9) for c in q]
 
 
 # ---------------------------------------------------------------- glTF writer
@@ -118,6 +211,25 @@ def lambert(name, rgb, double_sided=True, emissive=None, strength=None):
             mat["extensions"]["KHR_materials_emissive_strength"] = {
                 "emissiveStrength": float(strength)}
     return mat
+
+
+def glass(name, ior=1.5, thickness=1.0):
+    """Solid smooth dielectric (DESIGN.md section 3): transmission 1,
+    volume thickness > 0, roughness 0, the front face is the outside."""
+    return {
+        "name": name,
+        "pbrMetallicRoughness": {
+            "baseColorFactor": [1.0, 1.0, 1.0, 1.0],
+            "metallicFactor": 0.0,
+            "roughnessFactor": 0.0,
+        },
+        "extensions": {
+            "KHR_materials_transmission": {"transmissionFactor": 1.0},
+            "KHR_materials_volume": {"thicknessFactor": float(thickness)},
+            "KHR_materials_ior": {"ior": float(ior)},
+        },
+        "doubleSided": False,
+    }
 
 
 def emission(radiance):
@@ -278,11 +390,95 @@ def furnace(path):
                "white furnace: albedo 0.5, Le 1, expected radiance 2")
 
 
+def glass_table(path):
+    FLOOR, CEIL, BACK, LEFT, SIDE, LEG, SHOE, GLASS, LIGHT = range(9)
+    le = (5.0, 5.0, 5.0)
+    factor, strength = emission(le)
+    materials = [
+        lambert("floor", (0.55, 0.45, 0.35)),
+        lambert("ceiling", (0.8, 0.8, 0.8)),
+        lambert("back_wall", (0.35, 0.45, 0.65)),
+        lambert("left_wall", (0.45, 0.6, 0.35)),
+        lambert("white_walls", (0.7, 0.7, 0.7)),
+        lambert("legs", (0.2, 0.2, 0.2)),
+        lambert("shoe", (0.65, 0.12, 0.06)),
+        glass("glass", ior=1.5, thickness=0.03),
+        lambert("light", (0.0, 0.0, 0.0), emissive=factor, strength=strength),
+    ]
+    X, Y, Z = 2.0, 2.6, 1.5          # room: -X..X, 0..Y, -Z..Z
+    up, down = (0.0, 1.0, 0.0), (0.0, -1.0, 0.0)
+
+    def wall(name, mat, corners, facing):
+        m = Mesh(name, mat)
+        m.quad(corners, facing)
+        return m
+
+    floor = wall("floor", FLOOR, [(-X, 0.0, -Z), (X, 0.0, -Z), (X, 0.0, Z),
+                                  (-X, 0.0, Z)], up)
+    ceiling = wall("ceiling", CEIL, [(-X, Y, -Z), (X, Y, -Z), (X, Y, Z),
+                                     (-X, Y, Z)], down)
+    back = wall("back_wall", BACK, [(-X, 0.0, -Z), (X, 0.0, -Z), (X, Y, -Z),
+                                    (-X, Y, -Z)], (0.0, 0.0, 1.0))
+    left = wall("left_wall", LEFT, [(-X, 0.0, -Z), (-X, 0.0, Z), (-X, Y, Z),
+                                    (-X, Y, -Z)], (1.0, 0.0, 0.0))
+    sides = Mesh("white_walls", SIDE)     # right wall and the wall behind the camera
+    sides.quad([(X, 0.0, -Z), (X, 0.0, Z), (X, Y, Z), (X, Y, -Z)],
+               (-1.0, 0.0, 0.0))
+    sides.quad([(-X, 0.0, Z), (X, 0.0, Z), (X, Y, Z), (-X, Y, Z)],
+               (0.0, 0.0, -1.0))
+
+    # Ceiling light, 1 m x 1 m above the table, 1 mm below the ceiling.
+    ly, h = Y - 0.001, 0.5
+    light = wall("light", LIGHT, [(-h, ly, -h), (h, ly, -h), (h, ly, h),
+                                  (-h, ly, h)], down)
+
+    # Table: glass slab 1.2 x 0.8 x 0.03 m with its top at 0.75 m; legs of
+    # 4 cm square section stop 1 mm below the slab.
+    tx, tz, t0, t1 = 0.6, 0.4, 0.72, 0.75
+    slab = Mesh("glass_top", GLASS)
+    box(slab, (-tx, t0, -tz), (tx, t1, tz))
+    legs = Mesh("legs", LEG)
+    w, inset, lh = 0.04, 0.05, t0 - 0.001
+    for sx in (-1.0, 1.0):
+        for sz in (-1.0, 1.0):
+            x0 = sx * (tx - inset) - w / 2.0
+            z0 = sz * (tz - inset) - w / 2.0
+            block(legs, [(x0, lh, z0), (x0 + w, lh, z0),
+                         (x0 + w, lh, z0 + w), (x0, lh, z0 + w)], lh)
+
+    # Shoe: a 32 cm long rounded sole footprint (toe towards +x, wider at the
+    # toe) lofted up through rings that shrink towards the heel.
+    n, xh, length = 16, -0.14, 0.32
+    foot = []
+    for i in range(n):
+        t = 2.0 * math.pi * i / n
+        u = 0.5 - 0.5 * math.cos(t)                  # 0 at the heel, 1 at the toe
+        half = 0.042 + 0.018 * u
+        foot.append((xh + length * u, half * math.sin(t)))
+    shoe_z = 0.05
+    rings = []
+    for y, sx, sw in ((0.0, 1.0, 1.0), (0.03, 1.0, 1.0), (0.035, 0.96, 0.92),
+                      (0.08, 0.9, 0.88), (0.115, 0.6, 0.8), (0.16, 0.36, 0.72)):
+        rings.append([(xh + 0.006 * (1.0 - sw) + (px - xh) * sx, y,
+                       shoe_z + pz * sw) for px, pz in foot])
+    shoe = Mesh("shoe", SHOE)
+    loft(shoe, rings)
+
+    eye, target = (1.1, 1.05, 1.45), (0.0, 0.33, -0.05)
+    camera = {"yfov": math.radians(50.0), "aspect": 1.0,
+              "translation": list(eye), "rotation": look_at(eye, target)}
+    write_gltf(path, [floor, ceiling, back, left, sides, light, slab, legs,
+                      shoe], materials, camera,
+               "shoe under a glass table (paper section 5); light radiance 5, "
+               "glass ior 1.5")
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
     os.makedirs(out, exist_ok=True)
     cornell(os.path.join(out, "cornell.gltf"))
     furnace(os.path.join(out, "furnace.gltf"))
+    glass_table(os.path.join(out, "glass-table.gltf"))
 
 
 if __name__ == "__main__":
