@@ -104,7 +104,7 @@ ASAN_FLAGS := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-s
 test-asan: $(BUILD)/.deps-ok
 	$(MAKE) BUILD=$(BUILD)/asan CFLAGS="$(ASAN_FLAGS)" CXXFLAGS="$(ASAN_FLAGS)" \
 	  $(BUILD)/asan/lvcl $(BUILD)/asan/lvcl-compare $(BUILD)/asan/tests/test_gltf_import
-	@ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=tests/asan/lsan.supp \
+	@ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=tests/asan/lsan.supp:print_suppressions=0 \
 	  tests/run.sh $(BUILD)/asan --asan
 
 # ---- references (Mitsuba 3 from PyPI, in a venv inside the build tree) ----

@@ -66,10 +66,20 @@ def plot(records, path):
     series = {}
     for r in records:
         series.setdefault(r["label"], []).append((r["seconds"], r["relmse"]))
+    # One colour per grid size, one marker per particle count.
+    colours = plt.get_cmap("viridis")
+    cell_sizes = sorted({r["cells"][0] for r in records if r["cells"]})
+    markers = {}
     for label, pts in sorted(series.items()):
         pts.sort()
-        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-" if label == "pt" else ".--", label=label,
-                linewidth=2 if label == "pt" else 1)
+        if label == "pt":
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", color="crimson", linewidth=2, label=label)
+            continue
+        rec = next(r for r in records if r["label"] == label)
+        colour = colours(cell_sizes.index(rec["cells"][0]) / max(1, len(cell_sizes) - 1))
+        marker = markers.setdefault(rec["particles"], "sv^Dpx"[len(markers) % 6])
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "--", marker=marker, color=colour, linewidth=1,
+                label=label)
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("wall time, seconds (particle trace + rendering)")
@@ -107,6 +117,7 @@ def main():
                 "render_seconds": s["render_seconds"],
                 "seconds": s.get("particle_trace_seconds", 0.0) + s["render_seconds"],
                 "particles_per_second": s.get("particles_per_second"),
+                "segments_per_second": s.get("segments_per_second"),
                 "samples_per_second": s["samples_per_second"],
                 "relmse": e["relmse"], "rmse": e["rmse"],
             }
