@@ -119,6 +119,9 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     if (err == CL_SUCCESS)
         vol->tallies_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
                                           vol->tally_bytes ? vol->tally_bytes : 8, NULL, &err);
+    if (err == CL_SUCCESS)
+        vol->bin_directions_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, g->bins * 4 * sizeof(float), NULL,
+                                                 &err);
     if (err != CL_SUCCESS) {
         lvcl_volume_release(vol);
         return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "cannot allocate the light volume on %s: %s", dev->name,
@@ -132,10 +135,27 @@ static lvcl_error cl_ok(cl_int err, const char *what, lvcl_status *st)
     return err == CL_SUCCESS ? LVCL_OK : lvcl_fail(st, LVCL_ERR_DEVICE, "%s failed: %s", what, lvcl_cl_error_name(err));
 }
 
+/* Runs lv_bin_directions: the table of the bins' central directions. */
+static lvcl_error fill_bin_directions(const lvcl_device *dev, const lvcl_program *prog, lvcl_light_volume *vol,
+                                      lvcl_status *st)
+{
+    cl_kernel k;
+    lvcl_error e = lvcl_kernel_create(prog, "lv_bin_directions", &k, st);
+    if (e) return e;
+    cl_uint n = vol->info.dirs;
+    size_t local = LOCAL_SIZE, global = (vol->info.bins + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
+    cl_int err = clSetKernelArg(k, 0, sizeof n, &n);
+    if (err == CL_SUCCESS) err = clSetKernelArg(k, 1, sizeof(cl_mem), &vol->bin_directions_buf);
+    if (err == CL_SUCCESS) err = clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL);
+    clReleaseKernel(k);
+    return cl_ok(err, "computing the bin directions", st);
+}
+
 lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_device_scene *ds,
                              const lvcl_volume_settings *s, lvcl_light_volume *vol, lvcl_status *st)
 {
     lvcl_error e;
+    if ((e = fill_bin_directions(dev, prog, vol, st))) return e;
     if (s->particles == 0 || s->particles > UINT32_MAX)
         return lvcl_fail(st, LVCL_ERR_USAGE, "--particles must be from 1 to %u", UINT32_MAX);
     cl_long zero = 0;
@@ -220,6 +240,7 @@ void lvcl_volume_release(lvcl_light_volume *vol)
 {
     if (vol->cell_slot_buf) clReleaseMemObject(vol->cell_slot_buf);
     if (vol->tallies_buf) clReleaseMemObject(vol->tallies_buf);
+    if (vol->bin_directions_buf) clReleaseMemObject(vol->bin_directions_buf);
     free(vol->cell_slot);
     memset(vol, 0, sizeof *vol);
 }

@@ -23,6 +23,7 @@ typedef struct {
     uint32_t *cell_slot;      /* host copy of the index grid */
     size_t cell_count;        /* dims[0] * dims[1] * dims[2] */
     cl_mem cell_slot_buf, tallies_buf;
+    cl_mem bin_directions_buf; /* float4 per bin, filled by lvcl_volume_trace */
     size_t tally_bytes;
     double trace_seconds;
     uint64_t particles;

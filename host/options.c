@@ -9,7 +9,7 @@
 
 #define DEFAULT_SCENE "cornell"
 /* Light-volume defaults, chosen by measurement (docs/light-volume.md). */
-#define LVCL_DEFAULT_CELLS 32
+#define LVCL_DEFAULT_CELLS 16
 #define LVCL_DEFAULT_PARTICLES 1e6
 
 static lvcl_error parse_int(const char *flag, const char *s, long lo, long hi, long *out, lvcl_status *st)
@@ -44,7 +44,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
     o->cells = LVCL_DEFAULT_CELLS;
     o->dirs = 11;
     o->particles = LVCL_DEFAULT_PARTICLES;
-    o->gather = "sample";
+    o->gather = "integrate";
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         /* Flags that take no value. */
@@ -110,12 +110,13 @@ void lvcl_options_print_help(const char *program)
            "  --mode pt|lv|lv-all  pt: path tracing; lv: light volume for indirect light, shadow rays\n"
            "                       for direct (default pt); lv-all: the light volume answers all light\n"
            "  --particles N        light volume: particles traced (default 1e6)\n"
-           "  --cells N            light volume: cells along the longest axis (default 32)\n"
+           "  --cells N            light volume: cells along the longest axis (default 16)\n"
            "  --cell-size M        light volume: cell size in metres (overrides --cells)\n"
            "  --dirs N             light volume: N x N direction bins per hemisphere (default 11)\n"
            "  --threshold M        lv: reflected rays hitting closer than M metres continue as paths\n"
            "                       (default the cell diagonal)\n"
-           "  --gather sample|integrate  lv: read one BSDF-sampled bin, or integrate over all bins\n"
+           "  --gather integrate|sample  lv: integrate the BSDF over all bins of the cell (default),\n"
+           "                       or read the bin of one BSDF-sampled direction\n"
            "  --spp N              samples per pixel (default 64)\n"
            "  --width N, --height N  image size (default 512 wide, height from the camera's aspect)\n"
            "  --seed N             random seed (default 0); the same seed gives the same image\n"

@@ -110,18 +110,23 @@ inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
     return 1.0f;
 }
 
-/* Radiance (W m^-2 sr^-1) of the light travelling along `dir` through the
- * cell at p, from the tallies of paper eq. 5. */
+/* Radiance (W m^-2 sr^-1) of one bin of a stored cell, from its tallies
+ * (paper eq. 5). */
+inline float3 lv_bin_radiance(const lv_grid *grid, __global const long *tallies, uint slot, uint bin)
+{
+    __global const long *t = tallies + ((size_t)slot * grid->g.bins + bin) * 3;
+    float3 tally = (float3)((float)t[0], (float)t[1], (float)t[2]) * (1.0f / LV_TALLY_SCALE);
+    float v = lv_cell_lit_volume(grid, slot);
+    float h = grid->g.cell_size;
+    return tally * (grid->g.total_power / (h * h * v * lv_bin_solid_angle(grid->g.dirs)));
+}
+
+/* Radiance of the light travelling along `dir` through the cell at p. */
 inline float3 lv_volume_radiance(const lv_grid *grid, __global const long *tallies, float3 p, float3 dir)
 {
     uint slot = lv_grid_slot_at(grid, p);
     if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
-    uint bin = lv_direction_bin(dir, grid->g.dirs);
-    __global const long *t = tallies + ((size_t)slot * grid->g.bins + bin) * 3;
-    float3 tally = (float3)((float)t[0], (float)t[1], (float)t[2]) * (1.0f / LV_TALLY_SCALE);
-    float v = lv_cell_lit_volume(grid, slot);
-    float scale = grid->g.total_power / (grid->g.cell_size * grid->g.cell_size * v * lv_bin_solid_angle(grid->g.dirs));
-    return tally * scale;
+    return lv_bin_radiance(grid, tallies, slot, lv_direction_bin(dir, grid->g.dirs));
 }
 
 /* A uniform point in the cell-sized box around p (paper section 4.2: the

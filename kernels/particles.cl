@@ -71,3 +71,10 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
     }
     atomic_add(segment_count, segments);
 }
+
+/* The central direction of every bin, for gathers that visit them all. */
+__kernel void lv_bin_directions(uint n, __global float4 *directions)
+{
+    uint bin = get_global_id(0);
+    if (bin < 2u * n * n) directions[bin] = (float4)(lv_bin_direction(bin, n, (float2)(0.5f, 0.5f)), 0.0f);
+}

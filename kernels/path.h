@@ -40,6 +40,7 @@ inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, uint tri,
 typedef struct {
     lv_grid grid;
     __global const long *tallies;
+    __global const float4 *bin_directions; /* central direction of each bin */
     uint flags;      /* LV_GATHER_* */
     float threshold; /* a BSDF ray hitting closer than this continues as a path */
 } lv_gather;
@@ -51,13 +52,19 @@ typedef struct {
  * smoother surfaces continue the path (paper section 5). */
 #define LV_GATHER_MIN_ALPHA 0.1f
 
-inline int lv_gather_here(const lv_bsdf *b)
+inline int lv_gather_here_type(uint type, float alpha)
 {
-    if (b->type == LV_BSDF_DIFFUSE || b->type == LV_BSDF_PLASTIC) return 1;
-    return b->type == LV_BSDF_CONDUCTOR && b->alpha >= LV_GATHER_MIN_ALPHA;
+    if (type == LV_BSDF_DIFFUSE || type == LV_BSDF_PLASTIC) return 1;
+    return type == LV_BSDF_CONDUCTOR && alpha >= LV_GATHER_MIN_ALPHA;
 }
 
-/* The BSDF-weighted sum of the volume's radiance over every bin at p. */
+inline int lv_gather_here(const lv_bsdf *b)
+{
+    return lv_gather_here_type(b->type, b->alpha);
+}
+
+/* The BSDF-weighted sum of the volume's radiance over every bin of the cell
+ * at p (each bin read at its central direction). */
 inline float3 lv_gather_integrate(const lv_gather *g, const lv_bsdf *b, lv_frame f, float3 wo, float3 p)
 {
     uint slot = lv_grid_slot_at(&g->grid, p);
@@ -65,9 +72,11 @@ inline float3 lv_gather_integrate(const lv_gather *g, const lv_bsdf *b, lv_frame
     float3 sum = (float3)(0.0f);
     uint n = g->grid.g.dirs;
     for (uint bin = 0; bin < g->grid.g.bins; bin++) {
-        float3 travel = lv_bin_direction(bin, n, (float2)(0.5f, 0.5f));
-        float3 fcos = lv_bsdf_eval(b, wo, lv_to_local(f, -travel), LV_RADIANCE);
-        if (lv_max3(fcos) > 0.0f) sum += fcos * lv_volume_radiance(&g->grid, g->tallies, p, travel);
+        /* Light arriving from wi travels along -wi. */
+        float3 wi = lv_to_local(f, -g->bin_directions[bin].xyz);
+        if (wi.z <= 0.0f) continue; /* the gather runs on reflecting surfaces only */
+        float3 fcos = lv_bsdf_eval(b, wo, wi, LV_RADIANCE);
+        if (lv_max3(fcos) > 0.0f) sum += fcos * lv_bin_radiance(&g->grid, g->tallies, slot, bin);
     }
     return sum * lv_bin_solid_angle(n);
 }
@@ -88,12 +97,15 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
     float3 lookup_point = (float3)(0.0f);
     for (uint depth = 1; depth <= max_depth; depth++) {
         lv_hit h = lv_trace(sc, r, 0);
-        int far = h.tri == LV_NO_HIT || (lookup_pending && h.t > g->threshold);
         lv_surface s;
         __global const lv_material *m = 0;
+        /* A near hit continues the path only on a rough surface: a specular
+         * one would lead on to caustics, which the volume holds already. */
+        int far = h.tri == LV_NO_HIT;
         if (h.tri != LV_NO_HIT) {
             s = lv_surface_at(sc, r, h);
             m = &sc->materials[s.material];
+            far = lookup_pending && (h.t > g->threshold || !lv_gather_here_type(m->bsdf, m->alpha));
             float3 le = LV_F3(m->emission);
             if (s.front && lv_max3(le) > 0.0f && !(all_light && !prev_delta)) {
                 float w = prev_delta ? 1.0f : lv_power_heuristic(prev_pdf, lv_light_pdf(sc, h.tri, r.dir, h.t, s.ng));

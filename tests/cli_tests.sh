@@ -45,6 +45,9 @@ expect_error "spp zero" 2 --spp 0 cornell
 expect_error "negative width" 2 --width -5 cornell
 expect_error "unknown mode" 2 --mode magic cornell
 expect_error "two scenes" 2 cornell furnace
+expect_error "unknown gather" 2 --mode lv --gather guess cornell
+expect_error "zero particles" 2 --mode lv --particles 0 cornell
+expect_error "too many direction bins" 2 --mode lv --dirs 65 cornell
 expect_error "unknown device name" 2 --device tpu cornell
 expect_error "device index out of range" 1 --device 99 cornell
 expect_error "unwritable output" 1 --spp 1 --width 8 -o "$tmp/no/such/dir/x.png" cornell
@@ -78,3 +81,12 @@ status=$?
 if [ $status -eq 0 ] && grep -q 'warning' "$tmp/err" && ! "$build/lvcl-compare" "$tmp/nan.exr" "$tmp/nan.exr" | grep -qi 'nan\|inf'
 then pass "NaN vertices skipped with a warning"
 else fail "NaN vertices skipped with a warning" "status $status: $(cat "$tmp/err")"; fi
+
+# The light-volume modes render and report their grid.
+for mode in lv lv-all; do
+    "$lvcl" -q --mode $mode --particles 20000 --cells 8 --spp 2 --width 32 --stats "$tmp/lv.json" -o "$tmp/lv.exr" \
+        cornell 2>"$tmp/err"
+    if [ $? -eq 0 ] && grep -q '"cells_allocated"' "$tmp/lv.json" && grep -q '"segments_per_second"' "$tmp/lv.json"
+    then pass "--mode $mode renders and reports its grid"
+    else fail "--mode $mode renders and reports its grid" "$(cat "$tmp/err")"; fi
+done
