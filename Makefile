@@ -163,7 +163,7 @@ $(BUILD)/lvcl-bench: $(BENCH_SOURCES) bench/rays.h host/*.h $(BUILD)/liblvcl.a
 
 # A ~1M-triangle scene made by the project's own generator (not checked in).
 BIG_SCENE := $(BUILD)/bench/big_room.glb
-$(BIG_SCENE): bench/make_big_scene.py
+$(BIG_SCENE): bench/make_big_scene.py scenes/make_scenes.py
 	@mkdir -p $(@D)
 	python3 bench/make_big_scene.py $@
 

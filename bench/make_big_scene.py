@@ -16,16 +16,15 @@ Materials are the project's Lambertian ones (scenes/make_scenes.py), flat
 shading (no NORMAL attribute), counter-clockwise front faces.
 """
 
-import json
 import math
 import os
-import struct
 import sys
 from array import array
 
 sys.dont_write_bytecode = True  # leave no __pycache__ in scenes/
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes"))
-from make_scenes import emission, lambert  # noqa: E402  (the project's material conventions)
+# The project's material conventions and its one glTF document / .glb writer.
+from make_scenes import emission, gltf_document, lambert, write_glb_file  # noqa: E402
 
 RIPPLE_AMPLITUDE = 0.02  # metres
 RIPPLE_WAVES = 6         # across the floor, in x and in z
@@ -134,56 +133,6 @@ def check_facing(mesh, tri, facing):
     assert sum(n[k] * facing[k] for k in range(3)) > 0.0, mesh.name
 
 
-def write_glb(path, meshes, materials, camera):
-    blob = bytearray()
-    accessors, views, gl_meshes, nodes = [], [], [], []
-
-    def add_view(data, target):
-        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data), "target": target})
-        blob.extend(data)  # float32 and uint32 arrays keep 4-byte alignment
-        return len(views) - 1
-
-    for m in meshes:
-        pos = m.positions
-        lo = [min(pos[k::3]) for k in range(3)]
-        hi = [max(pos[k::3]) for k in range(3)]
-        accessors.append({"bufferView": add_view(pos.tobytes(), 34962), "componentType": 5126,
-                          "count": len(pos) // 3, "type": "VEC3", "min": lo, "max": hi})
-        accessors.append({"bufferView": add_view(m.indices.tobytes(), 34963), "componentType": 5125,
-                          "count": len(m.indices), "type": "SCALAR"})
-        gl_meshes.append({"name": m.name, "primitives": [{
-            "attributes": {"POSITION": len(accessors) - 2}, "indices": len(accessors) - 1,
-            "material": m.material, "mode": 4}]})
-        nodes.append({"name": m.name, "mesh": len(gl_meshes) - 1})
-    nodes.append({"name": "camera", "camera": 0, "translation": camera["translation"],
-                  "rotation": camera["rotation"]})
-    used = sorted({k for mat in materials for k in mat.get("extensions", {})})
-    doc = {
-        "asset": {"version": "2.0", "generator": "lvcl bench/make_big_scene.py"},
-        "extensionsUsed": used,
-        "scene": 0,
-        "scenes": [{"name": "scene", "nodes": list(range(len(nodes)))}],
-        "nodes": nodes,
-        "meshes": gl_meshes,
-        "materials": materials,
-        "cameras": [{"name": "camera", "type": "perspective",
-                     "perspective": {"yfov": camera["yfov"], "aspectRatio": 1.0, "znear": 0.01}}],
-        "accessors": accessors,
-        "bufferViews": views,
-        "buffers": [{"byteLength": len(blob)}],
-    }
-    js = json.dumps(doc, separators=(",", ":")).encode("utf-8")
-    js += b" " * (-len(js) % 4)
-    blob += b"\0" * (-len(blob) % 4)
-    total = 12 + 8 + len(js) + 8 + len(blob)
-    with open(path, "wb") as f:
-        f.write(struct.pack("<4sII", b"glTF", 2, total))
-        f.write(struct.pack("<I4s", len(js), b"JSON") + js)
-        f.write(struct.pack("<I4s", len(blob), b"BIN\0") + bytes(blob))
-    ntri = sum(len(m.indices) // 3 for m in meshes)
-    print("wrote %s (%d triangles)" % (path, ntri))
-
-
 def main():
     args = sys.argv[1:]
     if not args or args[0].startswith("-"):
@@ -208,10 +157,13 @@ def main():
     # pixels would aim exactly at the edges where walls meet the ceiling,
     # where a hit on either side is right and tracers differ by chance.
     yfov = 2.0 * math.atan(12.5 / 35.0)
-    camera = {"yfov": yfov, "translation": [0.0123, 1.0071, -1.0 - 1.0 / math.tan(0.5 * yfov)],
+    camera = {"yfov": yfov, "aspect": 1.0, "translation": [0.0123, 1.0071, -1.0 - 1.0 / math.tan(0.5 * yfov)],
               "rotation": [0.0, 1.0, 0.0, 0.0]}
     os.makedirs(os.path.dirname(os.path.abspath(args[0])), exist_ok=True)
-    write_glb(args[0], meshes, materials, camera)
+    # Scanning ~3M indices for their optional min/max would only slow this down.
+    doc, blob = gltf_document(meshes, materials, camera, "lvcl bench/make_big_scene.py",
+                              index_bounds=False)
+    write_glb_file(args[0], doc, blob)
 
 
 if __name__ == "__main__":

@@ -65,6 +65,8 @@ static lvcl_error run(const lvcl_options *o, lvcl_session *s, lvcl_render_result
     stats->startup_seconds = lvcl_seconds() - stats->process_start;
     if ((e = lvcl_session_render(s, &req, res, st))) return e;
     stats->result = res;
+    if (res->samples < o->spp && !o->quiet)
+        fprintf(stderr, "lvcl: time limit reached after %d of %d samples per pixel\n", res->samples, o->spp);
     return write_outputs(o, res, st);
 }
 

@@ -46,6 +46,8 @@ import math
 import os
 import struct
 import sys
+from array import array
+from types import SimpleNamespace
 
 
 # ---------------------------------------------------------------- vectors
@@ -238,9 +240,31 @@ def emission(radiance):
     return [c / m for c in radiance], m
 
 
-def write_gltf(path, meshes, materials, camera, generator_note):
-    """meshes: list of Mesh; materials: list of material dicts (Mesh.material
-    indexes it); camera: dict with yfov, aspect, translation, rotation (xyzw)."""
+def flat_arrays(m):
+    """m (a Mesh) as gltf_document() takes it: name, material, positions as a
+    flat float32 array, indices as a uint32 array (bench/make_big_scene.py
+    builds that form directly, for speed)."""
+    return SimpleNamespace(name=m.name, material=m.material,
+                           positions=array("f", [c for p in m.positions for c in p]),
+                           indices=array("I", m.indices))
+
+
+def little_endian(a):
+    """a's bytes as glTF stores them (little-endian, whatever this machine is)."""
+    if sys.byteorder == "big":
+        a = array(a.typecode, a)
+        a.byteswap()
+    return a.tobytes()
+
+
+def gltf_document(meshes, materials, camera, generator, note=None, index_bounds=True):
+    """The glTF document (a dict, without a buffer URI) and its one binary
+    buffer.  meshes: objects with name, material (an index into materials),
+    positions (flat float32 array) and indices (uint32 array); camera: dict
+    with yfov, aspect, translation, rotation (xyzw) and optionally znear.
+    index_bounds: also record the indices' min/max, which glTF leaves
+    optional (the big benchmark scene has never had them)."""
+    assert array("I").itemsize == 4
     blob = bytearray()
     accessors, views = [], []
 
@@ -254,20 +278,20 @@ def write_gltf(path, meshes, materials, camera, generator_note):
 
     gl_meshes, nodes = [], []
     for m in meshes:
-        pos = b"".join(struct.pack("<3f", *p) for p in m.positions)
-        # min/max must bound the float32 values actually stored.
-        f32 = [struct.unpack("<3f", struct.pack("<3f", *p)) for p in m.positions]
-        lo = [min(p[k] for p in f32) for k in range(3)]
-        hi = [max(p[k] for p in f32) for k in range(3)]
-        vp = add_view(pos, 34962)
+        pos = m.positions
+        # min/max must bound the float32 values actually stored, which the
+        # float32 array already holds.
+        lo = [min(pos[k::3]) for k in range(3)]
+        hi = [max(pos[k::3]) for k in range(3)]
+        vp = add_view(little_endian(pos), 34962)
         accessors.append({"bufferView": vp, "componentType": 5126,
-                          "count": len(m.positions), "type": "VEC3",
+                          "count": len(pos) // 3, "type": "VEC3",
                           "min": lo, "max": hi})
-        idx = b"".join(struct.pack("<I", i) for i in m.indices)
-        vi = add_view(idx, 34963)
+        vi = add_view(little_endian(m.indices), 34963)
         accessors.append({"bufferView": vi, "componentType": 5125,
-                          "count": len(m.indices), "type": "SCALAR",
-                          "min": [min(m.indices)], "max": [max(m.indices)]})
+                          "count": len(m.indices), "type": "SCALAR"})
+        if index_bounds:
+            accessors[-1].update({"min": [min(m.indices)], "max": [max(m.indices)]})
         gl_meshes.append({"name": m.name, "primitives": [{
             "attributes": {"POSITION": len(accessors) - 2},
             "indices": len(accessors) - 1,
@@ -282,10 +306,11 @@ def write_gltf(path, meshes, materials, camera, generator_note):
     for mat in materials:
         used.update(mat.get("extensions", {}).keys())
 
+    asset = {"version": "2.0", "generator": generator}
+    if note is not None:
+        asset["extras"] = {"note": note}
     doc = {
-        "asset": {"version": "2.0",
-                  "generator": "lvcl scenes/make_scenes.py",
-                  "extras": {"note": generator_note}},
+        "asset": asset,
         "extensionsUsed": sorted(used),
         "scene": 0,
         "scenes": [{"name": "scene", "nodes": list(range(len(nodes)))}],
@@ -298,15 +323,46 @@ def write_gltf(path, meshes, materials, camera, generator_note):
                                      "znear": camera.get("znear", 0.01)}}],
         "accessors": accessors,
         "bufferViews": views,
-        "buffers": [{"byteLength": len(blob),
-                     "uri": "data:application/octet-stream;base64,"
-                            + base64.b64encode(bytes(blob)).decode("ascii")}],
+        "buffers": [{"byteLength": len(blob)}],
     }
+    return doc, blob
+
+
+def report(path, doc):
+    ntri = sum(a["count"] for a in doc["accessors"] if a["type"] == "SCALAR") // 3
+    print("wrote %s (%d triangles)" % (path, ntri))
+
+
+def write_gltf_file(path, doc, blob):
+    """A self-contained .gltf: the buffer as a base64 data URI, readable JSON."""
+    doc["buffers"][0]["uri"] = ("data:application/octet-stream;base64,"
+                                + base64.b64encode(bytes(blob)).decode("ascii"))
     with open(path, "w", newline="\n") as f:
         json.dump(doc, f, indent=1, sort_keys=False)
         f.write("\n")
-    ntri = sum(len(m.indices) // 3 for m in meshes)
-    print("wrote %s (%d triangles)" % (path, ntri))
+    report(path, doc)
+
+
+def write_glb_file(path, doc, blob):
+    """A binary .glb: compact JSON chunk then the buffer as the BIN chunk,
+    each padded to 4 bytes as the container requires."""
+    js = json.dumps(doc, separators=(",", ":")).encode("utf-8")
+    js += b" " * (-len(js) % 4)
+    blob = bytes(blob) + b"\0" * (-len(blob) % 4)
+    total = 12 + 8 + len(js) + 8 + len(blob)
+    with open(path, "wb") as f:
+        f.write(struct.pack("<4sII", b"glTF", 2, total))
+        f.write(struct.pack("<I4s", len(js), b"JSON") + js)
+        f.write(struct.pack("<I4s", len(blob), b"BIN\0") + blob)
+    report(path, doc)
+
+
+def write_gltf(path, meshes, materials, camera, generator_note):
+    """meshes: list of Mesh; materials: list of material dicts (Mesh.material
+    indexes it); camera: as gltf_document() takes it."""
+    doc, blob = gltf_document([flat_arrays(m) for m in meshes], materials, camera,
+                              "lvcl scenes/make_scenes.py", note=generator_note)
+    write_gltf_file(path, doc, blob)
 
 
 # ---------------------------------------------------------------- scenes

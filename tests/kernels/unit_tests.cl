@@ -104,13 +104,18 @@ __kernel void t_bsdf_moments(__global const float *config, uint count, __global 
 
 /* Rays: 8 floats each (origin xyz, tmax, dir xyz, unused). Results: 4 per
  * ray (t, prim_id or -1, any-hit flag, unused). */
+inline lv_ray load_test_ray(__global const float *rays, uint i)
+{
+    __global const float *q = rays + 8 * i;
+    return lv_ray_make((float3)(q[0], q[1], q[2]), (float3)(q[4], q[5], q[6]), q[3], LV_NO_HIT);
+}
+
 __kernel void t_trace(LV_SCENE_PARAMS, __global const float *rays, uint count, __global float *results)
 {
     LV_SCENE_OPEN(sc);
     uint i = get_global_id(0);
     if (i >= count) return;
-    __global const float *q = rays + 8 * i;
-    lv_ray r = lv_ray_make((float3)(q[0], q[1], q[2]), (float3)(q[4], q[5], q[6]), q[3], LV_NO_HIT);
+    lv_ray r = load_test_ray(rays, i);
     lv_hit h = lv_trace(&sc, r, 0);
     results[4 * i + 0] = h.t;
     results[4 * i + 1] = h.tri == LV_NO_HIT ? -1.0f : (float)sc.triangles[h.tri].prim_id;
@@ -123,8 +128,7 @@ __kernel void t_trace_brute_force(LV_SCENE_PARAMS, __global const float *rays, u
     LV_SCENE_OPEN(sc);
     uint i = get_global_id(0);
     if (i >= count) return;
-    __global const float *q = rays + 8 * i;
-    lv_ray r = lv_ray_make((float3)(q[0], q[1], q[2]), (float3)(q[4], q[5], q[6]), q[3], LV_NO_HIT);
+    lv_ray r = load_test_ray(rays, i);
     lv_sheared_ray s = lv_shear_ray(r);
     float t = r.tmax, b1, b2;
     int best = -1;
@@ -151,9 +155,8 @@ __kernel void t_offset_rays(LV_SCENE_PARAMS, __global const float *rays, uint co
     LV_SCENE_OPEN(sc);
     uint i = get_global_id(0);
     if (i >= count) return;
-    __global const float *q = rays + 8 * i;
     __global float *o = results + 4 * i;
-    lv_ray r = lv_ray_make((float3)(q[0], q[1], q[2]), (float3)(q[4], q[5], q[6]), q[3], LV_NO_HIT);
+    lv_ray r = load_test_ray(rays, i);
     lv_hit h = lv_trace(&sc, r, 0);
     o[0] = o[1] = -1.0f;
     o[2] = o[3] = 0.0f;
