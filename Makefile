@@ -31,6 +31,8 @@ TEST_SOURCES := $(wildcard tests/test_*.c)
 TEST_BINS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SOURCES))
 
 .PHONY: all run test test-asan deps references clean
+# Keep generated sources (kernel and scene arrays) between builds.
+.SECONDARY:
 all: $(BUILD)/lvcl $(BUILD)/lvcl-compare $(TEST_BINS)
 
 # ---- set-up ----
