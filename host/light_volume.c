@@ -67,6 +67,7 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
 {
     memset(vol, 0, sizeof *vol);
     if (s->dirs < 1 || s->dirs > 64) return lvcl_fail(st, LVCL_ERR_USAGE, "--dirs must be from 1 to 64");
+    if (s->subcells < 0 || s->subcells > 4) return lvcl_fail(st, LVCL_ERR_USAGE, "--subcells must be from 0 to 4");
     lv_grid_info *g = &vol->info;
     float extent[3], longest = 0.0f;
     for (int k = 0; k < 3; k++) {
@@ -90,6 +91,7 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     g->dirs = (lv_u32)s->dirs;
     g->bins = 2 * g->dirs * g->dirs;
     g->total_power = p->info.total_light_power;
+    g->subcells = (lv_u32)s->subcells;
 
     vol->cell_count = (size_t)cells;
     uint8_t *mark = calloc(vol->cell_count, 1);
@@ -119,6 +121,9 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     if (err == CL_SUCCESS)
         vol->tallies_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
                                           vol->tally_bytes ? vol->tally_bytes : 8, NULL, &err);
+    if (err == CL_SUCCESS)
+        vol->subcell_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
+                                          ((size_t)g->slot_count + 1) * LV_SUBCELL_WORDS * sizeof(cl_uint), NULL, &err);
     if (err == CL_SUCCESS)
         vol->bin_directions_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, g->bins * 4 * sizeof(float), NULL,
                                                  &err);
@@ -163,6 +168,12 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
                                        vol->tally_bytes ? vol->tally_bytes : 8, 0, NULL, NULL),
                    "clearing the light volume", st)))
         return e;
+    cl_uint none = 0;
+    if ((e = cl_ok(clEnqueueFillBuffer(dev->queue, vol->subcell_buf, &none, sizeof none, 0,
+                                       ((size_t)vol->info.slot_count + 1) * LV_SUBCELL_WORDS * sizeof(cl_uint), 0, NULL,
+                                       NULL),
+                   "clearing the subcells", st)))
+        return e;
     vol->info.particles = (float)s->particles;
     cl_int err;
     cl_mem counter = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, sizeof(cl_uint), NULL, &err);
@@ -178,8 +189,9 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
     if (a < 0 || clSetKernelArg(k, (cl_uint)a, sizeof vol->info, &vol->info) ||
         clSetKernelArg(k, (cl_uint)a + 1, sizeof(cl_mem), &vol->cell_slot_buf) ||
         clSetKernelArg(k, (cl_uint)a + 2, sizeof(cl_mem), &vol->tallies_buf) ||
-        clSetKernelArg(k, (cl_uint)a + 5, sizeof inv_n, &inv_n) || clSetKernelArg(k, (cl_uint)a + 6, sizeof store, &store) ||
-        clSetKernelArg(k, (cl_uint)a + 7, sizeof counter, &counter)) {
+        clSetKernelArg(k, (cl_uint)a + 3, sizeof(cl_mem), &vol->subcell_buf) ||
+        clSetKernelArg(k, (cl_uint)a + 6, sizeof inv_n, &inv_n) || clSetKernelArg(k, (cl_uint)a + 7, sizeof store, &store) ||
+        clSetKernelArg(k, (cl_uint)a + 8, sizeof counter, &counter)) {
         clReleaseKernel(k);
         clReleaseMemObject(counter);
         return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the particle tracer's arguments");
@@ -193,8 +205,8 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
         cl_uint segments = 0;
         cl_uint f = (cl_uint)first, count = (cl_uint)(s->particles - first < BATCH ? s->particles - first : BATCH);
         size_t local = LOCAL_SIZE, global = (count + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
-        clSetKernelArg(k, (cl_uint)a + 3, sizeof f, &f);
-        clSetKernelArg(k, (cl_uint)a + 4, sizeof count, &count);
+        clSetKernelArg(k, (cl_uint)a + 4, sizeof f, &f);
+        clSetKernelArg(k, (cl_uint)a + 5, sizeof count, &count);
         if ((e = cl_ok(clEnqueueWriteBuffer(dev->queue, counter, CL_FALSE, 0, sizeof segments, &segments, 0, NULL,
                                             NULL),
                        "clearing the segment counter", st)) ||
@@ -215,18 +227,38 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
     return e;
 }
 
-lvcl_error lvcl_volume_read(const lvcl_device *dev, const lvcl_light_volume *vol, int64_t **tallies, lvcl_status *st)
+lvcl_error lvcl_volume_read(const lvcl_device *dev, const lvcl_light_volume *vol, int64_t **tallies,
+                            uint32_t **masks, lvcl_status *st)
 {
+    size_t mask_bytes = ((size_t)vol->info.slot_count + 1) * LV_SUBCELL_WORDS * sizeof(uint32_t);
     *tallies = malloc(vol->tally_bytes ? vol->tally_bytes : 8);
-    if (!*tallies) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory reading the light volume");
-    lvcl_error e = cl_ok(clEnqueueReadBuffer(dev->queue, vol->tallies_buf, CL_TRUE, 0, vol->tally_bytes, *tallies, 0,
-                                             NULL, NULL),
-                         "reading the light volume", st);
+    if (masks) *masks = malloc(mask_bytes);
+    if (!*tallies || (masks && !*masks)) {
+        free(*tallies);
+        if (masks) free(*masks);
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory reading the light volume");
+    }
+    cl_int err = clEnqueueReadBuffer(dev->queue, vol->tallies_buf, CL_TRUE, 0, vol->tally_bytes, *tallies, 0, NULL,
+                                     NULL);
+    if (err == CL_SUCCESS && masks)
+        err = clEnqueueReadBuffer(dev->queue, vol->subcell_buf, CL_TRUE, 0, mask_bytes, *masks, 0, NULL, NULL);
+    lvcl_error e = cl_ok(err, "reading the light volume", st);
     if (e) {
         free(*tallies);
         *tallies = NULL;
+        if (masks) {
+            free(*masks);
+            *masks = NULL;
+        }
     }
     return e;
+}
+
+double lvcl_volume_lit_fraction(const lv_grid_info *g, const uint32_t *mask)
+{
+    if (g->subcells == 0) return 1.0;
+    int on = __builtin_popcount(mask[0]) + __builtin_popcount(mask[1]);
+    return on ? (double)on / (g->subcells * g->subcells * g->subcells) : 1.0;
 }
 
 double lvcl_volume_radiance(const lv_grid_info *g, int64_t tally, double lit_fraction)
@@ -241,6 +273,7 @@ void lvcl_volume_release(lvcl_light_volume *vol)
     if (vol->cell_slot_buf) clReleaseMemObject(vol->cell_slot_buf);
     if (vol->tallies_buf) clReleaseMemObject(vol->tallies_buf);
     if (vol->bin_directions_buf) clReleaseMemObject(vol->bin_directions_buf);
+    if (vol->subcell_buf) clReleaseMemObject(vol->subcell_buf);
     free(vol->cell_slot);
     memset(vol, 0, sizeof *vol);
 }

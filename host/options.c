@@ -11,6 +11,7 @@
 /* Light-volume defaults, chosen by measurement (docs/light-volume.md). */
 #define LVCL_DEFAULT_CELLS 16
 #define LVCL_DEFAULT_PARTICLES 1e6
+#define LVCL_DEFAULT_SUBCELLS 4
 
 static lvcl_error parse_int(const char *flag, const char *s, long lo, long hi, long *out, lvcl_status *st)
 {
@@ -43,6 +44,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
     o->fast_math = 1;
     o->cells = LVCL_DEFAULT_CELLS;
     o->dirs = 11;
+    o->subcells = LVCL_DEFAULT_SUBCELLS;
     o->particles = LVCL_DEFAULT_PARTICLES;
     o->gather = "integrate";
     for (int i = 1; i < argc; i++) {
@@ -61,7 +63,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         /* Flags that take a value. */
         static const char *with_value[] = {"--device", "--mode", "-o", "--output", "--stats", "--spp", "--width",
                                            "--height", "--seed", "--max-depth", "--exposure", "--time-limit",
-                                           "--cells", "--cell-size", "--dirs", "--particles", "--threshold",
+                                           "--cells", "--cell-size", "--dirs", "--subcells", "--particles", "--threshold",
                                            "--gather"};
         int known = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++) known |= !strcmp(a, with_value[k]);
@@ -85,6 +87,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         else if (!strcmp(a, "--cells")) { e = parse_int(a, v, 1, 1024, &n, st); o->cells = (int)n; }
         else if (!strcmp(a, "--cell-size")) { e = parse_real(a, v, 1e-9, 1e9, &x, st); o->cell_size = x; }
         else if (!strcmp(a, "--dirs")) { e = parse_int(a, v, 1, 64, &n, st); o->dirs = (int)n; }
+        else if (!strcmp(a, "--subcells")) { e = parse_int(a, v, 0, 4, &n, st); o->subcells = (int)n; }
         else if (!strcmp(a, "--particles")) { e = parse_real(a, v, 1, 4294967295.0, &x, st); o->particles = floor(x); }
         else if (!strcmp(a, "--threshold")) { e = parse_real(a, v, 1e-12, 1e12, &x, st); o->threshold = x; }
         else if (!strcmp(a, "--gather")) o->gather = v;
@@ -113,6 +116,8 @@ void lvcl_options_print_help(const char *program)
            "  --cells N            light volume: cells along the longest axis (default 16)\n"
            "  --cell-size M        light volume: cell size in metres (overrides --cells)\n"
            "  --dirs N             light volume: N x N direction bins per hemisphere (default 11)\n"
+           "  --subcells K         light volume: K x K x K subcells per cell estimate its lit volume\n"
+           "                       (0 to 4, default 4; 0 = the whole cell)\n"
            "  --threshold M        lv: reflected rays hitting closer than M metres continue as paths\n"
            "                       (default the cell diagonal)\n"
            "  --gather integrate|sample  lv: integrate the BSDF over all bins of the cell (default),\n"

@@ -18,6 +18,7 @@ typedef struct {
     int cells;              /* light volume: cells along the longest axis */
     double cell_size;       /* metres, 0 = from cells */
     int dirs;               /* n x n bins per hemisphere */
+    int subcells;           /* k x k x k subcells per cell, 0 = none */
     double particles;
     double threshold;       /* near-hit distance, 0 = cell diagonal */
     const char *gather;     /* "sample" or "integrate" */

@@ -14,6 +14,7 @@
 typedef struct {
     lv_grid_info g;
     __global const uint *cell_slot;
+    __global uint *subcell_mask; /* LV_SUBCELL_WORDS per slot */
 } lv_grid;
 
 inline float3 lv_grid_origin(const lv_grid *grid)
@@ -43,6 +44,28 @@ inline void lv_tally_add(__global long *tallies, uint slot, uint bins, uint bin,
         long units = (long)(fmin(a[c], LV_TALLY_MAX_CONTRIBUTION) * LV_TALLY_SCALE);
         if (units > 0) atom_add((volatile __global long *)&t[c], units);
     }
+}
+
+/* Switches on the subcells that a piece of segment passes in one cell:
+ * from `entry` (in cell units, relative to the cell's corner) along dir for
+ * `length` cell units. Points every 1/(2k) of the piece stand in for an
+ * exact walk: a piece that only clips a subcell's corner may miss it. */
+inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float3 dir, float length)
+{
+    uint k = grid->g.subcells;
+    uint m = 2u * k;
+    uint bits[LV_SUBCELL_WORDS] = {0u, 0u};
+    for (uint j = 0; j < m; j++) {
+        float3 p = entry + dir * (length * ((float)j + 0.5f) / (float)m);
+        uint3 c = min(convert_uint3(clamp(p, 0.0f, 1.0f) * (float)k), (uint3)(k - 1u));
+        uint bit = c.x + k * (c.y + k * c.z);
+        bits[bit >> 5] |= 1u << (bit & 31u);
+    }
+    __global uint *mask = grid->subcell_mask + (size_t)slot * LV_SUBCELL_WORDS;
+    for (int w = 0; w < LV_SUBCELL_WORDS; w++)
+        /* The plain read only saves atomics once a mask fills up; a stale
+         * value costs one needless atomic_or, never a lost bit. */
+        if (bits[w] && (mask[w] & bits[w]) != bits[w]) atomic_or(&mask[w], bits[w]);
 }
 
 /* Adds the segment origin + t dir, t in [t0, t1] (dir unit, t in metres),
@@ -76,6 +99,7 @@ inline void lv_tally_segment(const lv_grid *grid, __global long *tallies, float3
         float s_exit = fmin(s1, fmin(s_next.x, fmin(s_next.y, s_next.z)));
         uint slot = grid->cell_slot[cell.x + idims.x * (cell.y + idims.y * cell.z)];
         if (slot != LV_EMPTY_CELL && s_exit > s) {
+            if (grid->g.subcells) lv_mark_subcells(grid, slot, o + dir * s - convert_float3(cell), dir, s_exit - s);
             /* Track length in cell units, with the absorption integrated over it. */
             float3 amount;
             if (sigma.x > 0.0f || sigma.y > 0.0f || sigma.z > 0.0f) {
@@ -101,13 +125,16 @@ inline void lv_tally_segment(const lv_grid *grid, __global long *tallies, float3
     }
 }
 
-/* The lit volume of a stored cell, in cell units (1 = the whole cell).
- * The subcell-visibility pass will replace this estimate. */
+/* The lit volume of a stored cell, in cell units (1 = the whole cell): the
+ * fraction of its subcells that tallied segments passed (paper 4.1), or the
+ * whole cell without subcells. */
 inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
 {
-    (void)grid;
-    (void)slot;
-    return 1.0f;
+    uint k = grid->g.subcells;
+    if (k == 0u) return 1.0f;
+    __global const uint *mask = grid->subcell_mask + (size_t)slot * LV_SUBCELL_WORDS;
+    uint on = popcount(mask[0]) + popcount(mask[1]);
+    return on ? (float)on / (float)(k * k * k) : 1.0f;
 }
 
 /* Radiance (W m^-2 sr^-1) of one bin of a stored cell, from its tallies

@@ -10,7 +10,7 @@
 #define LV_PARTICLE_STREAM 0x9e3779b9u
 
 __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __global const uint *cell_slot,
-                                __global long *tallies, uint first, uint count, float inv_total_particles,
+                                __global long *tallies, __global uint *subcell_mask, uint first, uint count, float inv_total_particles,
                                 uint store_emitted, __global uint *segment_count)
 {
     LV_SCENE_OPEN(sc);
@@ -19,6 +19,7 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
     lv_grid grid;
     grid.g = grid_info;
     grid.cell_slot = cell_slot;
+    grid.subcell_mask = subcell_mask;
     lv_rng rng = lv_rng_make(sc.info.seed ^ LV_PARTICLE_STREAM, first + id, 0u);
 
     lv_emission_sample es;

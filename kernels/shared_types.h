@@ -142,6 +142,12 @@ typedef struct {
     lv_u32 bins;       /* 2 n^2 */
     float total_power; /* luminance watts emitted by all lights */
     float particles;   /* particles traced in all (for normalisation) */
+    lv_u32 subcells;   /* k: k x k x k binary subcells per cell (k <= 4), 0 = none */
+    lv_u32 pad[3];
 } lv_grid_info;
+
+/* Subcell masks: two 32-bit words per stored cell (k^3 <= 64 bits); bit
+ * x + k (y + k z) is switched on when a tallied segment passes subcell (x,y,z). */
+#define LV_SUBCELL_WORDS 2
 
 #endif

@@ -14,6 +14,7 @@ typedef struct {
     lvcl_session session;
     lvcl_light_volume volume;
     int64_t *tallies;
+    uint32_t *masks;
 } traced_volume;
 
 /* Opens a session on `scene` (consumed) and traces a volume into it. */
@@ -27,7 +28,7 @@ static int trace(lvcl_scene *scene, const char *device, unsigned seed, const lvc
         lvcl_volume_create(&tv->session.device, &tv->session.packed, vs, &tv->volume, &st) ||
         lvcl_volume_trace(&tv->session.device, &tv->session.program, &tv->session.device_scene, vs, &tv->volume,
                           &st) ||
-        lvcl_volume_read(&tv->session.device, &tv->volume, &tv->tallies, &st)) {
+        lvcl_volume_read(&tv->session.device, &tv->volume, &tv->tallies, &tv->masks, &st)) {
         CHECK("light volume trace", 0, "%s", st.message);
         return 0;
     }
@@ -37,6 +38,7 @@ static int trace(lvcl_scene *scene, const char *device, unsigned seed, const lvc
 static void release(traced_volume *tv)
 {
     free(tv->tallies);
+    free(tv->masks);
     lvcl_volume_release(&tv->volume);
     lvcl_session_close(&tv->session);
 }
@@ -78,7 +80,7 @@ static void test_emitting_plane(void)
     lvcl_material_desc *m = &scene.materials[0];
     m->base_color[0] = m->base_color[1] = m->base_color[2] = 0.0f; /* absorbs what returns */
     m->emissive[0] = m->emissive[1] = m->emissive[2] = le;
-    lvcl_volume_settings vs = {0, 1.0, 6, 8000000, 1, 0};
+    lvcl_volume_settings vs = {0, 1.0, 6, 0, 8000000, 1, 0};
     traced_volume tv;
     if (!trace(&scene, NULL, 1, &vs, &tv)) return;
     const lv_grid_info *g = &tv.volume.info;
@@ -121,6 +123,52 @@ static void test_emitting_plane(void)
     release(&tv);
 }
 
+/* Subcells (paper 4.1): an emitting plane through the middle of a cell, on a
+ * subcell boundary, lights the upper half of it. The cell's lit fraction is
+ * then 1/2, and its upward bins give the plane's radiance; taking the whole
+ * cell as lit would halve it. */
+static void test_cut_cell(void)
+{
+    const float le = 2.0f, half = 3.0f;
+    /* The plane at z = 0, and zero-area triangles at z = -2.5 and z = 3 that
+     * stretch the bounds so that z = 0 falls mid-cell (cells of 1 m). */
+    const float tris[] = {-half, -half, 0, half, -half, 0, half, half, 0,  -half, -half, 0, half, half, 0, -half,
+                          half,  0,     0, 0,    3,    0,    0,    3,  0,  0,     3,     0,    0,    -2.5f, 0, 0,
+                          -2.5f, 0,     0, -2.5f};
+    lvcl_scene scene;
+    harness_triangle_scene(tris, 4, &scene);
+    lvcl_material_desc *m = &scene.materials[0];
+    m->base_color[0] = m->base_color[1] = m->base_color[2] = 0.0f;
+    m->emissive[0] = m->emissive[1] = m->emissive[2] = le;
+    lvcl_volume_settings vs = {0, 1.0, 6, 4, 4000000, 1, 0};
+    traced_volume tv;
+    if (!trace(&scene, NULL, 3, &vs, &tv)) return;
+    const lv_grid_info *g = &tv.volume.info;
+    int cx = (int)((0.5f - g->origin[0]) / g->cell_size), cz = (int)((0.0f - g->origin[2]) / g->cell_size);
+    uint32_t slot = slot_of(&tv, cx, cx, cz);
+    if (slot == LV_EMPTY_CELL) {
+        CHECK("cut cell: stored", 0, "cell (%d,%d,%d) empty", cx, cx, cz);
+        release(&tv);
+        return;
+    }
+    double lit = lvcl_volume_lit_fraction(g, &tv.masks[(size_t)slot * LV_SUBCELL_WORDS]);
+    double mean_up = 0.0;
+    int up_bins = 0;
+    uint32_t n = g->dirs;
+    for (uint32_t b = 0; b < n * n; b++) {
+        uint32_t i = b % n, j = b / n;
+        if (i == 0 || j == 0 || i == n - 1 || j == n - 1) continue;
+        mean_up += lvcl_volume_radiance(g, tally(&tv, slot, b, 0), lit);
+        up_bins++;
+    }
+    mean_up /= up_bins;
+    printf("  cut cell: lit fraction %.4f, mean upward radiance %.4f (Le %.1f)\n", lit, mean_up, le);
+    CHECK("cut cell: subcells give a lit fraction of 1/2", fabs(lit - 0.5) < 1e-9, "lit fraction %.4f", lit);
+    CHECK("cut cell: its upward bins give the plane's radiance within 2%", fabs(mean_up - le) < 0.02 * le,
+          "mean %.4f", mean_up);
+    release(&tv);
+}
+
 /* (b, c) The white furnace (a 2 m closed cube, albedo 0.5, Le 1) with the
  * grid aligned to its walls, 4 cells across so that every cell inside is
  * next to a wall and stored: the field radiance is Le / (1 - a) = 2 in every
@@ -134,7 +182,7 @@ static void test_furnace(void)
         CHECK("furnace scene", 0, "%s", st.message);
         return;
     }
-    lvcl_volume_settings vs = {4, 0, 6, 2000000, 1, 0};
+    lvcl_volume_settings vs = {4, 0, 6, 0, 2000000, 1, 0};
     traced_volume tv;
     if (!trace(&scene, NULL, 2, &vs, &tv)) return;
     const lv_grid_info *g = &tv.volume.info;
@@ -171,7 +219,7 @@ static void test_furnace(void)
  * every other device present. */
 static void test_determinism(void)
 {
-    lvcl_volume_settings vs = {12, 0, 5, 300000, 0, 0};
+    lvcl_volume_settings vs = {12, 0, 5, 4, 300000, 0, 0};
     traced_volume first;
     lvcl_scene scene;
     lvcl_status st = {0};
@@ -199,6 +247,7 @@ int main(int argc, char **argv)
     setenv("POCL_DEVICES", "pthread basic", 0);
     lvcl_device_prepare_environment();
     test_emitting_plane();
+    test_cut_cell();
     test_furnace();
     test_determinism();
     CHECK_EXIT();
