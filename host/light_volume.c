@@ -123,7 +123,7 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
                                           vol->tally_bytes ? vol->tally_bytes : 8, NULL, &err);
     if (err == CL_SUCCESS)
         vol->subcell_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
-                                          ((size_t)g->slot_count + 1) * LV_SUBCELL_WORDS * sizeof(cl_uint), NULL, &err);
+                                          ((size_t)g->slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(cl_uint), NULL, &err);
     if (err == CL_SUCCESS)
         vol->bin_directions_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, g->bins * 4 * sizeof(float), NULL,
                                                  &err);
@@ -170,7 +170,7 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
         return e;
     cl_uint none = 0;
     if ((e = cl_ok(clEnqueueFillBuffer(dev->queue, vol->subcell_buf, &none, sizeof none, 0,
-                                       ((size_t)vol->info.slot_count + 1) * LV_SUBCELL_WORDS * sizeof(cl_uint), 0, NULL,
+                                       ((size_t)vol->info.slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(cl_uint), 0, NULL,
                                        NULL),
                    "clearing the subcells", st)))
         return e;
@@ -230,7 +230,7 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
 lvcl_error lvcl_volume_read(const lvcl_device *dev, const lvcl_light_volume *vol, int64_t **tallies,
                             uint32_t **masks, lvcl_status *st)
 {
-    size_t mask_bytes = ((size_t)vol->info.slot_count + 1) * LV_SUBCELL_WORDS * sizeof(uint32_t);
+    size_t mask_bytes = ((size_t)vol->info.slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(uint32_t);
     *tallies = malloc(vol->tally_bytes ? vol->tally_bytes : 8);
     if (masks) *masks = malloc(mask_bytes);
     if (!*tallies || (masks && !*masks)) {
@@ -254,11 +254,17 @@ lvcl_error lvcl_volume_read(const lvcl_device *dev, const lvcl_light_volume *vol
     return e;
 }
 
-double lvcl_volume_lit_fraction(const lv_grid_info *g, const uint32_t *mask)
+double lvcl_volume_lit_fraction(const lv_grid_info *g, const uint32_t *rec)
 {
-    if (g->subcells == 0) return 1.0;
-    int on = __builtin_popcount(mask[0]) + __builtin_popcount(mask[1]);
-    return on ? (double)on / (g->subcells * g->subcells * g->subcells) : 1.0;
+    uint32_t k = g->subcells;
+    if (k == 0) return 1.0;
+    double lit = 0.0;
+    for (uint32_t i = 0; i < k * k * k; i++) {
+        if (!(rec[i >> 5] & (1u << (i & 31u)))) continue;
+        uint32_t cast = rec[LV_SUBCELL_CAST + i];
+        lit += cast ? (double)rec[LV_SUBCELL_OPEN + i] / cast : 1.0;
+    }
+    return (lit > 1.0 ? lit : 1.0) / (k * k * k);
 }
 
 double lvcl_volume_radiance(const lv_grid_info *g, int64_t tally, double lit_fraction)

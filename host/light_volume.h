@@ -25,7 +25,7 @@ typedef struct {
     size_t cell_count;        /* dims[0] * dims[1] * dims[2] */
     cl_mem cell_slot_buf, tallies_buf;
     cl_mem bin_directions_buf; /* float4 per bin, filled by lvcl_volume_trace */
-    cl_mem subcell_buf;        /* LV_SUBCELL_WORDS uints per slot */
+    cl_mem subcell_buf;        /* LV_SUBCELL_STRIDE uints per slot */
     size_t tally_bytes;
     double trace_seconds;
     uint64_t particles;
@@ -42,13 +42,13 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
                              const lvcl_volume_settings *settings, lvcl_light_volume *vol, lvcl_status *st);
 
 /* Reads the tallies back (slot_count x bins x 3 int64, malloc'ed) and, if
- * masks is not NULL, the subcell masks (LV_SUBCELL_WORDS per slot). */
+ * masks is not NULL, the subcell records (LV_SUBCELL_STRIDE words per slot). */
 lvcl_error lvcl_volume_read(const lvcl_device *dev, const lvcl_light_volume *vol, int64_t **tallies,
                             uint32_t **masks, lvcl_status *st);
 
-/* The lit fraction of a cell from its subcell mask, as the kernels take it
- * (kernels/light_volume.h, lv_cell_lit_volume). */
-double lvcl_volume_lit_fraction(const lv_grid_info *g, const uint32_t *mask);
+/* The lit fraction of a cell from its subcell record, as the kernels take
+ * it (kernels/light_volume.h, lv_cell_lit_volume). */
+double lvcl_volume_lit_fraction(const lv_grid_info *g, const uint32_t *record);
 
 /* Radiance of tally value t (one channel) in a cell of lit volume fraction v. */
 double lvcl_volume_radiance(const lv_grid_info *g, int64_t tally, double lit_fraction);

@@ -3,7 +3,7 @@
 #include "path.h"
 
 __kernel void lv_gather_pass(LV_SCENE_PARAMS, lv_grid_info grid_info, __global const uint *cell_slot,
-                             __global const long *tallies, __global uint *subcell_mask,
+                             __global const long *tallies, __global uint *subcells,
                              __global const float4 *bin_directions, uint flags,
                              float threshold, lv_camera camera,
                              uint sample_index, __global float4 *sum)
@@ -14,7 +14,7 @@ __kernel void lv_gather_pass(LV_SCENE_PARAMS, lv_grid_info grid_info, __global c
     lv_gather g;
     g.grid.g = grid_info;
     g.grid.cell_slot = cell_slot;
-    g.grid.subcell_mask = subcell_mask;
+    g.grid.subcells = subcells;
     g.tallies = tallies;
     g.bin_directions = bin_directions;
     g.flags = flags;

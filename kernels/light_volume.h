@@ -14,7 +14,7 @@
 typedef struct {
     lv_grid_info g;
     __global const uint *cell_slot;
-    __global uint *subcell_mask; /* LV_SUBCELL_WORDS per slot */
+    __global uint *subcells; /* LV_SUBCELL_STRIDE words per slot (shared_types.h) */
 } lv_grid;
 
 inline float3 lv_grid_origin(const lv_grid *grid)
@@ -54,15 +54,15 @@ inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float
 {
     uint k = grid->g.subcells;
     uint m = 2u * k;
-    uint bits[LV_SUBCELL_WORDS] = {0u, 0u};
+    uint bits[2] = {0u, 0u};
     for (uint j = 0; j < m; j++) {
         float3 p = entry + dir * (length * ((float)j + 0.5f) / (float)m);
         uint3 c = min(convert_uint3(clamp(p, 0.0f, 1.0f) * (float)k), (uint3)(k - 1u));
         uint bit = c.x + k * (c.y + k * c.z);
         bits[bit >> 5] |= 1u << (bit & 31u);
     }
-    __global uint *mask = grid->subcell_mask + (size_t)slot * LV_SUBCELL_WORDS;
-    for (int w = 0; w < LV_SUBCELL_WORDS; w++)
+    __global uint *mask = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
+    for (int w = 0; w < 2; w++)
         /* The plain read only saves atomics once a mask fills up; a stale
          * value costs one needless atomic_or, never a lost bit. */
         if (bits[w] && (mask[w] & bits[w]) != bits[w]) atomic_or(&mask[w], bits[w]);
@@ -125,27 +125,54 @@ inline void lv_tally_segment(const lv_grid *grid, __global long *tallies, float3
     }
 }
 
-/* The lit volume of a stored cell, in cell units (1 = the whole cell): the
- * fraction of its subcells that tallied segments passed (paper 4.1), or the
- * whole cell without subcells. */
+/* The lit volume of a stored cell, in cell units (1 = the whole cell), by
+ * paper 4.1: the subcells that tallied segments passed, each weighted by the
+ * fraction of its visibility rays that reached their particle's origin (1 if
+ * no particle hit a surface in it); the whole cell without subcells. */
 inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
 {
     uint k = grid->g.subcells;
     if (k == 0u) return 1.0f;
-    __global const uint *mask = grid->subcell_mask + (size_t)slot * LV_SUBCELL_WORDS;
-    uint on = popcount(mask[0]) + popcount(mask[1]);
-    return on ? (float)on / (float)(k * k * k) : 1.0f;
+    __global const uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
+    float lit = 0.0f;
+    for (uint i = 0; i < k * k * k; i++) {
+        if (!(rec[i >> 5] & (1u << (i & 31u)))) continue;
+        uint cast = rec[LV_SUBCELL_CAST + i];
+        lit += cast ? (float)rec[LV_SUBCELL_OPEN + i] / (float)cast : 1.0f;
+    }
+    /* Never below one subcell: some light passed, or the tallies are 0. */
+    return fmax(lit, 1.0f) / (float)(k * k * k);
 }
 
-/* Radiance (W m^-2 sr^-1) of one bin of a stored cell, from its tallies
- * (paper eq. 5). */
-inline float3 lv_bin_radiance(const lv_grid *grid, __global const long *tallies, uint slot, uint bin)
+/* Visibility rays (paper 4.1): where a particle that came from `from` hit a
+ * surface at p, one ray from a random point of p's subcell back to `from`;
+ * whether it got through estimates how much of the subcell that light
+ * reaches (a wall through the subcell blocks the points behind it). */
+inline void lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc, float3 p, float3 from, lv_rng *rng)
+{
+    uint slot = lv_grid_slot_at(grid, p);
+    if (slot == LV_EMPTY_CELL) return;
+    uint k = grid->g.subcells;
+    float h = grid->g.cell_size;
+    float3 c = (p - lv_grid_origin(grid)) / h;
+    float3 cell = floor(c);
+    float3 sub = fmin(floor((c - cell) * (float)k), (float)(k - 1u));
+    float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
+    float3 q = lv_grid_origin(grid) + (cell + (sub + u) / (float)k) * h;
+    uint i = (uint)sub.x + k * ((uint)sub.y + k * (uint)sub.z);
+    __global uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
+    atomic_inc(&rec[LV_SUBCELL_CAST + i]);
+    if (!lv_occluded(sc, q, from - q, 0.999f, LV_NO_HIT)) atomic_inc(&rec[LV_SUBCELL_OPEN + i]);
+}
+
+/* Radiance (W m^-2 sr^-1) of one bin of a stored cell whose lit volume is
+ * `lit` cells, from its tallies (paper eq. 5). */
+inline float3 lv_bin_radiance(const lv_grid *grid, __global const long *tallies, uint slot, uint bin, float lit)
 {
     __global const long *t = tallies + ((size_t)slot * grid->g.bins + bin) * 3;
     float3 tally = (float3)((float)t[0], (float)t[1], (float)t[2]) * (1.0f / LV_TALLY_SCALE);
-    float v = lv_cell_lit_volume(grid, slot);
     float h = grid->g.cell_size;
-    return tally * (grid->g.total_power / (h * h * v * lv_bin_solid_angle(grid->g.dirs)));
+    return tally * (grid->g.total_power / (h * h * lit * lv_bin_solid_angle(grid->g.dirs)));
 }
 
 /* Radiance of the light travelling along `dir` through the cell at p. */
@@ -153,7 +180,7 @@ inline float3 lv_volume_radiance(const lv_grid *grid, __global const long *talli
 {
     uint slot = lv_grid_slot_at(grid, p);
     if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
-    return lv_bin_radiance(grid, tallies, slot, lv_direction_bin(dir, grid->g.dirs));
+    return lv_bin_radiance(grid, tallies, slot, lv_direction_bin(dir, grid->g.dirs), lv_cell_lit_volume(grid, slot));
 }
 
 /* A uniform point in the cell-sized box around p (paper section 4.2: the

@@ -6,11 +6,15 @@
 #include "light_volume.h"
 #include "path.h"
 
+/* The share of surface hits that cast a visibility ray: enough samples per
+ * subcell at a fraction of the particle trace's cost. */
+#define LV_VISIBILITY_RATE 0.25f
+
 /* Different from every pixel stream of the camera passes. */
 #define LV_PARTICLE_STREAM 0x9e3779b9u
 
 __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __global const uint *cell_slot,
-                                __global long *tallies, __global uint *subcell_mask, uint first, uint count, float inv_total_particles,
+                                __global long *tallies, __global uint *subcells, uint first, uint count, float inv_total_particles,
                                 uint store_emitted, __global uint *segment_count)
 {
     LV_SCENE_OPEN(sc);
@@ -19,7 +23,7 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
     lv_grid grid;
     grid.g = grid_info;
     grid.cell_slot = cell_slot;
-    grid.subcell_mask = subcell_mask;
+    grid.subcells = subcells;
     lv_rng rng = lv_rng_make(sc.info.seed ^ LV_PARTICLE_STREAM, first + id, 0u);
 
     lv_emission_sample es;
@@ -42,9 +46,12 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
 #endif
         }
         /* Emitted light (the first segment) is left to shadow rays in lv mode. */
-        if (depth > 1 || store_emitted)
+        int tallied = depth > 1 || store_emitted;
+        if (tallied)
             lv_tally_segment(&grid, tallies, r.origin, r.dir, 0.0f, h.t, lv_direction_bin(r.dir, grid.g.dirs),
                              throughput * inv_total_particles, sigma);
+        if (tallied && grid.g.subcells && h.tri != LV_NO_HIT && lv_rng_next(&rng) < LV_VISIBILITY_RATE)
+            lv_sample_subcell_visibility(&grid, &sc, s.p, r.origin, &rng);
         if (h.tri == LV_NO_HIT || depth == sc.info.max_depth) break;
         throughput *= exp(-sigma * h.t);
 

@@ -71,12 +71,13 @@ inline float3 lv_gather_integrate(const lv_gather *g, const lv_bsdf *b, lv_frame
     if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
     float3 sum = (float3)(0.0f);
     uint n = g->grid.g.dirs;
+    float lit = lv_cell_lit_volume(&g->grid, slot);
     for (uint bin = 0; bin < g->grid.g.bins; bin++) {
         /* Light arriving from wi travels along -wi. */
         float3 wi = lv_to_local(f, -g->bin_directions[bin].xyz);
         if (wi.z <= 0.0f) continue; /* the gather runs on reflecting surfaces only */
         float3 fcos = lv_bsdf_eval(b, wo, wi, LV_RADIANCE);
-        if (lv_max3(fcos) > 0.0f) sum += fcos * lv_bin_radiance(&g->grid, g->tallies, slot, bin);
+        if (lv_max3(fcos) > 0.0f) sum += fcos * lv_bin_radiance(&g->grid, g->tallies, slot, bin, lit);
     }
     return sum * lv_bin_solid_angle(n);
 }

@@ -146,8 +146,13 @@ typedef struct {
     lv_u32 pad[3];
 } lv_grid_info;
 
-/* Subcell masks: two 32-bit words per stored cell (k^3 <= 64 bits); bit
- * x + k (y + k z) is switched on when a tallied segment passes subcell (x,y,z). */
-#define LV_SUBCELL_WORDS 2
+/* Subcell records, LV_SUBCELL_STRIDE 32-bit words per stored cell: a mask
+ * of two words (bit x + k (y + k z) is switched on when a tallied segment
+ * passes subcell (x, y, z); k^3 <= 64), then per subcell the visibility rays
+ * cast from it and those that were not blocked. */
+#define LV_SUBCELL_MAX 64
+#define LV_SUBCELL_CAST 2
+#define LV_SUBCELL_OPEN (2 + LV_SUBCELL_MAX)
+#define LV_SUBCELL_STRIDE (2 + 2 * LV_SUBCELL_MAX)
 
 #endif

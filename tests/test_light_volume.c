@@ -151,7 +151,7 @@ static void test_cut_cell(void)
         release(&tv);
         return;
     }
-    double lit = lvcl_volume_lit_fraction(g, &tv.masks[(size_t)slot * LV_SUBCELL_WORDS]);
+    double lit = lvcl_volume_lit_fraction(g, &tv.masks[(size_t)slot * LV_SUBCELL_STRIDE]);
     double mean_up = 0.0;
     int up_bins = 0;
     uint32_t n = g->dirs;
@@ -166,6 +166,45 @@ static void test_cut_cell(void)
     CHECK("cut cell: subcells give a lit fraction of 1/2", fabs(lit - 0.5) < 1e-9, "lit fraction %.4f", lit);
     CHECK("cut cell: its upward bins give the plane's radiance within 2%", fabs(mean_up - le) < 0.02 * le,
           "mean %.4f", mean_up);
+    release(&tv);
+}
+
+/* Visibility rays (paper 4.1): a black floor cuts a cell so that 0.3 of it
+ * lies above, lit by a lamp overhead. The subcell masks alone count the
+ * whole layer of subcells the floor passes through (0.5 of the cell); the
+ * rays from points of those subcells back toward each particle's origin find
+ * the part below the floor blocked, and the lit fraction must come out
+ * within 10% of 0.3. */
+static void test_visibility(void)
+{
+    const float z = 0.2f, f = 0.3f; /* floor height; the cell spans [z - 0.7, z + 0.3] */
+    const float tris[] = {
+        -3, -3, z, 3, -3, z, 3, 3, z, -3, -3, z, 3, 3, z, -3, 3, z, /* floor, facing up */
+        -0.5f, -0.5f, z + 2, 0.5f, 0.5f, z + 2, 0.5f, -0.5f, z + 2, /* lamp, facing down */
+        -0.5f, -0.5f, z + 2, -0.5f, 0.5f, z + 2, 0.5f, 0.5f, z + 2,
+        0, 0, z - 1.7f, 0, 0, z - 1.7f, 0, 0, z - 1.7f, /* stretches the bounds down */
+    };
+    lvcl_scene scene;
+    harness_triangle_scene(tris, 5, &scene);
+    /* Material 0 (floor) absorbs; material 1 (lamp) emits. */
+    lvcl_material_desc *m = realloc(scene.materials, 2 * sizeof *m);
+    if (!m) return;
+    scene.materials = m;
+    scene.material_count = 2;
+    m[1] = m[0];
+    m[0].base_color[0] = m[0].base_color[1] = m[0].base_color[2] = 0.0f;
+    m[1].emissive[0] = m[1].emissive[1] = m[1].emissive[2] = 5.0f;
+    scene.tri_material[2] = scene.tri_material[3] = 1;
+    lvcl_volume_settings vs = {0, 1.0, 4, 4, 2000000, 1, 0};
+    traced_volume tv;
+    if (!trace(&scene, NULL, 4, &vs, &tv)) return;
+    const lv_grid_info *g = &tv.volume.info;
+    int cx = (int)((0.5f - g->origin[0]) / g->cell_size), cz = (int)((z - g->origin[2]) / g->cell_size);
+    uint32_t slot = slot_of(&tv, cx, cx, cz);
+    double lit = slot == LV_EMPTY_CELL ? 0.0 : lvcl_volume_lit_fraction(g, &tv.masks[(size_t)slot * LV_SUBCELL_STRIDE]);
+    printf("  visibility: floor at %.2f of the cell's height, lit fraction %.4f (expected %.2f)\n", 1 - f, lit, f);
+    CHECK("subcell visibility: a cell cut at 0.3 of its volume is lit 0.3 within 10%", fabs(lit - f) < 0.1 * f,
+          "lit fraction %.4f", lit);
     release(&tv);
 }
 
@@ -248,6 +287,7 @@ int main(int argc, char **argv)
     lvcl_device_prepare_environment();
     test_emitting_plane();
     test_cut_cell();
+    test_visibility();
     test_furnace();
     test_determinism();
     CHECK_EXIT();
