@@ -9,7 +9,7 @@
 
 #define DEFAULT_SCENE "cornell"
 /* Light-volume defaults, chosen by measurement (docs/light-volume.md). */
-#define LVCL_DEFAULT_CELLS 16
+#define LVCL_DEFAULT_CELLS 32
 #define LVCL_DEFAULT_PARTICLES 1e6
 #define LVCL_DEFAULT_SUBCELLS 4
 
@@ -113,7 +113,7 @@ void lvcl_options_print_help(const char *program)
            "  --mode pt|lv|lv-all  pt: path tracing; lv: light volume for indirect light, shadow rays\n"
            "                       for direct (default pt); lv-all: the light volume answers all light\n"
            "  --particles N        light volume: particles traced (default 1e6)\n"
-           "  --cells N            light volume: cells along the longest axis (default 16)\n"
+           "  --cells N            light volume: cells along the longest axis (default 32)\n"
            "  --cell-size M        light volume: cell size in metres (overrides --cells)\n"
            "  --dirs N             light volume: N x N direction bins per hemisphere (default 11)\n"
            "  --subcells K         light volume: K x K x K subcells per cell estimate its lit volume\n"
