@@ -52,10 +52,12 @@ typedef struct {
  * smoother surfaces continue the path (paper section 5). */
 #define LV_GATHER_MIN_ALPHA 0.1f
 
+/* Delta lobes (a smooth dielectric coat) would be lost by the integrating
+ * gather, so smooth coats continue the path too. */
 inline int lv_gather_here_type(uint type, float alpha)
 {
-    if (type == LV_BSDF_DIFFUSE || type == LV_BSDF_PLASTIC) return 1;
-    return type == LV_BSDF_CONDUCTOR && alpha >= LV_GATHER_MIN_ALPHA;
+    if (type == LV_BSDF_DIFFUSE) return 1;
+    return (type == LV_BSDF_PLASTIC || type == LV_BSDF_CONDUCTOR) && alpha >= LV_GATHER_MIN_ALPHA;
 }
 
 inline int lv_gather_here(const lv_bsdf *b)
@@ -85,8 +87,9 @@ inline float3 lv_gather_integrate(const lv_gather *g, const lv_bsdf *b, lv_frame
 /* Radiance arriving along ray r at its origin, by path tracing or, with a
  * gather, by the light volume at the first rough surface (paper section 5):
  * there shadow rays give direct light (unless the volume holds all light),
- * and a BSDF ray that travels further than the threshold ends the path with
- * a volume lookup at a jittered point around the surface. */
+ * and the volume, read at a jittered point around the surface, gives the
+ * rest: integrated over all bins, or along one BSDF-sampled ray that ends
+ * the path if it travels further than the threshold. */
 inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint max_depth, const lv_gather *g)
 {
     float3 radiance = (float3)(0.0f);
