@@ -856,6 +856,18 @@ static vec3 point_on(rng *r, const tri_list *l)
     return add(v0, add(mul(sub(tri_vertex(l, t, 1), v0), b1), mul(sub(tri_vertex(l, t, 2), v0), b2)));
 }
 
+/* A re-shoot record for t_offset_rays: a direction about the normal, a third
+ * of them grazing (down to 1e-4 rad), and w = +mode (back to the side the
+ * ray came from) or -mode (through) at even odds; mode 2 also skips the
+ * triangle left. */
+static void random_reshoot(rng *r, float mode, float e[4])
+{
+    double z = uniform(r) < 0.33 ? log_range(r, 1e-4, 1e-2) : range(r, 1e-4, 1);
+    double s = sqrt(1 - z * z), phi = range(r, 0, 2 * PI);
+    e[0] = (float)(s * cos(phi)), e[1] = (float)(s * sin(phi)), e[2] = (float)z;
+    e[3] = uniform(r) < 0.5 ? mode : -mode;
+}
+
 /* Shoots rays at `unit` (a scene in about [-1,1]^3) scaled by `scale` and
  * moved to `centre`, re-shoots every hit with t_offset_rays and checks that
  * no re-shot ray hits its own triangle and that the step off the surface
@@ -880,11 +892,7 @@ static void check_offset(const char *what, const tri_list *unit, double scale, v
         vec3 o = uniform(&r) < 0.5 ? mul(random_unit(&r), 4) : random_in_box(&r, -1, 1);
         vec3 d = sub(point_on(&r, unit), o);
         add_ray(&rays, add(centre, mul(o, scale)), d, NO_LIMIT);
-        double z = uniform(&r) < 0.33 ? log_range(&r, 1e-4, 1e-2) : range(&r, 1e-4, 1);
-        double s = sqrt(1 - z * z), phi = range(&r, 0, 2 * PI);
-        float *e = &reshoot[4 * i];
-        e[0] = (float)(s * cos(phi)), e[1] = (float)(s * sin(phi)), e[2] = (float)z;
-        e[3] = uniform(&r) < 0.5 ? 1.0f : -1.0f;
+        random_reshoot(&r, 1.0f, &reshoot[4 * i]);
     }
     float *res = run_rays(&g, "t_offset_rays", &rays, reshoot);
 
@@ -952,11 +960,7 @@ static void check_needle(void)
         vec3 v0 = tri_vertex(&needle, t, 0);
         vec3 target = add(v0, add(mul(sub(tri_vertex(&needle, t, 1), v0), b1), mul(sub(tri_vertex(&needle, t, 2), v0), b2)));
         add_ray(&rays, o, sub(target, o), NO_LIMIT);
-        double z = uniform(&r) < 0.33 ? log_range(&r, 1e-4, 1e-2) : range(&r, 1e-4, 1);
-        double s = sqrt(1 - z * z), phi = range(&r, 0, 2 * PI);
-        float *e = &reshoot[4 * i];
-        e[0] = (float)(s * cos(phi)), e[1] = (float)(s * sin(phi)), e[2] = (float)z;
-        e[3] = uniform(&r) < 0.5 ? 2.0f : -2.0f;
+        random_reshoot(&r, 2.0f, &reshoot[4 * i]);
     }
     float *res = run_rays(&g, "t_offset_rays", &rays, reshoot);
     size_t hits = 0, out_hit = 0, in_missed = 0;
