@@ -68,6 +68,7 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     memset(vol, 0, sizeof *vol);
     if (s->dirs < 1 || s->dirs > 64) return lvcl_fail(st, LVCL_ERR_USAGE, "--dirs must be from 1 to 64");
     if (s->subcells < 0 || s->subcells > 4) return lvcl_fail(st, LVCL_ERR_USAGE, "--subcells must be from 0 to 4");
+    if (s->offset < 0 || s->offset >= 1) return lvcl_fail(st, LVCL_ERR_USAGE, "--grid-offset must be in [0, 1)");
     lv_grid_info *g = &vol->info;
     float extent[3], longest = 0.0f;
     for (int k = 0; k < 3; k++) {
@@ -76,13 +77,14 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     }
     g->cell_size = s->cell_size > 0 ? (float)s->cell_size : longest / (float)(s->cells > 0 ? s->cells : 1);
     if (!(g->cell_size > 0.0f)) return lvcl_fail(st, LVCL_ERR_UNSUPPORTED, "the scene has no extent for a light volume");
-    /* One spare cell on every side holds lookups jittered off the bounds. */
+    /* One spare cell on every side holds lookups jittered off the bounds;
+     * an offset shifts the grid by a fraction of a cell (one more cell). */
     double cells = 1.0;
     for (int k = 0; k < 3; k++) {
-        double d = ceil(extent[k] / g->cell_size) + 2.0;
+        double d = ceil(extent[k] / g->cell_size) + (s->offset > 0 ? 3.0 : 2.0);
         if (d < 1.0) d = 1.0;
         g->dims[k] = (lv_u32)d;
-        g->origin[k] = p->bounds_min[k] - g->cell_size;
+        g->origin[k] = p->bounds_min[k] - g->cell_size * (1.0f + (float)s->offset);
         cells *= d;
     }
     if (cells > 1 << 28)

@@ -12,6 +12,7 @@
 typedef struct {
     int cells;            /* cells along the longest axis (used if cell_size is 0) */
     double cell_size;     /* metres; 0 = from `cells` */
+    double offset;        /* shift of the grid against the bounds, in cells, [0, 1) */
     int dirs;             /* n: n x n bins per hemisphere */
     int subcells;         /* k: k x k x k subcells per cell (0 to 4), 0 = the lit volume is the whole cell */
     uint64_t particles;

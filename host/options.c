@@ -63,7 +63,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         /* Flags that take a value. */
         static const char *with_value[] = {"--device", "--mode", "-o", "--output", "--stats", "--spp", "--width",
                                            "--height", "--seed", "--max-depth", "--exposure", "--time-limit",
-                                           "--cells", "--cell-size", "--dirs", "--subcells", "--particles", "--threshold",
+                                           "--cells", "--cell-size", "--grid-offset", "--dirs", "--subcells", "--particles", "--threshold",
                                            "--gather"};
         int known = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++) known |= !strcmp(a, with_value[k]);
@@ -86,6 +86,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         else if (!strcmp(a, "--time-limit")) { e = parse_real(a, v, 0, 1e9, &x, st); o->time_limit = x; }
         else if (!strcmp(a, "--cells")) { e = parse_int(a, v, 1, 1024, &n, st); o->cells = (int)n; }
         else if (!strcmp(a, "--cell-size")) { e = parse_real(a, v, 1e-9, 1e9, &x, st); o->cell_size = x; }
+        else if (!strcmp(a, "--grid-offset")) { e = parse_real(a, v, 0, 0.999, &x, st); o->grid_offset = x; }
         else if (!strcmp(a, "--dirs")) { e = parse_int(a, v, 1, 64, &n, st); o->dirs = (int)n; }
         else if (!strcmp(a, "--subcells")) { e = parse_int(a, v, 0, 4, &n, st); o->subcells = (int)n; }
         else if (!strcmp(a, "--particles")) { e = parse_real(a, v, 1, 4294967295.0, &x, st); o->particles = floor(x); }
@@ -115,6 +116,7 @@ void lvcl_options_print_help(const char *program)
            "  --particles N        light volume: particles traced (default 1e6)\n"
            "  --cells N            light volume: cells along the longest axis (default 32)\n"
            "  --cell-size M        light volume: cell size in metres (overrides --cells)\n"
+           "  --grid-offset F      light volume: shift the grid by F cells against the scene (0 to 0.999)\n"
            "  --dirs N             light volume: N x N direction bins per hemisphere (default 11)\n"
            "  --subcells K         light volume: K x K x K subcells per cell estimate its lit volume\n"
            "                       (0 to 4, default 4; 0 = the whole cell)\n"

@@ -17,6 +17,7 @@ typedef struct {
     double exposure;
     int cells;              /* light volume: cells along the longest axis */
     double cell_size;       /* metres, 0 = from cells */
+    double grid_offset;     /* fraction of a cell */
     int dirs;               /* n x n bins per hemisphere */
     int subcells;           /* k x k x k subcells per cell, 0 = none */
     double particles;

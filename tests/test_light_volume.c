@@ -80,7 +80,7 @@ static void test_emitting_plane(void)
     lvcl_material_desc *m = &scene.materials[0];
     m->base_color[0] = m->base_color[1] = m->base_color[2] = 0.0f; /* absorbs what returns */
     m->emissive[0] = m->emissive[1] = m->emissive[2] = le;
-    lvcl_volume_settings vs = {0, 1.0, 6, 0, 8000000, 1, 0};
+    lvcl_volume_settings vs = {0, 1.0, 0, 6, 0, 8000000, 1, 0};
     traced_volume tv;
     if (!trace(&scene, NULL, 1, &vs, &tv)) return;
     const lv_grid_info *g = &tv.volume.info;
@@ -140,7 +140,7 @@ static void test_cut_cell(void)
     lvcl_material_desc *m = &scene.materials[0];
     m->base_color[0] = m->base_color[1] = m->base_color[2] = 0.0f;
     m->emissive[0] = m->emissive[1] = m->emissive[2] = le;
-    lvcl_volume_settings vs = {0, 1.0, 6, 4, 4000000, 1, 0};
+    lvcl_volume_settings vs = {0, 1.0, 0, 6, 4, 4000000, 1, 0};
     traced_volume tv;
     if (!trace(&scene, NULL, 3, &vs, &tv)) return;
     const lv_grid_info *g = &tv.volume.info;
@@ -195,7 +195,7 @@ static void test_visibility(void)
     m[0].base_color[0] = m[0].base_color[1] = m[0].base_color[2] = 0.0f;
     m[1].emissive[0] = m[1].emissive[1] = m[1].emissive[2] = 5.0f;
     scene.tri_material[2] = scene.tri_material[3] = 1;
-    lvcl_volume_settings vs = {0, 1.0, 4, 4, 2000000, 1, 0};
+    lvcl_volume_settings vs = {0, 1.0, 0, 4, 4, 2000000, 1, 0};
     traced_volume tv;
     if (!trace(&scene, NULL, 4, &vs, &tv)) return;
     const lv_grid_info *g = &tv.volume.info;
@@ -221,7 +221,7 @@ static void test_furnace(void)
         CHECK("furnace scene", 0, "%s", st.message);
         return;
     }
-    lvcl_volume_settings vs = {4, 0, 6, 0, 2000000, 1, 0};
+    lvcl_volume_settings vs = {4, 0, 0, 6, 0, 2000000, 1, 0};
     traced_volume tv;
     if (!trace(&scene, NULL, 2, &vs, &tv)) return;
     const lv_grid_info *g = &tv.volume.info;
@@ -258,7 +258,7 @@ static void test_furnace(void)
  * every other device present. */
 static void test_determinism(void)
 {
-    lvcl_volume_settings vs = {12, 0, 5, 4, 300000, 0, 0};
+    lvcl_volume_settings vs = {12, 0, 0, 5, 4, 300000, 0, 0};
     traced_volume first;
     lvcl_scene scene;
     lvcl_status st = {0};
