@@ -48,6 +48,7 @@ expect_error "two scenes" 2 cornell furnace
 expect_error "unknown gather" 2 --mode lv --gather guess cornell
 expect_error "zero particles" 2 --mode lv --particles 0 cornell
 expect_error "too many direction bins" 2 --mode lv --dirs 65 cornell
+expect_error "grid offset out of range" 2 --mode lv --grid-offset 1.5 cornell
 expect_error "unknown device name" 2 --device tpu cornell
 expect_error "device index out of range" 1 --device 99 cornell
 expect_error "unwritable output" 1 --spp 1 --width 8 -o "$tmp/no/such/dir/x.png" cornell
