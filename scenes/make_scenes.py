@@ -529,12 +529,48 @@ def glass_table(path):
                "glass ior 1.5")
 
 
+def thin_wall(path):
+    """Two sealed rooms side by side, split by a 2 cm wall that no grid
+    aligns with; only the left room has a lamp, so every bit of light seen
+    in the right room is a leak (a light-volume test, issue 4)."""
+    WHITE, LIGHT = range(2)
+    factor, strength = emission((10.0, 10.0, 10.0))
+    materials = [lambert("white", (0.7, 0.7, 0.7)),
+                 lambert("light", (0.0, 0.0, 0.0), emissive=factor, strength=strength)]
+    X, Y, Z, wall_x = 2.0, 2.5, 1.0, 0.37
+    room = Mesh("room", WHITE)
+    for axis, lo, hi in ((0, -X, X), (1, 0.0, Y), (2, -Z, Z)):
+        u, v = (axis + 1) % 3, (axis + 2) % 3
+        ext = ((-X, X), (0.0, Y), (-Z, Z))
+        for c, facing in ((lo, 1.0), (hi, -1.0)):
+            corners = []
+            for a, b in ((ext[u][0], ext[v][0]), (ext[u][1], ext[v][0]), (ext[u][1], ext[v][1]),
+                         (ext[u][0], ext[v][1])):
+                p = [0.0, 0.0, 0.0]
+                p[axis], p[u], p[v] = c, a, b
+                corners.append(tuple(p))
+            f = [0.0, 0.0, 0.0]
+            f[axis] = facing
+            room.quad(corners, tuple(f))
+    box(room, (wall_x - 0.01, 0.0, -Z), (wall_x + 0.01, Y, Z))
+    lamp = Mesh("lamp", LIGHT)
+    lamp.quad([(-1.4, Y - 0.001, -0.3), (-0.8, Y - 0.001, -0.3), (-0.8, Y - 0.001, 0.3),
+               (-1.4, Y - 0.001, 0.3)], (0.0, -1.0, 0.0))
+    eye, target = (1.9, 1.2, 0.0), (wall_x, 1.1, 0.0)
+    camera = {"yfov": math.radians(70.0), "aspect": 1.0,
+              "translation": list(eye), "rotation": look_at(eye, target)}
+    write_gltf(path, [room, lamp], materials, camera,
+               "two sealed rooms, lamp in the left one; the camera looks at the dividing wall "
+               "from the dark right room, where the true radiance is 0")
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
     os.makedirs(out, exist_ok=True)
     cornell(os.path.join(out, "cornell.gltf"))
     furnace(os.path.join(out, "furnace.gltf"))
     glass_table(os.path.join(out, "glass-table.gltf"))
+    thin_wall(os.path.join(out, "thin-wall.gltf"))
 
 
 if __name__ == "__main__":
