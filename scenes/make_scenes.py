@@ -124,9 +124,9 @@ def block(mesh, top, height):
         mesh.quad([pb, qb, q, p], (mx, 0.0, mz))
 
 
-def box(mesh, lo, hi):
+def box(mesh, lo, hi, inward=False):
     """A closed axis-aligned box from corner `lo` to corner `hi`, all six
-    faces facing outward."""
+    faces facing outward (or inward, for a room)."""
     for axis in range(3):
         u, v = (axis + 1) % 3, (axis + 2) % 3
         for s, c in ((-1.0, lo[axis]), (1.0, hi[axis])):
@@ -137,7 +137,7 @@ def box(mesh, lo, hi):
                 p[axis], p[u], p[v] = c, a, b
                 corners.append(tuple(p))
             facing = [0.0, 0.0, 0.0]
-            facing[axis] = s
+            facing[axis] = -s if inward else s
             mesh.quad(corners, tuple(facing))
 
 
@@ -539,19 +539,7 @@ def thin_wall(path):
                  lambert("light", (0.0, 0.0, 0.0), emissive=factor, strength=strength)]
     X, Y, Z, wall_x = 2.0, 2.5, 1.0, 0.37
     room = Mesh("room", WHITE)
-    for axis, lo, hi in ((0, -X, X), (1, 0.0, Y), (2, -Z, Z)):
-        u, v = (axis + 1) % 3, (axis + 2) % 3
-        ext = ((-X, X), (0.0, Y), (-Z, Z))
-        for c, facing in ((lo, 1.0), (hi, -1.0)):
-            corners = []
-            for a, b in ((ext[u][0], ext[v][0]), (ext[u][1], ext[v][0]), (ext[u][1], ext[v][1]),
-                         (ext[u][0], ext[v][1])):
-                p = [0.0, 0.0, 0.0]
-                p[axis], p[u], p[v] = c, a, b
-                corners.append(tuple(p))
-            f = [0.0, 0.0, 0.0]
-            f[axis] = facing
-            room.quad(corners, tuple(f))
+    box(room, (-X, 0.0, -Z), (X, Y, Z), inward=True)
     box(room, (wall_x - 0.01, 0.0, -Z), (wall_x + 0.01, Y, Z))
     lamp = Mesh("lamp", LIGHT)
     lamp.quad([(-1.4, Y - 0.001, -0.3), (-0.8, Y - 0.001, -0.3), (-0.8, Y - 0.001, 0.3),
