@@ -59,8 +59,13 @@ static lvcl_error run(const lvcl_options *o, lvcl_session *s, lvcl_render_result
     req.width = o->width;
     req.height = o->height;
     req.pass = (lvcl_pass_settings){o->spp, o->time_limit, !o->quiet};
-    req.volume = (lvcl_volume_settings){o->cells, o->cell_size, o->grid_offset, o->dirs, o->subcells,
-                                          (uint64_t)o->particles, 0, !o->quiet};
+    req.volume = (lvcl_volume_settings){.cells = o->cells,
+                                        .cell_size = o->cell_size,
+                                        .offset = o->grid_offset,
+                                        .dirs = o->dirs,
+                                        .subcells = o->subcells,
+                                        .particles = (uint64_t)o->particles,
+                                        .progress = !o->quiet};
     req.integrate = !strcmp(o->gather, "integrate");
     req.threshold = o->threshold;
     stats->startup_seconds = lvcl_seconds() - stats->process_start;

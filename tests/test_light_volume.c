@@ -61,6 +61,25 @@ static int bin_goes_up(const lv_grid_info *g, uint32_t bin)
     return bin < g->dirs * g->dirs;
 }
 
+/* A scene of `count` triangles, all black (absorbing what returns) and
+ * emitting radiance le from their front faces. */
+static void black_emitter_scene(const float *tris, size_t count, float le, lvcl_scene *scene)
+{
+    harness_triangle_scene(tris, count, scene);
+    lvcl_material_desc *m = &scene->materials[0];
+    m->base_color[0] = m->base_color[1] = m->base_color[2] = 0.0f;
+    m->emissive[0] = m->emissive[1] = m->emissive[2] = le;
+}
+
+/* Upward bins away from the horizon: with n x n bins per hemisphere, the
+ * inner (n-2) x (n-2) hold directions within 56 degrees of vertical for
+ * n = 6, which from anywhere in a 1 m cell meet a plane below it within 2 m. */
+static int inner_upward_bin(const lv_grid_info *g, uint32_t b)
+{
+    uint32_t n = g->dirs, i = b % n, j = b / n;
+    return bin_goes_up(g, b) && i > 0 && j > 0 && i < n - 1 && j < n - 1;
+}
+
 /* (a) A 6 m square emitter of radiance Le facing +z, cells of 1 m: in the
  * cell just above its middle, every upward bin away from the horizon sees
  * radiance Le, and every downward bin sees nothing. With 6 x 6 bins per
@@ -76,11 +95,8 @@ static void test_emitting_plane(void)
     const float tris[] = {-half, -half, 0, half, -half, 0, half, half, 0,   -half, -half, 0, half, half, 0,
                           -half, half,  0, 0,    0,     3, 0,    0,    3, 0,     0,     3};
     lvcl_scene scene;
-    harness_triangle_scene(tris, 3, &scene);
-    lvcl_material_desc *m = &scene.materials[0];
-    m->base_color[0] = m->base_color[1] = m->base_color[2] = 0.0f; /* absorbs what returns */
-    m->emissive[0] = m->emissive[1] = m->emissive[2] = le;
-    lvcl_volume_settings vs = {0, 1.0, 0, 6, 0, 8000000, 1, 0};
+    black_emitter_scene(tris, 3, le, &scene);
+    lvcl_volume_settings vs = {.cell_size = 1.0, .dirs = 6, .particles = 8000000, .store_emitted = 1};
     traced_volume tv;
     if (!trace(&scene, NULL, 1, &vs, &tv)) return;
     const lv_grid_info *g = &tv.volume.info;
@@ -96,15 +112,13 @@ static void test_emitting_plane(void)
      * bin; the count of crossings gives each bin's statistical error. */
     double worst = 0.0, worst_sigmas = 0.0, mean_up = 0.0, down = 0.0;
     int up_bins = 0;
-    uint32_t n = g->dirs;
     for (uint32_t b = 0; b < g->bins; b++) {
         double l = lvcl_volume_radiance(g, tally(&tv, slot, b, 0), 1.0);
         if (!bin_goes_up(g, b)) {
             down += l;
             continue;
         }
-        uint32_t i = b % n, j = b / n;
-        if (i == 0 || j == 0 || i == n - 1 || j == n - 1) continue; /* near the horizon */
+        if (!inner_upward_bin(g, b)) continue; /* near the horizon */
         double crossings = (double)tally(&tv, slot, b, 0) / LV_TALLY_SCALE * g->particles / (2.0 / 3.0);
         double sigma = le * 1.5 / sqrt(crossings > 1 ? crossings : 1);
         double err = fabs(l - le);
@@ -136,11 +150,8 @@ static void test_cut_cell(void)
                           half,  0,     0, 0,    3,    0,    0,    3,  0,  0,     3,     0,    0,    -2.5f, 0, 0,
                           -2.5f, 0,     0, -2.5f};
     lvcl_scene scene;
-    harness_triangle_scene(tris, 4, &scene);
-    lvcl_material_desc *m = &scene.materials[0];
-    m->base_color[0] = m->base_color[1] = m->base_color[2] = 0.0f;
-    m->emissive[0] = m->emissive[1] = m->emissive[2] = le;
-    lvcl_volume_settings vs = {0, 1.0, 0, 6, 4, 4000000, 1, 0};
+    black_emitter_scene(tris, 4, le, &scene);
+    lvcl_volume_settings vs = {.cell_size = 1.0, .dirs = 6, .subcells = 4, .particles = 4000000, .store_emitted = 1};
     traced_volume tv;
     if (!trace(&scene, NULL, 3, &vs, &tv)) return;
     const lv_grid_info *g = &tv.volume.info;
@@ -154,10 +165,8 @@ static void test_cut_cell(void)
     double lit = lvcl_volume_lit_fraction(g, &tv.masks[(size_t)slot * LV_SUBCELL_STRIDE]);
     double mean_up = 0.0;
     int up_bins = 0;
-    uint32_t n = g->dirs;
-    for (uint32_t b = 0; b < n * n; b++) {
-        uint32_t i = b % n, j = b / n;
-        if (i == 0 || j == 0 || i == n - 1 || j == n - 1) continue;
+    for (uint32_t b = 0; b < g->bins; b++) {
+        if (!inner_upward_bin(g, b)) continue;
         mean_up += lvcl_volume_radiance(g, tally(&tv, slot, b, 0), lit);
         up_bins++;
     }
@@ -195,7 +204,7 @@ static void test_visibility(void)
     m[0].base_color[0] = m[0].base_color[1] = m[0].base_color[2] = 0.0f;
     m[1].emissive[0] = m[1].emissive[1] = m[1].emissive[2] = 5.0f;
     scene.tri_material[2] = scene.tri_material[3] = 1;
-    lvcl_volume_settings vs = {0, 1.0, 0, 4, 4, 2000000, 1, 0};
+    lvcl_volume_settings vs = {.cell_size = 1.0, .dirs = 4, .subcells = 4, .particles = 2000000, .store_emitted = 1};
     traced_volume tv;
     if (!trace(&scene, NULL, 4, &vs, &tv)) return;
     const lv_grid_info *g = &tv.volume.info;
@@ -221,7 +230,7 @@ static void test_furnace(void)
         CHECK("furnace scene", 0, "%s", st.message);
         return;
     }
-    lvcl_volume_settings vs = {4, 0, 0, 6, 0, 2000000, 1, 0};
+    lvcl_volume_settings vs = {.cells = 4, .dirs = 6, .particles = 2000000, .store_emitted = 1};
     traced_volume tv;
     if (!trace(&scene, NULL, 2, &vs, &tv)) return;
     const lv_grid_info *g = &tv.volume.info;
@@ -258,7 +267,7 @@ static void test_furnace(void)
  * every other device present. */
 static void test_determinism(void)
 {
-    lvcl_volume_settings vs = {12, 0, 0, 5, 4, 300000, 0, 0};
+    lvcl_volume_settings vs = {.cells = 12, .dirs = 5, .subcells = 4, .particles = 300000};
     traced_volume first;
     lvcl_scene scene;
     lvcl_status st = {0};
