@@ -53,6 +53,11 @@ inline void lv_tally_add(__global long *tallies, uint slot, uint bins, uint bin,
 inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float3 dir, float length)
 {
     uint k = grid->g.subcells;
+    __global uint *mask = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
+    /* Most cells fill up after a few particles; a plain read of a stale
+     * value only costs the walk below, never a lost bit. */
+    uint full = k == 4u ? 0xffffffffu : (1u << (k * k * k)) - 1u;
+    if (mask[0] == full && (k < 4u || mask[1] == full)) return;
     uint m = 2u * k;
     uint bits[2] = {0u, 0u};
     for (uint j = 0; j < m; j++) {
@@ -61,12 +66,12 @@ inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float
         uint bit = c.x + k * (c.y + k * c.z);
         bits[bit >> 5] |= 1u << (bit & 31u);
     }
-    __global uint *mask = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
     for (int w = 0; w < 2; w++)
-        /* The plain read only saves atomics once a mask fills up; a stale
-         * value costs one needless atomic_or, never a lost bit. */
         if (bits[w] && (mask[w] & bits[w]) != bits[w]) atomic_or(&mask[w], bits[w]);
 }
+
+/* Pieces shorter than this (in cell units) switch no subcell on. */
+#define LV_MARK_MIN_PIECE 1e-3f
 
 /* Adds the segment origin + t dir, t in [t0, t1] (dir unit, t in metres),
  * carrying `weight` (power over total power, over particle count) at t0, to
@@ -99,7 +104,11 @@ inline void lv_tally_segment(const lv_grid *grid, __global long *tallies, float3
         float s_exit = fmin(s1, fmin(s_next.x, fmin(s_next.y, s_next.z)));
         uint slot = grid->cell_slot[cell.x + idims.x * (cell.y + idims.y * cell.z)];
         if (slot != LV_EMPTY_CELL && s_exit > s) {
-            if (grid->g.subcells) lv_mark_subcells(grid, slot, o + dir * s - convert_float3(cell), dir, s_exit - s);
+            /* A segment ending on a wall that lies on a cell boundary pokes
+             * a rounding error's length into the cell behind it; marking
+             * that would call the space behind the wall lit. */
+            if (grid->g.subcells && s_exit - s > LV_MARK_MIN_PIECE)
+                lv_mark_subcells(grid, slot, o + dir * s - convert_float3(cell), dir, s_exit - s);
             /* Track length in cell units, with the absorption integrated over it. */
             float3 amount;
             if (sigma.x > 0.0f || sigma.y > 0.0f || sigma.z > 0.0f) {
@@ -144,6 +153,29 @@ inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
     return fmax(lit, 1.0f) / (float)(k * k * k);
 }
 
+/* The index of the subcell holding p within its cell; also the cell's and
+ * the subcell's integer coordinates (as floats). */
+inline uint lv_subcell_at(const lv_grid *grid, float3 p, float3 *cell, float3 *sub)
+{
+    uint k = grid->g.subcells;
+    float3 c = (p - lv_grid_origin(grid)) / grid->g.cell_size;
+    *cell = floor(c);
+    *sub = clamp(floor((c - *cell) * (float)k), 0.0f, (float)(k - 1u));
+    return (uint)sub->x + k * ((uint)sub->y + k * (uint)sub->z);
+}
+
+/* Whether light reached the point p: its cell is stored and, with subcells,
+ * a tallied segment passed p's subcell. */
+inline int lv_point_reached(const lv_grid *grid, float3 p)
+{
+    uint slot = lv_grid_slot_at(grid, p);
+    if (slot == LV_EMPTY_CELL) return 0;
+    if (grid->g.subcells == 0u) return 1;
+    float3 cell, sub;
+    uint i = lv_subcell_at(grid, p, &cell, &sub);
+    return (grid->subcells[(size_t)slot * LV_SUBCELL_STRIDE + (i >> 5)] >> (i & 31u)) & 1u;
+}
+
 /* Visibility rays (paper 4.1): where a particle that came from `from` hit a
  * surface at p, one ray from a random point of p's subcell back to `from`;
  * whether it got through estimates how much of the subcell that light
@@ -153,13 +185,10 @@ inline void lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
     uint slot = lv_grid_slot_at(grid, p);
     if (slot == LV_EMPTY_CELL) return;
     uint k = grid->g.subcells;
-    float h = grid->g.cell_size;
-    float3 c = (p - lv_grid_origin(grid)) / h;
-    float3 cell = floor(c);
-    float3 sub = fmin(floor((c - cell) * (float)k), (float)(k - 1u));
+    float3 cell, sub;
+    uint i = lv_subcell_at(grid, p, &cell, &sub);
     float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
-    float3 q = lv_grid_origin(grid) + (cell + (sub + u) / (float)k) * h;
-    uint i = (uint)sub.x + k * ((uint)sub.y + k * (uint)sub.z);
+    float3 q = lv_grid_origin(grid) + (cell + (sub + u) / (float)k) * grid->g.cell_size;
     __global uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
     atomic_inc(&rec[LV_SUBCELL_CAST + i]);
     if (!lv_occluded(sc, q, from - q, 0.999f, LV_NO_HIT)) atomic_inc(&rec[LV_SUBCELL_OPEN + i]);
@@ -187,13 +216,18 @@ inline float3 lv_volume_radiance(const lv_grid *grid, __global const long *talli
  * lookup then averages neighbouring cells, which hides the grid), folded to
  * the side of the surface that the light arrives on: the half of the box
  * behind the surface holds no light that can reach p, and reading it would
- * darken every surface by about half. n is that side's normal. */
+ * darken every surface by about half. n is that side's normal. Near a
+ * corner the box also reaches behind the other wall; a point that no light
+ * reached falls back to the subcell just in front of p. */
 inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, float3 n, lv_rng *rng)
 {
-    float3 offset = ((float3)(lv_rng_next2(rng), lv_rng_next(rng)) - 0.5f) * grid->g.cell_size;
+    float h = grid->g.cell_size;
+    float3 offset = ((float3)(lv_rng_next2(rng), lv_rng_next(rng)) - 0.5f) * h;
     float behind = dot(offset, n);
     if (behind < 0.0f) offset -= 2.0f * behind * n;
-    return p + offset;
+    float3 q = p + offset;
+    if (grid->g.subcells == 0u || lv_point_reached(grid, q)) return q;
+    return p + n * (0.5f * h / (float)grid->g.subcells);
 }
 
 #endif

@@ -15,10 +15,10 @@
 #define LV_RR_DEPTH 5
 
 /* Direct light at surface s from one light sample, MIS-weighted against
- * BSDF sampling unless `mis` is 0. ng_out is the geometric normal on the
+ * BSDF sampling. ng_out is the geometric normal on the
  * side wo leaves from. */
 inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, uint tri, const lv_bsdf *b, lv_frame f,
-                              float3 wo, float3 ng_out, int mis, lv_rng *rng)
+                              float3 wo, float3 ng_out, lv_rng *rng)
 {
     lv_light_sample ls;
     float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
@@ -32,7 +32,7 @@ inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, uint tri,
     float3 origin = lv_offset_origin(s->p, n_side, sc->info.scene_scale);
     float3 d = ls.target - origin;
     if (lv_occluded(sc, origin, d, 0.9999f, tri)) return (float3)(0.0f);
-    float w = ls.delta || !mis ? 1.0f : lv_power_heuristic(ls.pdf, lv_bsdf_pdf(b, wo, wi));
+    float w = ls.delta ? 1.0f : lv_power_heuristic(ls.pdf, lv_bsdf_pdf(b, wo, wi));
     return fcos * ls.li * (w / ls.pdf);
 }
 
@@ -84,12 +84,22 @@ inline float3 lv_gather_integrate(const lv_gather *g, const lv_bsdf *b, lv_frame
     return sum * lv_bin_solid_angle(n);
 }
 
+/* What the ray just traced owes the light volume once it lands. */
+#define LV_LOOKUP_NONE 0
+#define LV_LOOKUP_READ 1    /* a far hit reads the volume in the ray's direction */
+#define LV_LOOKUP_CORRECT 2 /* a near hit takes back the volume's share: the path answers instead */
+
 /* Radiance arriving along ray r at its origin, by path tracing or, with a
- * gather, by the light volume at the first rough surface (paper section 5):
- * there shadow rays give direct light (unless the volume holds all light),
- * and the volume, read at a jittered point around the surface, gives the
- * rest: integrated over all bins, or along one BSDF-sampled ray that ends
- * the path if it travels further than the threshold. */
+ * gather, by the light volume at the first rough surface (paper section 5).
+ * There shadow rays give direct light (unless the volume holds all light)
+ * and the volume, read at a jittered point around the surface, the rest.
+ * The paper's way (sampled) follows one BSDF ray: if it meets a rough
+ * surface closer than the threshold the path goes on, otherwise the
+ * volume's bin in its direction answers. The integrating way sums the BSDF
+ * over every bin and still follows one BSDF ray: where that ray hits close,
+ * the path's radiance replaces the volume's for its direction, so near
+ * geometry (corners, contact shadows), which a cell average cannot resolve,
+ * is path traced as in the paper while far light stays noise-free. */
 inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint max_depth, const lv_gather *g)
 {
     float3 radiance = (float3)(0.0f);
@@ -97,7 +107,7 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
     float prev_pdf = 0.0f;
     int prev_delta = 1; /* the camera ray counts as a delta sample: no MIS */
     int all_light = g && (g->flags & LV_GATHER_ALL);
-    int lookup_pending = 0;
+    int lookup = LV_LOOKUP_NONE;
     float3 lookup_point = (float3)(0.0f);
     for (uint depth = 1; depth <= max_depth; depth++) {
         lv_hit h = lv_trace(sc, r, 0);
@@ -109,19 +119,23 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         if (h.tri != LV_NO_HIT) {
             s = lv_surface_at(sc, r, h);
             m = &sc->materials[s.material];
-            far = lookup_pending && (h.t > g->threshold || !lv_gather_here_type(m->bsdf, m->alpha));
+            far = lookup != LV_LOOKUP_NONE && (h.t > g->threshold || !lv_gather_here_type(m->bsdf, m->alpha));
             float3 le = LV_F3(m->emission);
             if (s.front && lv_max3(le) > 0.0f && !(all_light && !prev_delta)) {
                 float w = prev_delta ? 1.0f : lv_power_heuristic(prev_pdf, lv_light_pdf(sc, h.tri, r.dir, h.t, s.ng));
                 radiance += beta * le * w;
             }
         }
-        if (lookup_pending && far) {
+        if (lookup != LV_LOOKUP_NONE) {
             /* Light arriving from r.dir travels along -r.dir. */
-            radiance += beta * lv_volume_radiance(&g->grid, g->tallies, lookup_point, -r.dir);
-            break;
+            float3 volume = beta * lv_volume_radiance(&g->grid, g->tallies, lookup_point, -r.dir);
+            if (far) {
+                if (lookup == LV_LOOKUP_READ) radiance += volume;
+                break;
+            }
+            if (lookup == LV_LOOKUP_CORRECT) radiance -= volume;
+            lookup = LV_LOOKUP_NONE;
         }
-        lookup_pending = 0;
         if (h.tri == LV_NO_HIT) break;
 #ifdef LV_FEATURE_GLASS
         /* The segment just traced ran inside a glass volume. */
@@ -136,12 +150,13 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         float3 ng_out = dot(r.dir, s.ng) < 0.0f ? s.ng : -s.ng;
         int gather = g && lv_gather_here(&b);
         int integrate = gather && (g->flags & LV_GATHER_INTEGRATE);
+        if (gather) lookup_point = lv_jitter_lookup(&g->grid, s.p, ng_out, rng);
 
         if (depth + 1 <= max_depth && lv_bsdf_has_smooth_lobe(&b) && !all_light)
-            radiance += beta * lv_direct_light(sc, &s, h.tri, &b, f, wo, ng_out, !integrate, rng);
+            radiance += beta * lv_direct_light(sc, &s, h.tri, &b, f, wo, ng_out, rng);
         if (integrate) {
-            radiance += beta * lv_gather_integrate(g, &b, f, wo, lv_jitter_lookup(&g->grid, s.p, ng_out, rng));
-            break;
+            radiance += beta * lv_gather_integrate(g, &b, f, wo, lookup_point);
+            if (all_light) break; /* no threshold: the volume answers for every direction */
         }
 
         lv_bsdf_sample bs;
@@ -157,12 +172,11 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         prev_delta = bs.delta;
         if (!lv_finite3(beta) || lv_max3(beta) <= 0.0f) break;
         if (gather) {
-            lookup_point = lv_jitter_lookup(&g->grid, s.p, ng_out, rng);
             if (all_light) { /* no threshold: the volume answers at once */
                 radiance += beta * lv_volume_radiance(&g->grid, g->tallies, lookup_point, -wi);
                 break;
             }
-            lookup_pending = 1;
+            lookup = integrate ? LV_LOOKUP_CORRECT : LV_LOOKUP_READ;
         } else if (depth >= LV_RR_DEPTH) {
             float q = fmin(lv_max3(beta), 0.95f);
             if (lv_rng_next(rng) >= q) break;
