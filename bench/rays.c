@@ -307,7 +307,7 @@ static void print_setup(bench *b, int width, int height)
     printf("{\"bench\": \"rays\", \"scene\": %s, \"device\": %s, \"triangles\": %zu, \"bvh_triangles\": %zu, "
            "\"bvh_nodes\": %zu, \"bvh_build_seconds\": %.4f, \"kernel_build_seconds\": %.3f, "
            "\"kernel_from_cache\": %s, \"width\": %d, \"height\": %d, \"repeat\": %d",
-           scene, b->device_json, b->s.scene.triangle_count, b->s.bvh.triangle_count, b->s.bvh.node_count,
+           scene, b->device_json, b->s.scene.triangle_count, b->s.accel.triangle_count, b->s.accel.node_count,
            b->s.bvh_build_seconds, b->s.program.build_seconds, b->s.program.from_cache ? "true" : "false", width,
            height, b->opt.repeat);
     if (b->embree)
@@ -386,8 +386,10 @@ int main(int argc, char **argv)
     if (!e) e = create_kernels(&b, &st);
     if (!e) {
         json_string(b.device_json, sizeof b.device_json, b.s.device.name);
-        b.embree = bench_embree_create(b.s.scene.positions, b.s.scene.vertex_count, b.s.scene.indices,
-                                       b.s.scene.triangle_count, &b.embree_build_seconds);
+        /* Embree is handed the triangles as stored: world space only in a flat scene. */
+        if (b.s.scene.mesh_count == 0)
+            b.embree = bench_embree_create(b.s.scene.positions, b.s.scene.vertex_count, b.s.scene.indices,
+                                           b.s.scene.triangle_count, &b.embree_build_seconds);
         e = run(&b, &st);
     }
     if (e) fprintf(stderr, "lvcl-bench: error: %s\n", st.message);

@@ -57,14 +57,16 @@ def budgets(quick):
     """(label, lvcl arguments) for every run."""
     pt_spp = [4, 16, 64] if quick else [4, 16, 64, 256, 1024]
     runs = [("pt", ["--mode", "pt", "--spp", str(s)]) for s in pt_spp]
-    cells = [16, 32] if quick else [8, 16, 32]
-    particles = [1e5, 1e6] if quick else [1e5, 1e6, 1e7]
-    spp = [4, 16] if quick else [4, 16, 64]
-    for c in cells:
-        for p in particles:
-            for s in spp:
-                runs.append((f"lv cells={c} particles={p:.0e}",
-                             ["--mode", "lv", "--cells", str(c), "--particles", str(int(p)), "--spp", str(s)]))
+    # (cells, particles, subcells): the subcell estimate at several grids and
+    # particle counts, and the whole-cell volume (--subcells 0) beside it.
+    series = ([(16, 1e5, 4), (32, 1e6, 4), (32, 1e6, 0)] if quick else
+              [(16, 1e6, 4), (32, 1e5, 4), (32, 1e6, 4), (32, 4e6, 4), (32, 1e6, 0)])
+    spp = [4, 16] if quick else [16, 64, 256]
+    for c, p, k in series:
+        for s in spp:
+            runs.append((f"lv cells={c} particles={p:.0e} subcells={k}",
+                         ["--mode", "lv", "--cells", str(c), "--particles", str(int(p)), "--subcells", str(k),
+                          "--spp", str(s)]))
     return runs
 
 
@@ -92,7 +94,8 @@ def plot(records, path):
         rec = next(r for r in records if r["label"] == label)
         colour = colours(cell_sizes.index(rec["cells"][0]) / max(1, len(cell_sizes) - 1))
         marker = markers.setdefault(rec["particles"], "sv^Dpx"[len(markers) % 6])
-        ax.plot([p[0] for p in pts], [p[1] for p in pts], "--", marker=marker, color=colour, linewidth=1,
+        style = ":" if label.endswith("subcells=0") else "--"
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], style, marker=marker, color=colour, linewidth=1,
                 label=label)
     ax.set_xscale("log")
     ax.set_yscale("log")
@@ -133,6 +136,7 @@ def main():
                 "seconds": s.get("particle_trace_seconds", 0.0) + s["render_seconds"],
                 "particles_per_second": s.get("particles_per_second"),
                 "segments_per_second": s.get("segments_per_second"),
+                "subcells": s.get("subcells"), "visibility_rays": s.get("visibility_rays"),
                 "samples_per_second": s["samples_per_second"],
                 "relmse": e["relmse"], "rmse": e["rmse"],
                 "flip": flip(image, a.reference) if flip else None,

@@ -6,7 +6,9 @@
 #include <string.h>
 
 #define BIN_COUNT 16
-#define MAX_LEAF_SIZE 8
+/* Triangles per leaf at most; instances get one leaf each, since entering
+ * an instance costs a ray transform. */
+#define MAX_LEAF_TRIANGLES 8
 /* Past this depth the builder splits at the object median, which halves the
  * count each level, so no tree gets deeper than LVCL_BVH_MAX_DEPTH. */
 #define MEDIAN_SPLIT_DEPTH 28
@@ -21,6 +23,7 @@ typedef struct {
     uint32_t *order; /* working permutation of triangle indices */
     lv_bvh_node *nodes;
     size_t node_count;
+    size_t max_leaf;
     int depth;
 } builder;
 
@@ -145,8 +148,8 @@ static size_t sah_partition(builder *bd, size_t first, size_t count, const box3 
      * intersection per triangle, against intersecting them all here. */
     float parent_area = box_area(bounds);
     float split_cost = best_axis < 0 ? FLT_MAX : 1.0f + best_cost / max_f(parent_area, FLT_MIN);
-    if (best_axis < 0 || (split_cost >= (float)count && count <= MAX_LEAF_SIZE)) {
-        if (count <= MAX_LEAF_SIZE) return 0;
+    if (best_axis < 0 || (split_cost >= (float)count && count <= bd->max_leaf)) {
+        if (count <= bd->max_leaf) return 0;
         return count / 2; /* all centroids coincide: any split will do */
     }
 
@@ -201,20 +204,59 @@ static void build_node(builder *bd, size_t node_index, size_t first, size_t coun
     build_node(bd, right, first + left_count, count - left_count, depth + 1);
 }
 
+/* Builds the tree over the `used` items listed in bd->order, whose boxes
+ * and centroids are filled; takes ownership of bd's arrays. */
+static lvcl_error build_tree(builder *bd, size_t used, lvcl_bvh *bvh, const char *what, lvcl_status *st)
+{
+    bd->nodes = used ? malloc((2 * used - 1) * sizeof *bd->nodes) : NULL;
+    if (bd->nodes) {
+        bd->node_count = 1;
+        build_node(bd, 0, 0, used, 0);
+    }
+    free(bd->tri_box);
+    free(bd->centroid);
+    if (!bd->nodes) {
+        free(bd->order);
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building the BVH over %zu %s", used, what);
+    }
+    bvh->nodes = bd->nodes;
+    bvh->node_count = bd->node_count;
+    bvh->tri_order = bd->order;
+    bvh->triangle_count = used;
+    bvh->depth = bd->depth;
+    return LVCL_OK;
+}
+
+static lvcl_error start_builder(builder *bd, size_t count, size_t max_leaf, const char *what, lvcl_status *st)
+{
+    memset(bd, 0, sizeof *bd);
+    if (count >= (size_t)INT32_MAX / 2)
+        return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "%zu %s exceed the BVH's 32-bit indices", count, what);
+    bd->max_leaf = max_leaf;
+    bd->tri_box = malloc((count ? count : 1) * sizeof *bd->tri_box);
+    bd->centroid = malloc((count ? count : 1) * 3 * sizeof(float));
+    bd->order = malloc((count ? count : 1) * sizeof(uint32_t));
+    if (bd->tri_box && bd->centroid && bd->order) return LVCL_OK;
+    free(bd->tri_box);
+    free(bd->centroid);
+    free(bd->order);
+    return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building the BVH over %zu %s", count, what);
+}
+
+static void set_item(builder *bd, uint32_t i, const box3 *b)
+{
+    bd->tri_box[i] = *b;
+    for (int k = 0; k < 3; k++) bd->centroid[3 * i + k] = 0.5f * (b->lo[k] + b->hi[k]);
+}
+
 lvcl_error lvcl_bvh_build(const float *positions, const uint32_t *indices, size_t count,
                           lvcl_bvh *bvh, lvcl_status *st)
 {
     memset(bvh, 0, sizeof *bvh);
-    if (count >= (size_t)INT32_MAX / 2)
-        return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "%zu triangles exceed the BVH's 32-bit indices", count);
-
-    builder bd = {0};
-    bd.tri_box = malloc(count * sizeof *bd.tri_box);
-    bd.centroid = malloc(count * 3 * sizeof(float));
-    bd.order = malloc(count * sizeof(uint32_t));
+    builder bd;
+    lvcl_error e = start_builder(&bd, count, MAX_LEAF_TRIANGLES, "triangles", st);
+    if (e) return e;
     size_t used = 0;
-    if (!bd.tri_box || !bd.centroid || !bd.order) goto oom;
-
     for (size_t t = 0; t < count; t++) {
         const float *v[3];
         for (int c = 0; c < 3; c++) v[c] = positions + 3 * (size_t)indices[3 * t + c];
@@ -224,8 +266,7 @@ lvcl_error lvcl_bvh_build(const float *positions, const uint32_t *indices, size_
         }
         box3 b = box_empty();
         for (int c = 0; c < 3; c++) box_grow_point(&b, v[c]);
-        bd.tri_box[t] = b;
-        for (int k = 0; k < 3; k++) bd.centroid[3 * t + k] = 0.5f * (b.lo[k] + b.hi[k]);
+        set_item(&bd, (uint32_t)t, &b);
         bd.order[used++] = (uint32_t)t;
     }
     if (used == 0) {
@@ -234,27 +275,23 @@ lvcl_error lvcl_bvh_build(const float *positions, const uint32_t *indices, size_
         free(bd.order);
         return lvcl_fail(st, LVCL_ERR_UNSUPPORTED, "scene has no triangle of non-zero area");
     }
+    return build_tree(&bd, used, bvh, "triangles", st);
+}
 
-    bd.nodes = malloc((2 * used - 1) * sizeof *bd.nodes);
-    if (!bd.nodes) goto oom;
-    bd.node_count = 1;
-    build_node(&bd, 0, 0, used, 0);
-
-    free(bd.tri_box);
-    free(bd.centroid);
-    bvh->nodes = bd.nodes;
-    bvh->node_count = bd.node_count;
-    bvh->tri_order = bd.order;
-    bvh->triangle_count = used;
-    bvh->depth = bd.depth;
-    return LVCL_OK;
-
-oom:
-    free(bd.tri_box);
-    free(bd.centroid);
-    free(bd.order);
-    free(bd.nodes);
-    return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building the BVH over %zu triangles", count);
+lvcl_error lvcl_bvh_build_boxes(const float *boxes, size_t count, lvcl_bvh *bvh, lvcl_status *st)
+{
+    memset(bvh, 0, sizeof *bvh);
+    builder bd;
+    lvcl_error e = start_builder(&bd, count, 1, "instances", st);
+    if (e) return e;
+    for (size_t i = 0; i < count; i++) {
+        box3 b;
+        memcpy(b.lo, &boxes[6 * i], sizeof b.lo);
+        memcpy(b.hi, &boxes[6 * i + 3], sizeof b.hi);
+        set_item(&bd, (uint32_t)i, &b);
+        bd.order[i] = (uint32_t)i;
+    }
+    return build_tree(&bd, count, bvh, "instances", st);
 }
 
 void lvcl_bvh_free(lvcl_bvh *bvh)

@@ -17,8 +17,8 @@
 typedef struct {
     lv_bvh_node *nodes;
     size_t node_count;
-    uint32_t *tri_order;    /* leaf slot -> original triangle index */
-    size_t triangle_count;  /* triangles in the tree (degenerate ones left out) */
+    uint32_t *tri_order;    /* leaf slot -> original triangle (or box) index */
+    size_t triangle_count;  /* items in the tree (degenerate triangles left out) */
     size_t skipped;         /* zero-area or non-finite triangles left out */
     int depth;
 } lvcl_bvh;
@@ -28,6 +28,11 @@ typedef struct {
  * are left out and counted in `skipped`. */
 lvcl_error lvcl_bvh_build(const float *positions, const uint32_t *indices, size_t count,
                           lvcl_bvh *bvh, lvcl_status *st);
+
+/* Builds over `count` boxes (6 floats each: min xyz, max xyz, finite), one
+ * per leaf; tri_order then lists box indices. For the top level of
+ * instances. */
+lvcl_error lvcl_bvh_build_boxes(const float *boxes, size_t count, lvcl_bvh *bvh, lvcl_status *st);
 
 void lvcl_bvh_free(lvcl_bvh *bvh);
 

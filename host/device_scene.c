@@ -11,15 +11,22 @@ static float luminance(const float c[3])
     return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
 }
 
-static float triangle_area(const float *v)
+/* Area of a triangle given by three world-space corners. */
+static float triangle_area(const float v[9])
 {
     float e1[3], e2[3];
     for (int k = 0; k < 3; k++) {
-        e1[k] = v[4 + k] - v[k];
-        e2[k] = v[8 + k] - v[k];
+        e1[k] = v[3 + k] - v[k];
+        e2[k] = v[6 + k] - v[k];
     }
     float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
     return 0.5f * sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+void lvcl_packed_triangle_world(const lvcl_packed_scene *p, size_t instance, size_t tri, float v[9])
+{
+    const lv_instance *in = &p->instances[instance];
+    for (int c = 0; c < 3; c++) lvcl_transform_point(in->world_from_object, &p->tri_vertices[12 * tri + 4 * c], 1.0f, &v[3 * c]);
 }
 
 /* Power (luminance watts) of a punctual light: 4 pi I for a point light,
@@ -31,28 +38,51 @@ static float punctual_power(const lv_punctual_light *l)
     return 4.0f * 3.14159265f * i;
 }
 
-/* Builds the light table: emissive triangles and punctual lights, chosen
- * in proportion to their power. */
+/* Numbers each mesh's emitting triangles (lv_triangle.light) and returns
+ * how many area lights all instances make. */
+static size_t number_emitters(lvcl_packed_scene *p, size_t *emitters_per_mesh)
+{
+    for (size_t m = 0; m < p->mesh_count; m++) {
+        size_t k = 0;
+        for (size_t t = p->mesh_first[m]; t < p->mesh_first[m] + p->mesh_size[m]; t++)
+            if (luminance(p->materials[p->triangles[t].material].emission) > 0.0f) p->triangles[t].light = (lv_u32)k++;
+        emitters_per_mesh[m] = k;
+    }
+    size_t n = 0;
+    for (size_t i = 0; i < p->instance_count; i++) n += emitters_per_mesh[p->instances[i].mesh];
+    return n;
+}
+
+/* Builds the light table: every instance's emitting triangles and the
+ * punctual lights, chosen in proportion to their power. */
 static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lvcl_status *st)
 {
-    size_t n = scene->punctual_count;
-    for (size_t t = 0; t < p->triangle_count; t++)
-        if (luminance(p->materials[p->triangles[t].material].emission) > 0.0f) n++;
+    size_t *emitters = calloc(p->mesh_count, sizeof *emitters);
+    if (!emitters) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building the light table");
+    size_t n = number_emitters(p, emitters) + scene->punctual_count;
     float *power = malloc((n ? n : 1) * sizeof *power);
     p->lights = calloc(n ? n : 1, sizeof *p->lights);
     if (!power || !p->lights) {
         free(power);
-        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building the light table");
+        free(emitters);
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building a table of %zu lights", n);
     }
     size_t i = 0;
-    for (size_t t = 0; t < p->triangle_count; t++) {
-        const lv_material *m = &p->materials[p->triangles[t].material];
-        if (!(luminance(m->emission) > 0.0f)) continue;
-        p->lights[i].kind = LV_LIGHT_AREA;
-        p->lights[i].index = (lv_u32)t;
-        p->triangles[t].light = (lv_u32)i;
-        power[i++] = luminance(m->emission) * triangle_area(&p->tri_vertices[12 * t]) * 3.14159265f;
+    for (size_t in = 0; in < p->instance_count; in++) {
+        uint32_t m = p->instances[in].mesh;
+        p->instances[in].light_base = emitters[m] ? (lv_u32)i : LV_NO_LIGHT;
+        if (!emitters[m]) continue;
+        for (size_t t = p->mesh_first[m]; t < p->mesh_first[m] + p->mesh_size[m]; t++) {
+            if (p->triangles[t].light == LV_NO_LIGHT) continue;
+            float v[9];
+            lvcl_packed_triangle_world(p, in, t, v);
+            p->lights[i].kind = LV_LIGHT_AREA;
+            p->lights[i].index = (lv_u32)t;
+            p->lights[i].instance = (lv_u32)in;
+            power[i++] = luminance(p->materials[p->triangles[t].material].emission) * triangle_area(v) * 3.14159265f;
+        }
     }
+    free(emitters);
     for (size_t k = 0; k < scene->punctual_count; k++) {
         p->lights[i].kind = LV_LIGHT_PUNCTUAL;
         p->lights[i].index = (lv_u32)k;
@@ -74,12 +104,66 @@ static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lv
     return LVCL_OK;
 }
 
-lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_bvh *bvh, uint32_t seed, uint32_t max_depth,
+/* The inverse of a 3 x 4 affine transform (in double precision), and
+ * whether it mirrors (negative determinant). */
+static void invert_affine(const float m[12], float out[12], int *mirrored)
+{
+    double a[3][3], t[3];
+    for (int r = 0; r < 3; r++) {
+        for (int c = 0; c < 3; c++) a[r][c] = m[4 * r + c];
+        t[r] = m[4 * r + 3];
+    }
+    double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+                 a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+    double inv[3][3];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            /* Cofactor of (c, r), over the determinant. */
+            int r0 = (c + 1) % 3, r1 = (c + 2) % 3, c0 = (r + 1) % 3, c1 = (r + 2) % 3;
+            inv[r][c] = (a[r0][c0] * a[r1][c1] - a[r0][c1] * a[r1][c0]) / det;
+        }
+    for (int r = 0; r < 3; r++) {
+        for (int c = 0; c < 3; c++) out[4 * r + c] = (float)inv[r][c];
+        out[4 * r + 3] = (float)-(inv[r][0] * t[0] + inv[r][1] * t[1] + inv[r][2] * t[2]);
+    }
+    *mirrored = det < 0.0;
+}
+
+/* Copies a mesh's tree after the nodes already packed, with its indices
+ * made absolute, and its triangles in leaf order. */
+static void pack_mesh(const lvcl_scene *scene, const lvcl_mesh *mesh, const lvcl_bvh *b, size_t node_base,
+                      size_t tri_base, lvcl_packed_scene *p)
+{
+    for (size_t i = 0; i < b->node_count; i++) {
+        lv_bvh_node n = b->nodes[i];
+        n.index += (lv_i32)(n.count > 0 ? tri_base : node_base);
+        p->nodes[node_base + i] = n;
+    }
+    for (size_t i = 0; i < b->triangle_count; i++) {
+        size_t t = mesh->first_triangle + b->tri_order[i], slot = tri_base + i;
+        for (int c = 0; c < 3; c++) {
+            uint32_t v = scene->indices[3 * t + c];
+            memcpy(&p->tri_vertices[12 * slot + 4 * c], &scene->positions[3 * v], 3 * sizeof(float));
+            p->tri_vertices[12 * slot + 4 * c + 3] = 0.0f;
+            p->triangles[slot].v[c] = v;
+        }
+        p->triangles[slot].material = scene->tri_material[t];
+        p->triangles[slot].prim_id = (lv_u32)t;
+        p->triangles[slot].light = LV_NO_LIGHT;
+        p->triangles[slot].flags = scene->tri_flags[t];
+    }
+}
+
+lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *a, uint32_t seed, uint32_t max_depth,
                            lvcl_packed_scene *p, lvcl_status *st)
 {
     memset(p, 0, sizeof *p);
-    size_t n = bvh->triangle_count;
-    p->nodes = malloc(bvh->node_count * sizeof *p->nodes);
+    size_t n = a->triangle_count;
+    p->nodes = malloc(a->node_count * sizeof *p->nodes);
+    p->instances = calloc(a->instance_count, sizeof *p->instances);
+    p->mesh_first = calloc(a->mesh_count, sizeof *p->mesh_first);
+    p->mesh_size = calloc(a->mesh_count, sizeof *p->mesh_size);
+    size_t *mesh_root = calloc(a->mesh_count, sizeof *mesh_root);
     p->tri_vertices = malloc(n * 12 * sizeof(float));
     p->triangles = calloc(n, sizeof *p->triangles);
     p->materials = calloc(scene->material_count ? scene->material_count : 1, sizeof *p->materials);
@@ -88,27 +172,43 @@ lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_bvh *bvh, uint32_
     for (size_t t = 0; t < scene->texture_count; t++)
         texels += (size_t)scene->textures[t].width * scene->textures[t].height;
     p->texels = calloc(texels ? texels : 1, sizeof *p->texels);
-    if (!p->nodes || !p->tri_vertices || !p->triangles || !p->materials || !p->textures || !p->texels) {
+    if (!p->nodes || !p->instances || !p->mesh_first || !p->mesh_size || !mesh_root || !p->tri_vertices ||
+        !p->triangles || !p->materials || !p->textures || !p->texels) {
+        free(mesh_root);
         lvcl_packed_scene_free(p);
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory packing %zu triangles", n);
     }
-    memcpy(p->nodes, bvh->nodes, bvh->node_count * sizeof *p->nodes);
-    p->node_count = bvh->node_count;
-    p->triangle_count = n;
 
-    for (size_t i = 0; i < n; i++) {
-        uint32_t t = bvh->tri_order[i];
-        for (int c = 0; c < 3; c++) {
-            uint32_t v = scene->indices[3 * t + c];
-            memcpy(&p->tri_vertices[12 * i + 4 * c], &scene->positions[3 * v], 3 * sizeof(float));
-            p->tri_vertices[12 * i + 4 * c + 3] = 0.0f;
-            p->triangles[i].v[c] = v;
-        }
-        p->triangles[i].material = scene->tri_material[t];
-        p->triangles[i].prim_id = t;
-        p->triangles[i].light = LV_NO_LIGHT;
-        p->triangles[i].flags = scene->tri_flags[t];
+    /* Nodes: the top level first (the kernels start at node 0), then each
+     * mesh's tree; triangles mesh after mesh. */
+    memcpy(p->nodes, a->top.nodes, a->top.node_count * sizeof *p->nodes);
+    size_t node_base = a->top.node_count, tri_base = 0;
+    for (size_t m = 0; m < a->mesh_count; m++) {
+        const lvcl_bvh *b = &a->mesh_bvh[m];
+        pack_mesh(scene, &a->meshes[m], b, node_base, tri_base, p);
+        mesh_root[m] = node_base;
+        p->mesh_first[m] = tri_base;
+        p->mesh_size[m] = b->triangle_count;
+        node_base += b->node_count;
+        tri_base += b->triangle_count;
     }
+    p->node_count = node_base;
+    p->triangle_count = n;
+    p->mesh_count = a->mesh_count;
+
+    /* Instances in the top level's leaf order (one per leaf). */
+    for (size_t slot = 0; slot < a->instance_count; slot++) {
+        const lvcl_instance *in = &a->instances[a->top.tri_order[slot]];
+        lv_instance *out = &p->instances[slot];
+        memcpy(out->world_from_object, in->world_from_object, sizeof out->world_from_object);
+        int mirrored;
+        invert_affine(in->world_from_object, out->object_from_world, &mirrored);
+        out->root = (lv_u32)mesh_root[in->mesh];
+        out->flags = mirrored ? LV_INSTANCE_MIRRORED : 0u;
+        out->mesh = in->mesh;
+    }
+    free(mesh_root);
+    p->instance_count = a->instance_count;
 
     p->material_count = scene->material_count;
     for (size_t m = 0; m < scene->material_count; m++)
@@ -127,19 +227,25 @@ lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_bvh *bvh, uint32_
     }
     p->texel_count = texels;
 
-    lvcl_scene_bounds(scene, p->bounds_min, p->bounds_max);
+    memcpy(p->bounds_min, a->bounds_min, sizeof p->bounds_min);
+    memcpy(p->bounds_max, a->bounds_max, sizeof p->bounds_max);
     float extent = 0.0f;
     for (int k = 0; k < 3; k++) extent = fmaxf(extent, p->bounds_max[k] - p->bounds_min[k]);
     p->info.triangle_count = (lv_u32)n;
     p->info.max_depth = max_depth;
     p->info.seed = seed;
     p->info.scene_scale = extent > 0.0f ? extent : 1.0f;
+    p->info.instance_count = (lv_u32)a->instance_count;
+    p->info.flat = a->flat ? 1u : 0u;
     return build_lights(scene, p, st);
 }
 
 void lvcl_packed_scene_free(lvcl_packed_scene *p)
 {
     free(p->nodes);
+    free(p->instances);
+    free(p->mesh_first);
+    free(p->mesh_size);
     free(p->tri_vertices);
     free(p->triangles);
     free(p->materials);
@@ -165,6 +271,7 @@ lvcl_error lvcl_device_scene_upload(const lvcl_device *dev, const lvcl_scene *sc
 #define AT_LEAST_ONE(n) ((n) ? (n) : 1)
     upload list[] = {
         {&ds->nodes, p->nodes, p->node_count * sizeof(lv_bvh_node), "BVH nodes"},
+        {&ds->instances, p->instances, p->instance_count * sizeof(lv_instance), "instances"},
         {&ds->tri_vertices, p->tri_vertices, p->triangle_count * 12 * sizeof(float), "triangle vertices"},
         {&ds->triangles, p->triangles, p->triangle_count * sizeof(lv_triangle), "triangles"},
         {&ds->normals, scene->normals, AT_LEAST_ONE(scene->vertex_count) * 3 * sizeof(float), "normals"},
@@ -209,7 +316,7 @@ lvcl_error lvcl_device_scene_upload(const lvcl_device *dev, const lvcl_scene *sc
 
 void lvcl_device_scene_release(lvcl_device_scene *ds)
 {
-    cl_mem *all[] = {&ds->nodes, &ds->tri_vertices, &ds->triangles, &ds->normals, &ds->uvs,
+    cl_mem *all[] = {&ds->nodes, &ds->instances, &ds->tri_vertices, &ds->triangles, &ds->normals, &ds->uvs,
                      &ds->materials, &ds->textures, &ds->texels, &ds->lights, &ds->punctuals};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         if (*all[i]) clReleaseMemObject(*all[i]);
@@ -218,7 +325,7 @@ void lvcl_device_scene_release(lvcl_device_scene *ds)
 
 int lvcl_device_scene_set_args(const lvcl_device_scene *ds, cl_kernel k, cl_uint first)
 {
-    const cl_mem *bufs[] = {&ds->nodes, &ds->tri_vertices, &ds->triangles, &ds->normals, &ds->uvs,
+    const cl_mem *bufs[] = {&ds->nodes, &ds->instances, &ds->tri_vertices, &ds->triangles, &ds->normals, &ds->uvs,
                             &ds->materials, &ds->textures, &ds->texels, &ds->lights, &ds->punctuals};
     cl_uint i = first;
     for (size_t b = 0; b < sizeof bufs / sizeof bufs[0]; b++, i++)

@@ -4,15 +4,19 @@
 #ifndef LVCL_DEVICE_SCENE_H
 #define LVCL_DEVICE_SCENE_H
 
-#include "bvh.h"
+#include "accel.h"
 #include "device.h"
 #include "scene.h"
 
 /* The kernels' arrays, packed on the host (also used by host-side checks). */
 typedef struct {
-    lv_bvh_node *nodes;
+    lv_bvh_node *nodes;        /* the top level, then every mesh's tree */
     size_t node_count;
-    float *tri_vertices;       /* 12 floats (3 x float4) per triangle, leaf order */
+    lv_instance *instances;    /* in the top level's leaf order */
+    size_t instance_count;
+    size_t *mesh_first, *mesh_size; /* each mesh's range of the leaf-ordered triangles */
+    size_t mesh_count;
+    float *tri_vertices;       /* 12 floats (3 x float4) per triangle, leaf order, object space */
     lv_triangle *triangles;    /* leaf order */
     size_t triangle_count;
     lv_material *materials;
@@ -28,14 +32,19 @@ typedef struct {
 } lvcl_packed_scene;
 
 typedef struct {
-    cl_mem nodes, tri_vertices, triangles, normals, uvs, materials, textures, texels, lights, punctuals;
+    cl_mem nodes, instances, tri_vertices, triangles, normals, uvs, materials, textures, texels, lights, punctuals;
     lv_scene_info info;
     size_t device_bytes;
 } lvcl_device_scene;
 
-/* Packs scene and bvh. The packed scene borrows nothing from either. */
-lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_bvh *bvh, uint32_t seed, uint32_t max_depth,
+/* Packs scene and its acceleration structure. The packed scene borrows
+ * nothing from either. */
+lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *accel, uint32_t seed, uint32_t max_depth,
                            lvcl_packed_scene *packed, lvcl_status *st);
+
+/* The world-space corners (9 floats) of leaf-ordered triangle tri as
+ * placed by instance `instance`. */
+void lvcl_packed_triangle_world(const lvcl_packed_scene *p, size_t instance, size_t tri, float v[9]);
 void lvcl_packed_scene_free(lvcl_packed_scene *packed);
 
 /* Uploads; fails with LVCL_ERR_TOO_LARGE, naming the sizes, if a buffer

@@ -262,6 +262,17 @@ private:
     int default_material = -1;
     size_t nonfinite_triangles = 0;
     std::vector<char> visited;
+    /* Instancing: a glTF mesh that several nodes use is stored once, in
+     * its own space, and placed by one instance per node; the rest is
+     * baked into world space as mesh 0. */
+    struct Placement {
+        int mesh;
+        glm::dmat4 world;
+    };
+    std::vector<int> mesh_uses;
+    std::vector<Placement> placements;
+    std::vector<lvcl_mesh> meshes;
+    std::vector<lvcl_instance> instances;
     std::set<std::string> warned;
 
     void warn_once(const std::string &key, const char *fmt, ...)
@@ -279,6 +290,8 @@ private:
     void add_light(int node, const glm::dmat4 &world);
     void add_mesh(int node, const glm::dmat4 &world);
     void add_primitive(int mesh, int prim, const glm::dmat4 &world);
+    void count_mesh_uses();
+    void build_instances();
     VertexData read_vertices(const tinygltf::Primitive &p, const char *what);
     std::vector<uint32_t> read_corners(const tinygltf::Primitive &p, size_t nverts,
                                        const char *what);
@@ -757,8 +770,55 @@ void Importer::add_mesh(int node, const glm::dmat4 &world)
     if (mesh < 0 || (size_t)mesh >= m.meshes.size())
         fail(LVCL_ERR_PARSE, "node %d: mesh %d out of range (file has %zu)", node, mesh,
              m.meshes.size());
+    if (mesh_uses[(size_t)mesh] > 1) {
+        double det = glm::determinant(glm::dmat3(world));
+        bool finite = std::isfinite(det);
+        for (int c = 0; c < 4; c++)
+            for (int r = 0; r < 3; r++) finite = finite && std::isfinite(world[c][r]);
+        if (!finite || det == 0.0)
+            fail(LVCL_ERR_PARSE, "node %d: its transform is %s", node, finite ? "singular" : "not finite");
+        placements.push_back({mesh, world});
+        return;
+    }
     for (size_t p = 0; p < m.meshes[(size_t)mesh].primitives.size(); p++)
         add_primitive(mesh, (int)p, world);
+}
+
+void Importer::count_mesh_uses()
+{
+    mesh_uses.assign(m.meshes.size(), 0);
+    for (const tinygltf::Node &n : m.nodes)
+        if (n.mesh >= 0 && (size_t)n.mesh < m.meshes.size()) mesh_uses[(size_t)n.mesh]++;
+}
+
+/* After the node walk: mesh 0 holds the baked triangles (if any), then each
+ * shared mesh follows once, in object space, in order of first placement. */
+void Importer::build_instances()
+{
+    if (placements.empty()) return;
+    const float identity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    size_t baked = indices.size() / 3;
+    if (baked) {
+        meshes.push_back({0, baked});
+        lvcl_instance in{};
+        memcpy(in.world_from_object, identity, sizeof identity);
+        instances.push_back(in);
+    }
+    std::map<int, uint32_t> stored;
+    for (const Placement &pl : placements) {
+        if (!stored.count(pl.mesh)) {
+            size_t first = indices.size() / 3;
+            for (size_t p = 0; p < m.meshes[(size_t)pl.mesh].primitives.size(); p++)
+                add_primitive(pl.mesh, (int)p, glm::dmat4(1.0));
+            stored[pl.mesh] = (uint32_t)meshes.size();
+            meshes.push_back({first, indices.size() / 3 - first});
+        }
+        lvcl_instance in{};
+        in.mesh = stored[pl.mesh];
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 4; c++) in.world_from_object[4 * r + c] = to_f(pl.world[c][r]);
+        instances.push_back(in);
+    }
 }
 
 /* ---- cameras and lights ---- */
@@ -912,7 +972,9 @@ void Importer::run()
     check_extensions();
     convert_materials();
     visited.assign(m.nodes.size(), 0);
+    count_mesh_uses();
     for (int root : scene_roots()) visit(root, glm::dmat4(1.0), 0);
+    build_instances();
     if (nonfinite_triangles)
         lvcl_warn("%s: skipped %zu triangles with non-finite vertex positions", src,
                   nonfinite_triangles);
@@ -940,6 +1002,10 @@ void Importer::fill(lvcl_scene *scene) const
     scene->indices = c_array(indices);
     scene->tri_material = c_array(tri_material);
     scene->tri_flags = c_array(tri_flags);
+    scene->mesh_count = meshes.size();
+    scene->meshes = c_array(meshes);
+    scene->instance_count = instances.size();
+    scene->instances = c_array(instances);
     scene->material_count = materials.size();
     scene->materials = c_array(materials);
     scene->punctual_count = lights.size();

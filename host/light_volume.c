@@ -17,25 +17,34 @@ static size_t cell_index(const lv_grid_info *g, int x, int y, int z)
     return (size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z);
 }
 
-/* Marks the cells each triangle's bounding box touches (conservative for
- * slanted triangles; see docs/light-volume.md). */
+static void mark_triangle(const lvcl_packed_scene *p, size_t instance, size_t tri, const lv_grid_info *g, float inv,
+                          uint8_t *mark)
+{
+    float v[9];
+    lvcl_packed_triangle_world(p, instance, tri, v);
+    int lo[3], hi[3];
+    for (int k = 0; k < 3; k++) {
+        float a = fminf(v[k], fminf(v[3 + k], v[6 + k])), b = fmaxf(v[k], fmaxf(v[3 + k], v[6 + k]));
+        /* A surface lying on a cell boundary belongs to the cells on both sides. */
+        lo[k] = (int)floorf((a - g->origin[k]) * inv - 1e-4f);
+        hi[k] = (int)floorf((b - g->origin[k]) * inv + 1e-4f);
+        if (lo[k] < 0) lo[k] = 0;
+        if (hi[k] > (int)g->dims[k] - 1) hi[k] = (int)g->dims[k] - 1;
+    }
+    for (int z = lo[2]; z <= hi[2]; z++)
+        for (int y = lo[1]; y <= hi[1]; y++)
+            for (int x = lo[0]; x <= hi[0]; x++) mark[cell_index(g, x, y, z)] = 1;
+}
+
+/* Marks the cells each placed triangle's bounding box touches
+ * (conservative for slanted triangles; see docs/light-volume.md). */
 static void mark_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, uint8_t *mark)
 {
     float inv = 1.0f / g->cell_size;
-    for (size_t t = 0; t < p->triangle_count; t++) {
-        const float *v = &p->tri_vertices[12 * t];
-        int lo[3], hi[3];
-        for (int k = 0; k < 3; k++) {
-            float a = fminf(v[k], fminf(v[4 + k], v[8 + k])), b = fmaxf(v[k], fmaxf(v[4 + k], v[8 + k]));
-            /* A surface lying on a cell boundary belongs to the cells on both sides. */
-            lo[k] = (int)floorf((a - g->origin[k]) * inv - 1e-4f);
-            hi[k] = (int)floorf((b - g->origin[k]) * inv + 1e-4f);
-            if (lo[k] < 0) lo[k] = 0;
-            if (hi[k] > (int)g->dims[k] - 1) hi[k] = (int)g->dims[k] - 1;
-        }
-        for (int z = lo[2]; z <= hi[2]; z++)
-            for (int y = lo[1]; y <= hi[1]; y++)
-                for (int x = lo[0]; x <= hi[0]; x++) mark[cell_index(g, x, y, z)] = 1;
+    for (size_t in = 0; in < p->instance_count; in++) {
+        uint32_t m = p->instances[in].mesh;
+        for (size_t t = p->mesh_first[m]; t < p->mesh_first[m] + p->mesh_size[m]; t++)
+            mark_triangle(p, in, t, g, inv, mark);
     }
 }
 
@@ -178,8 +187,9 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
         return e;
     vol->info.particles = (float)s->particles;
     cl_int err;
-    cl_mem counter = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, sizeof(cl_uint), NULL, &err);
-    if ((e = cl_ok(err, "allocating the segment counter", st))) return e;
+    /* Per batch: segments traced, visibility rays cast. */
+    cl_mem counter = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint), NULL, &err);
+    if ((e = cl_ok(err, "allocating the ray counters", st))) return e;
     cl_kernel k;
     if ((e = lvcl_kernel_create(prog, "lv_particle_trace", &k, st))) {
         clReleaseMemObject(counter);
@@ -201,24 +211,23 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
     lvcl_progress bar;
     lvcl_progress_start(&bar, "particles", s->progress);
     double start = lvcl_seconds();
-    vol->segments = 0;
+    vol->segments = vol->visibility_rays = 0;
     for (uint64_t first = 0; first < s->particles; first += BATCH) {
-        /* A 32-bit count per batch cannot overflow; the total is 64-bit. */
-        cl_uint segments = 0;
+        /* 32-bit counts per batch cannot overflow; the totals are 64-bit. */
+        cl_uint counts[2] = {0, 0};
         cl_uint f = (cl_uint)first, count = (cl_uint)(s->particles - first < BATCH ? s->particles - first : BATCH);
         size_t local = LOCAL_SIZE, global = (count + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
         clSetKernelArg(k, (cl_uint)a + 4, sizeof f, &f);
         clSetKernelArg(k, (cl_uint)a + 5, sizeof count, &count);
-        if ((e = cl_ok(clEnqueueWriteBuffer(dev->queue, counter, CL_FALSE, 0, sizeof segments, &segments, 0, NULL,
-                                            NULL),
-                       "clearing the segment counter", st)) ||
+        if ((e = cl_ok(clEnqueueWriteBuffer(dev->queue, counter, CL_FALSE, 0, sizeof counts, counts, 0, NULL, NULL),
+                       "clearing the ray counters", st)) ||
             (e = cl_ok(clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL),
                        "launching the particle trace", st)) ||
-            (e = cl_ok(clEnqueueReadBuffer(dev->queue, counter, CL_TRUE, 0, sizeof segments, &segments, 0, NULL,
-                                           NULL),
+            (e = cl_ok(clEnqueueReadBuffer(dev->queue, counter, CL_TRUE, 0, sizeof counts, counts, 0, NULL, NULL),
                        "running the particle trace", st)))
             break;
-        vol->segments += segments;
+        vol->segments += counts[0];
+        vol->visibility_rays += counts[1];
         lvcl_progress_update(&bar, (double)(first + count), (double)s->particles, "particles");
     }
     lvcl_progress_finish(&bar);

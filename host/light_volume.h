@@ -31,6 +31,7 @@ typedef struct {
     double trace_seconds;
     uint64_t particles;
     uint64_t segments;        /* straight path pieces traced */
+    uint64_t visibility_rays; /* subcell visibility rays cast (paper 4.1) */
 } lvcl_light_volume;
 
 /* Chooses the grid over the packed scene's bounds and allocates the cells

@@ -48,6 +48,17 @@ typedef struct {
     float aspect;                   /* width / height, 0 if the file leaves it open */
 } lvcl_camera_desc;
 
+/* A mesh: a range of the triangle arrays, in its own (object) space. */
+typedef struct {
+    size_t first_triangle, triangle_count;
+} lvcl_mesh;
+
+/* One placement of a mesh: a 3 x 4 row-major affine transform. */
+typedef struct {
+    uint32_t mesh;
+    float world_from_object[12];
+} lvcl_instance;
+
 typedef struct {
     /* Vertex attributes, one entry per vertex. */
     float *positions;   /* 3 floats per vertex, world space */
@@ -60,6 +71,14 @@ typedef struct {
     uint32_t *tri_material; /* material index per triangle */
     uint32_t *tri_flags;    /* LV_TRI_HAS_NORMALS | LV_TRI_HAS_UVS */
     size_t triangle_count;
+
+    /* Instancing. A scene without meshes is flat: every triangle is in
+     * world space, as one mesh placed once. Otherwise every triangle belongs
+     * to exactly one mesh, and meshes appear through instances. */
+    lvcl_mesh *meshes;
+    size_t mesh_count;
+    lvcl_instance *instances;
+    size_t instance_count;
 
     lvcl_material_desc *materials;
     size_t material_count;
@@ -84,8 +103,6 @@ lvcl_error lvcl_scene_load_gltf_memory(const void *data, size_t size, const char
 /* Frees every array and zeroes the scene. Safe on a zeroed scene. */
 void lvcl_scene_free(lvcl_scene *scene);
 
-/* Axis-aligned bounds of all vertex positions. */
-void lvcl_scene_bounds(const lvcl_scene *scene, float bmin[3], float bmax[3]);
 
 #ifdef __cplusplus
 }

@@ -26,12 +26,12 @@ lvcl_error lvcl_session_open(lvcl_session *s, lvcl_scene *scene, const lvcl_sess
 
     lvcl_error e;
     double t = lvcl_seconds();
-    if ((e = lvcl_bvh_build(s->scene.positions, s->scene.indices, s->scene.triangle_count, &s->bvh, st))) goto fail;
+    if ((e = lvcl_accel_build(&s->scene, &s->accel, st))) goto fail;
     s->bvh_build_seconds = lvcl_seconds() - t;
-    if (s->bvh.skipped) lvcl_warn("%zu triangles of zero area or with non-finite vertices left out", s->bvh.skipped);
+    if (s->accel.skipped) lvcl_warn("%zu triangles of zero area or with non-finite vertices left out", s->accel.skipped);
 
     if ((e = lvcl_device_open(cfg->device, &s->device, st))) goto fail;
-    if ((e = lvcl_pack_scene(&s->scene, &s->bvh, cfg->seed, (uint32_t)cfg->max_depth, &s->packed, st))) goto fail;
+    if ((e = lvcl_pack_scene(&s->scene, &s->accel, cfg->seed, (uint32_t)cfg->max_depth, &s->packed, st))) goto fail;
     if ((e = lvcl_device_scene_upload(&s->device, &s->scene, &s->packed, &s->device_scene, st))) goto fail;
     s->features = lvcl_scene_features(&s->scene);
     if ((e = lvcl_program_build(&s->device, s->features, cfg->fast_math, &s->program, st))) goto fail;
@@ -103,7 +103,7 @@ void lvcl_session_close(lvcl_session *s)
     lvcl_device_scene_release(&s->device_scene);
     lvcl_device_close(&s->device);
     lvcl_packed_scene_free(&s->packed);
-    lvcl_bvh_free(&s->bvh);
+    lvcl_accel_free(&s->accel);
     lvcl_scene_free(&s->scene);
     memset(s, 0, sizeof *s);
 }

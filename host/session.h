@@ -4,7 +4,7 @@
 #ifndef LVCL_SESSION_H
 #define LVCL_SESSION_H
 
-#include "bvh.h"
+#include "accel.h"
 #include "camera.h"
 #include "device_scene.h"
 #include "program.h"
@@ -21,7 +21,7 @@ typedef struct {
 
 typedef struct {
     lvcl_scene scene;
-    lvcl_bvh bvh;
+    lvcl_accel accel;
     lvcl_packed_scene packed;
     lvcl_device device;
     lvcl_device_scene device_scene;

@@ -30,10 +30,12 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
     fprintf(f, ",\n  \"device_index\": %d,\n  \"platform\": ", ss->device.index);
     json_string(f, ss->device.platform_name);
     fprintf(f,
-            ",\n  \"triangles\": %zu,\n  \"triangles_skipped\": %zu,\n  \"bvh_nodes\": %zu,\n"
-            "  \"bvh_depth\": %d,\n  \"bvh_bytes\": %zu,\n  \"device_bytes\": %zu,\n",
-            ss->bvh.triangle_count, ss->bvh.skipped, ss->bvh.node_count, ss->bvh.depth,
-            ss->bvh.node_count * sizeof(lv_bvh_node), ss->device_scene.device_bytes);
+            ",\n  \"triangles\": %zu,\n  \"triangles_skipped\": %zu,\n  \"meshes\": %zu,\n  \"instances\": %zu,\n"
+            "  \"instanced_triangles\": %zu,\n  \"bvh_nodes\": %zu,\n  \"bvh_depth\": %d,\n  \"bvh_bytes\": %zu,\n"
+            "  \"device_bytes\": %zu,\n",
+            ss->accel.triangle_count, ss->accel.skipped, ss->accel.mesh_count, ss->accel.instance_count,
+            ss->accel.instanced_triangles, ss->accel.node_count, ss->accel.depth,
+            ss->accel.node_count * sizeof(lv_bvh_node), ss->device_scene.device_bytes);
     fprintf(f, "  \"kernel_options\": ");
     json_string(f, ss->program.options);
     fprintf(f,
@@ -53,11 +55,13 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
         fprintf(f,
                 ",\n  \"grid\": [%u, %u, %u],\n  \"cell_size\": %g,\n  \"dirs\": %u,\n  \"cells_allocated\": %u,\n"
                 "  \"light_volume_bytes\": %zu,\n  \"particles\": %llu,\n  \"particle_trace_seconds\": %.4f,\n"
-                "  \"particles_per_second\": %.1f,\n  \"segments\": %llu,\n  \"segments_per_second\": %.1f",
+                "  \"particles_per_second\": %.1f,\n  \"segments\": %llu,\n  \"segments_per_second\": %.1f,\n"
+                "  \"subcells\": %u,\n  \"visibility_rays\": %llu",
                 g->dims[0], g->dims[1], g->dims[2], g->cell_size, g->dirs, g->slot_count,
                 v->tally_bytes + v->cell_count * sizeof(uint32_t), (unsigned long long)v->particles, v->trace_seconds,
                 v->trace_seconds > 0 ? (double)v->particles / v->trace_seconds : 0.0, (unsigned long long)v->segments,
-                v->trace_seconds > 0 ? (double)v->segments / v->trace_seconds : 0.0);
+                v->trace_seconds > 0 ? (double)v->segments / v->trace_seconds : 0.0, g->subcells,
+                (unsigned long long)v->visibility_rays);
     }
     fprintf(f, "\n}\n");
     if (fclose(f) != 0) return lvcl_fail(st, LVCL_ERR_IO, "cannot write stats to %s", path);

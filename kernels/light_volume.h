@@ -179,11 +179,12 @@ inline int lv_point_reached(const lv_grid *grid, float3 p)
 /* Visibility rays (paper 4.1): where a particle that came from `from` hit a
  * surface at p, one ray from a random point of p's subcell back to `from`;
  * whether it got through estimates how much of the subcell that light
- * reaches (a wall through the subcell blocks the points behind it). */
-inline void lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc, float3 p, float3 from, lv_rng *rng)
+ * reaches (a wall through the subcell blocks the points behind it).
+ * Returns the number of rays cast. */
+inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc, float3 p, float3 from, lv_rng *rng)
 {
     uint slot = lv_grid_slot_at(grid, p);
-    if (slot == LV_EMPTY_CELL) return;
+    if (slot == LV_EMPTY_CELL) return 0u;
     uint k = grid->g.subcells;
     float3 cell, sub;
     uint i = lv_subcell_at(grid, p, &cell, &sub);
@@ -191,7 +192,8 @@ inline void lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
     float3 q = lv_grid_origin(grid) + (cell + (sub + u) / (float)k) * grid->g.cell_size;
     __global uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
     atomic_inc(&rec[LV_SUBCELL_CAST + i]);
-    if (!lv_occluded(sc, q, from - q, 0.999f, LV_NO_HIT)) atomic_inc(&rec[LV_SUBCELL_OPEN + i]);
+    if (!lv_occluded(sc, q, from - q, 0.999f, LV_NO_HIT, LV_NO_HIT)) atomic_inc(&rec[LV_SUBCELL_OPEN + i]);
+    return 1u;
 }
 
 /* Radiance (W m^-2 sr^-1) of one bin of a stored cell whose lit volume is

@@ -26,10 +26,18 @@ inline uint lv_pick_light(const lv_scene *sc, float u)
     return lo;
 }
 
-inline float lv_triangle_area(const lv_scene *sc, uint tri)
+/* A point uniformly distributed on an area light (from u), its front
+ * normal (unit) and the light's area, all in world space. */
+inline float3 lv_sample_area_light(const lv_scene *sc, lv_light light, float2 u, float3 *n, float *area)
 {
-    __global const float4 *v = &sc->tri_vertices[3 * tri];
-    return 0.5f * length(cross(v[1].xyz - v[0].xyz, v[2].xyz - v[0].xyz));
+    float3 v0, v1, v2;
+    float front_sign = lv_triangle_world(sc, light.instance, light.index, &v0, &v1, &v2);
+    float2 b = lv_sample_triangle(u);
+    float3 e1 = v1 - v0, e2 = v2 - v0;
+    float3 c = cross(e1, e2);
+    *area = 0.5f * length(c);
+    *n = front_sign * normalize(c);
+    return v0 + b.x * e1 + b.y * e2;
 }
 
 #ifdef LV_FEATURE_PUNCTUAL
@@ -62,13 +70,9 @@ inline int lv_sample_light(const lv_scene *sc, float3 p, float3 u, lv_light_samp
         return 1;
     }
 #endif
-    __global const float4 *v = &sc->tri_vertices[3 * light.index];
-    float2 b = lv_sample_triangle(u.xy);
-    float3 e1 = v[1].xyz - v[0].xyz, e2 = v[2].xyz - v[0].xyz;
-    float3 q = v[0].xyz + b.x * e1 + b.y * e2;
-    float3 n = cross(e1, e2);
-    float area = 0.5f * length(n);
-    n = normalize(n);
+    float3 n;
+    float area;
+    float3 q = lv_sample_area_light(sc, light, u.xy, &n, &area);
     float3 d = q - p;
     float dist2 = dot(d, d);
     if (!(dist2 > 0.0f) || !(area > 0.0f)) return 0;
@@ -83,14 +87,17 @@ inline int lv_sample_light(const lv_scene *sc, float3 p, float3 u, lv_light_samp
 }
 
 /* The solid-angle density with which lv_sample_light would have picked the
- * point where a ray from p along unit dir hit emissive triangle `tri` at
- * distance t. */
-inline float lv_light_pdf(const lv_scene *sc, uint tri, float3 dir, float t, float3 ng)
+ * point where a ray from p along unit dir hit h, an emissive triangle, at
+ * distance h.t; ng is its front normal. */
+inline float lv_light_pdf(const lv_scene *sc, lv_hit h, float3 dir, float3 ng)
 {
-    uint light = sc->triangles[tri].light;
-    if (light == LV_NO_LIGHT) return 0.0f;
-    float area = lv_triangle_area(sc, tri);
-    return sc->lights[light].pdf_select * lv_area_to_solid_angle(1.0f / area, t * t, dot(dir, ng));
+    uint emitter = sc->triangles[h.tri].light;
+    if (emitter == LV_NO_LIGHT) return 0.0f;
+    float3 v0, v1, v2;
+    lv_triangle_world(sc, h.inst, h.tri, &v0, &v1, &v2);
+    float area = 0.5f * length(cross(v1 - v0, v2 - v0));
+    lv_light light = sc->lights[sc->instances[h.inst].light_base + emitter];
+    return light.pdf_select * lv_area_to_solid_angle(1.0f / area, h.t * h.t, dot(dir, ng));
 }
 
 /* A particle leaving a light: where, which way, and its power relative to
@@ -101,6 +108,7 @@ typedef struct {
     float3 dir;
     float3 weight;
     uint triangle; /* the emitting triangle, or LV_NO_HIT for punctual lights */
+    uint instance; /* and its instance */
 } lv_emission_sample;
 
 inline int lv_sample_emission(const lv_scene *sc, float2 u_light, float2 u_dir, float u_pick, lv_emission_sample *es)
@@ -113,7 +121,7 @@ inline int lv_sample_emission(const lv_scene *sc, float2 u_light, float2 u_dir, 
     if (light.kind == LV_LIGHT_PUNCTUAL) {
         lv_punctual_light l = sc->punctuals[light.index];
         es->origin = LV_F3(l.position);
-        es->triangle = LV_NO_HIT;
+        es->triangle = es->instance = LV_NO_HIT;
         float3 intensity = LV_F3(l.intensity);
         if (l.type == LV_PUNCTUAL_SPOT) {
             /* Uniform over the outer cone, pdf 1 / (2 pi (1 - cos_outer)). */
@@ -133,14 +141,12 @@ inline int lv_sample_emission(const lv_scene *sc, float2 u_light, float2 u_dir, 
 #endif
     /* Uniform on the triangle, cosine-distributed about its front normal:
      * weight = Le pi A / (probability of this light x total power). */
-    __global const float4 *v = &sc->tri_vertices[3 * light.index];
-    float2 b = lv_sample_triangle(u_light);
-    float3 e1 = v[1].xyz - v[0].xyz, e2 = v[2].xyz - v[0].xyz;
-    float3 n = cross(e1, e2);
-    float area = 0.5f * length(n);
-    n = normalize(n);
-    es->origin = lv_offset_origin(v[0].xyz + b.x * e1 + b.y * e2, n, sc->info.scene_scale);
+    float3 n;
+    float area;
+    float3 q = lv_sample_area_light(sc, light, u_light, &n, &area);
+    es->origin = lv_offset_origin(q, n, sc->info.scene_scale);
     es->triangle = light.index;
+    es->instance = light.instance;
     es->dir = lv_to_world(lv_frame_make(n), lv_sample_cosine_hemisphere(u_dir));
     float3 le = LV_F3(sc->materials[sc->triangles[light.index].material].emission);
     es->weight = le * (LV_PI * area / select_power);

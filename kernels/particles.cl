@@ -15,7 +15,7 @@
 
 __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __global const uint *cell_slot,
                                 __global long *tallies, __global uint *subcells, uint first, uint count, float inv_total_particles,
-                                uint store_emitted, __global uint *segment_count)
+                                uint store_emitted, __global uint *ray_counts)
 {
     LV_SCENE_OPEN(sc);
     uint id = get_global_id(0);
@@ -30,8 +30,8 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
     float2 ul = lv_rng_next2(&rng), ud = lv_rng_next2(&rng);
     if (!lv_sample_emission(&sc, ul, ud, lv_rng_next(&rng), &es)) return;
     float3 throughput = es.weight;
-    uint segments = 0;
-    lv_ray r = lv_ray_make(es.origin, es.dir, LV_FAR, es.triangle);
+    uint segments = 0, visibility_rays = 0;
+    lv_ray r = lv_ray_make(es.origin, es.dir, LV_FAR, es.instance, es.triangle);
     for (uint depth = 1; depth <= sc.info.max_depth; depth++) {
         lv_hit h = lv_trace(&sc, r, 0);
         segments++;
@@ -51,7 +51,7 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
             lv_tally_segment(&grid, tallies, r.origin, r.dir, 0.0f, h.t, lv_direction_bin(r.dir, grid.g.dirs),
                              throughput * inv_total_particles, sigma);
         if (tallied && grid.g.subcells && h.tri != LV_NO_HIT && lv_rng_next(&rng) < LV_VISIBILITY_RATE)
-            lv_sample_subcell_visibility(&grid, &sc, s.p, r.origin, &rng);
+            visibility_rays += lv_sample_subcell_visibility(&grid, &sc, s.p, r.origin, &rng);
         if (h.tri == LV_NO_HIT || depth == sc.info.max_depth) break;
         throughput *= exp(-sigma * h.t);
 
@@ -75,9 +75,10 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
             if (lv_rng_next(&rng) >= q) break;
             throughput /= q;
         }
-        r = lv_ray_make(lv_offset_origin(s.p, reflected ? ng_out : -ng_out, sc.info.scene_scale), wi, LV_FAR, h.tri);
+        r = lv_ray_make(lv_offset_origin(s.p, reflected ? ng_out : -ng_out, sc.info.scene_scale), wi, LV_FAR, h.inst, h.tri);
     }
-    atomic_add(segment_count, segments);
+    atomic_add(&ray_counts[0], segments);
+    atomic_add(&ray_counts[1], visibility_rays);
 }
 
 /* The central direction of every bin, for gathers that visit them all. */

@@ -17,7 +17,7 @@
 /* Direct light at surface s from one light sample, MIS-weighted against
  * BSDF sampling. ng_out is the geometric normal on the
  * side wo leaves from. */
-inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, uint tri, const lv_bsdf *b, lv_frame f,
+inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, lv_hit h, const lv_bsdf *b, lv_frame f,
                               float3 wo, float3 ng_out, lv_rng *rng)
 {
     lv_light_sample ls;
@@ -31,7 +31,7 @@ inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, uint tri,
     if (!lv_bsdf_transmits(b->type) && dot(ls.wi, ng_out) <= 0.0f) return (float3)(0.0f);
     float3 origin = lv_offset_origin(s->p, n_side, sc->info.scene_scale);
     float3 d = ls.target - origin;
-    if (lv_occluded(sc, origin, d, 0.9999f, tri)) return (float3)(0.0f);
+    if (lv_occluded(sc, origin, d, 0.9999f, h.inst, h.tri)) return (float3)(0.0f);
     float w = ls.delta ? 1.0f : lv_power_heuristic(ls.pdf, lv_bsdf_pdf(b, wo, wi));
     return fcos * ls.li * (w / ls.pdf);
 }
@@ -122,7 +122,7 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
             far = lookup != LV_LOOKUP_NONE && (h.t > g->threshold || !lv_gather_here_type(m->bsdf, m->alpha));
             float3 le = LV_F3(m->emission);
             if (s.front && lv_max3(le) > 0.0f && !(all_light && !prev_delta)) {
-                float w = prev_delta ? 1.0f : lv_power_heuristic(prev_pdf, lv_light_pdf(sc, h.tri, r.dir, h.t, s.ng));
+                float w = prev_delta ? 1.0f : lv_power_heuristic(prev_pdf, lv_light_pdf(sc, h, r.dir, s.ng));
                 radiance += beta * le * w;
             }
         }
@@ -153,7 +153,7 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         if (gather) lookup_point = lv_jitter_lookup(&g->grid, s.p, ng_out, rng);
 
         if (depth + 1 <= max_depth && lv_bsdf_has_smooth_lobe(&b) && !all_light)
-            radiance += beta * lv_direct_light(sc, &s, h.tri, &b, f, wo, ng_out, rng);
+            radiance += beta * lv_direct_light(sc, &s, h, &b, f, wo, ng_out, rng);
         if (integrate) {
             radiance += beta * lv_gather_integrate(g, &b, f, wo, lookup_point);
             if (all_light) break; /* no threshold: the volume answers for every direction */
@@ -182,7 +182,7 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
             if (lv_rng_next(rng) >= q) break;
             beta /= q;
         }
-        r = lv_ray_make(lv_offset_origin(s.p, reflected ? ng_out : -ng_out, sc->info.scene_scale), wi, LV_FAR, h.tri);
+        r = lv_ray_make(lv_offset_origin(s.p, reflected ? ng_out : -ng_out, sc->info.scene_scale), wi, LV_FAR, h.inst, h.tri);
     }
     return lv_finite3(radiance) ? radiance : (float3)(0.0f);
 }

@@ -18,7 +18,7 @@ inline lv_ray lv_rays_load(__global const float4 *rays, uint i)
     float4 a = rays[2 * i], b = rays[2 * i + 1];
     /* The workloads offset their origins and skip nothing, as another
      * tracer given the same rays would. */
-    return lv_ray_make(a.xyz, b.xyz, a.w, LV_NO_HIT);
+    return lv_ray_make(a.xyz, b.xyz, a.w, LV_NO_HIT, LV_NO_HIT);
 }
 
 inline void lv_rays_store(__global float4 *rays, uint i, float3 origin, float3 dir, float tmax)

@@ -8,8 +8,9 @@
 #include "shared_types.h"
 
 typedef struct {
-    __global const lv_bvh_node *nodes;
-    __global const float4 *tri_vertices;   /* 3 per triangle, leaf order */
+    __global const lv_bvh_node *nodes;     /* top-level tree, then every mesh's */
+    __global const lv_instance *instances; /* top-level leaf order */
+    __global const float4 *tri_vertices;   /* 3 per triangle, leaf order, object space */
     __global const lv_triangle *triangles; /* leaf order */
     __global const float *normals;         /* 3 per vertex */
     __global const float *uvs;             /* 2 per vertex */
@@ -22,7 +23,8 @@ typedef struct {
 } lv_scene;
 
 #define LV_SCENE_PARAMS                                                              \
-    __global const lv_bvh_node *scene_nodes, __global const float4 *scene_tri_vertices, \
+    __global const lv_bvh_node *scene_nodes, __global const lv_instance *scene_instances, \
+        __global const float4 *scene_tri_vertices,                                       \
         __global const lv_triangle *scene_triangles, __global const float *scene_normals, \
         __global const float *scene_uvs, __global const lv_material *scene_materials,    \
         __global const lv_texture *scene_textures, __global const uchar4 *scene_texels,  \
@@ -32,6 +34,7 @@ typedef struct {
 #define LV_SCENE_OPEN(s)                     \
     lv_scene s;                              \
     s.nodes = scene_nodes;                   \
+    s.instances = scene_instances;           \
     s.tri_vertices = scene_tri_vertices;     \
     s.triangles = scene_triangles;           \
     s.normals = scene_normals;               \

@@ -18,7 +18,9 @@ typedef int32_t lv_i32;
 
 /* A BVH node in depth-first order. An interior node's first child is the
  * next node; `index` is the second child. A leaf (count > 0) holds `count`
- * triangles starting at `index` in the leaf-ordered triangle arrays. */
+ * items starting at `index`: instances (in the instance array) in the
+ * top-level tree, which starts at node 0; triangles (in the leaf-ordered
+ * triangle arrays) in a mesh's tree. Indices are absolute. */
 typedef struct {
     float bmin[3];
     lv_i32 index;
@@ -31,7 +33,8 @@ typedef struct {
     lv_u32 v[3];      /* indices into the vertex attribute arrays */
     lv_u32 material;  /* index into the material array */
     lv_u32 prim_id;   /* global triangle index in glTF order (checksums) */
-    lv_u32 light;     /* index into the light table, or LV_NO_LIGHT */
+    lv_u32 light;     /* emitters: which of its mesh's emitting triangles (the light
+                         table holds them per instance from lv_instance.light_base), else LV_NO_LIGHT */
     lv_u32 flags;     /* LV_TRI_* */
     lv_u32 pad;
 } lv_triangle;
@@ -39,6 +42,22 @@ typedef struct {
 #define LV_NO_LIGHT 0xffffffffu
 #define LV_TRI_HAS_NORMALS 1u
 #define LV_TRI_HAS_UVS 2u
+
+/* One placement of a mesh: its bottom-level BVH under the top-level BVH
+ * of all instances (nodes[0]), with 3 x 4 row-major transforms. A scene
+ * without reuse is one instance with the identity (lv_scene_info.flat).
+ * Mirrored instances (negative determinant) flip which face is the front,
+ * as glTF's winding rule asks. */
+#define LV_INSTANCE_MIRRORED 1u
+
+typedef struct {
+    float world_from_object[12];
+    float object_from_world[12];
+    lv_u32 root;       /* the mesh's BVH root in the node array */
+    lv_u32 light_base; /* light-table entry of the mesh's first emitting triangle here, or LV_NO_LIGHT */
+    lv_u32 flags;      /* LV_INSTANCE_* */
+    lv_u32 mesh;
+} lv_instance;
 
 /* BSDF families (DESIGN.md section 3); the host maps glTF materials here. */
 #define LV_BSDF_DIFFUSE 0     /* Lambertian */
@@ -78,8 +97,10 @@ typedef struct {
 typedef struct {
     lv_u32 kind;       /* LV_LIGHT_AREA or LV_LIGHT_PUNCTUAL */
     lv_u32 index;      /* leaf-ordered triangle index, or punctual light index */
+    lv_u32 instance;   /* the instance an area light's triangle belongs to */
     float cdf;         /* cumulative selection probability up to and including this light */
     float pdf_select;  /* probability of choosing this light */
+    lv_u32 pad;
 } lv_light;
 
 #define LV_PUNCTUAL_POINT 0
@@ -117,7 +138,8 @@ typedef struct {
     lv_u32 seed;
     float total_light_power; /* summed over lights (luminance of RGB watts) */
     float scene_scale;       /* largest extent of the scene bounds, metres */
-    float pad[2];
+    lv_u32 instance_count;
+    lv_u32 flat;             /* one instance, identity transform: rays skip the top level */
 } lv_scene_info;
 
 /* The light volume (DESIGN.md section 1): a regular grid of cubic cells

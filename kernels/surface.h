@@ -44,14 +44,41 @@ inline float3 lv_texture_rgb(const lv_scene *sc, int index, float2 uv)
 }
 #endif
 
+/* The world-space corners of triangle tri of instance inst; returns the
+ * sign that turns cross(v1 - v0, v2 - v0) into the front normal (-1 for a
+ * mirrored instance, whose transform reverses the winding). */
+inline float lv_triangle_world(const lv_scene *sc, uint inst, uint tri, float3 *v0, float3 *v1, float3 *v2)
+{
+    __global const float4 *v = &sc->tri_vertices[3 * tri];
+    *v0 = v[0].xyz;
+    *v1 = v[1].xyz;
+    *v2 = v[2].xyz;
+    if (sc->info.flat) return 1.0f;
+    __global const lv_instance *placed = &sc->instances[inst];
+    *v0 = lv_transform(placed->world_from_object, *v0, 1.0f);
+    *v1 = lv_transform(placed->world_from_object, *v1, 1.0f);
+    *v2 = lv_transform(placed->world_from_object, *v2, 1.0f);
+    return (placed->flags & LV_INSTANCE_MIRRORED) ? -1.0f : 1.0f;
+}
+
+/* A shading normal from object to world space: by the inverse transpose,
+ * which keeps it perpendicular to the surface under non-uniform scale. */
+inline float3 lv_normal_to_world(const lv_scene *sc, uint inst, float3 n)
+{
+    if (sc->info.flat) return n;
+    __global const float *m = sc->instances[inst].object_from_world;
+    return (float3)(m[0] * n.x + m[4] * n.y + m[8] * n.z, m[1] * n.x + m[5] * n.y + m[9] * n.z,
+                    m[2] * n.x + m[6] * n.y + m[10] * n.z);
+}
+
 inline lv_surface lv_surface_at(const lv_scene *sc, lv_ray r, lv_hit h)
 {
     lv_surface s;
-    __global const float4 *v = &sc->tri_vertices[3 * h.tri];
-    float3 v0 = v[0].xyz, v1 = v[1].xyz, v2 = v[2].xyz;
+    float3 v0, v1, v2;
+    float front_sign = lv_triangle_world(sc, h.inst, h.tri, &v0, &v1, &v2);
     float b0 = 1.0f - h.b1 - h.b2;
     s.p = b0 * v0 + h.b1 * v1 + h.b2 * v2;
-    s.ng = normalize(cross(v1 - v0, v2 - v0));
+    s.ng = front_sign * normalize(cross(v1 - v0, v2 - v0));
     s.front = dot(r.dir, s.ng) < 0.0f;
     lv_triangle tri = sc->triangles[h.tri];
     s.material = tri.material;
@@ -59,6 +86,7 @@ inline lv_surface lv_surface_at(const lv_scene *sc, lv_ray r, lv_hit h)
     if (tri.flags & LV_TRI_HAS_NORMALS) {
         float3 n = b0 * vload3(tri.v[0], sc->normals) + h.b1 * vload3(tri.v[1], sc->normals) +
                    h.b2 * vload3(tri.v[2], sc->normals);
+        n = lv_normal_to_world(sc, h.inst, n);
         float len2 = dot(n, n);
         if (len2 > 0.0f && isfinite(len2)) {
             n *= rsqrt(len2);

@@ -10,27 +10,31 @@
  * that symmetry and lets rays slip through shared edges. */
 #pragma OPENCL FP_CONTRACT OFF
 
-/* Must be at least LVCL_BVH_MAX_DEPTH + 1 (host/bvh.h). */
-#define LV_TRAVERSAL_STACK 64
+/* The top-level tree and one mesh tree under it, each at most
+ * LVCL_BVH_MAX_DEPTH deep (host/bvh.h), plus the marker between them. */
+#define LV_TRAVERSAL_STACK 128
 #define LV_NO_HIT 0xffffffffu
 
 typedef struct {
     float3 origin;
-    float3 dir; /* need not be unit; t is in units of |dir| */
+    float3 dir;      /* need not be unit; t is in units of |dir| */
     float tmax;
-    uint skip;  /* the triangle the ray leaves from, or LV_NO_HIT */
+    uint skip;       /* the triangle the ray leaves from, or LV_NO_HIT */
+    uint skip_inst;  /* and its instance */
 } lv_ray;
 
-/* skip: a ray leaving a surface ignores the triangle it starts on. A flat
- * triangle cannot be met twice by a straight ray, and for thin triangles the
- * computed distance is too inexact to tell leaving from arriving. */
-inline lv_ray lv_ray_make(float3 origin, float3 dir, float tmax, uint skip)
+/* A ray leaving a surface ignores the triangle (of the instance) it starts
+ * on: a flat triangle cannot be met twice by a straight ray, and for thin
+ * triangles the computed distance is too inexact to tell leaving from
+ * arriving. Pass LV_NO_HIT for rays that leave no surface. */
+inline lv_ray lv_ray_make(float3 origin, float3 dir, float tmax, uint skip_inst, uint skip)
 {
     lv_ray r;
     r.origin = origin;
     r.dir = dir;
     r.tmax = tmax;
     r.skip = skip;
+    r.skip_inst = skip_inst;
     return r;
 }
 
@@ -38,6 +42,7 @@ typedef struct {
     float t;
     float b1, b2; /* barycentrics of vertices 1 and 2 */
     uint tri;     /* leaf-ordered triangle index, LV_NO_HIT on a miss */
+    uint inst;    /* the instance it belongs to */
 } lv_hit;
 
 /* The ray in the shear-transformed space of Woop, Benthin and Wald (2013),
@@ -122,35 +127,71 @@ inline float3 lv_safe_inverse(float3 d)
     return 1.0f / safe;
 }
 
-/* Closest hit if any_hit is 0; any hit (for shadow rays) otherwise. */
+/* p transformed by a 3 x 4 row-major matrix; w = 0 leaves out the translation. */
+inline float3 lv_transform(__global const float *m, float3 p, float w)
+{
+    return (float3)(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3] * w,
+                    m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7] * w,
+                    m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11] * w);
+}
+
+/* Marks, on the traversal stack, where a mesh's tree ends and the top-level
+ * tree resumes. */
+#define LV_LEAVE_INSTANCE (-1)
+
+/* Closest hit if any_hit is 0; any hit (for shadow rays) otherwise. One
+ * stack walks the top-level tree of instances and, inside a leaf's
+ * instance, that mesh's tree with the ray in object space (its direction
+ * is not renormalised, so t means the same in both spaces). */
 inline lv_hit lv_trace(const lv_scene *sc, lv_ray r, int any_hit)
 {
     lv_hit hit;
     hit.t = r.tmax;
     hit.tri = LV_NO_HIT;
+    hit.inst = 0u;
     hit.b1 = hit.b2 = 0.0f;
+    float3 origin = r.origin, dir = r.dir;
     lv_sheared_ray s = lv_shear_ray(r);
-    float3 inv_dir = lv_safe_inverse(r.dir);
+    float3 inv_dir = lv_safe_inverse(dir);
 
     int stack[LV_TRAVERSAL_STACK];
     int top = 0;
-    int node = 0;
-    if (lv_box_entry(&sc->nodes[0], r.origin, inv_dir, hit.t) == LV_FAR) return hit;
+    if (lv_box_entry(&sc->nodes[0], origin, inv_dir, hit.t) == LV_FAR) return hit;
+    /* A flat scene's one instance is the identity: start in its mesh. */
+    uint inst = 0u;
+    int in_mesh = sc->info.flat != 0u;
+    int node = in_mesh ? (int)sc->instances[0].root : 0;
     for (;;) {
         __global const lv_bvh_node *n = &sc->nodes[node];
+        if (n->count > 0 && !in_mesh) {
+            /* A top-level leaf holds one instance: enter its mesh. */
+            inst = (uint)n->index;
+            __global const lv_instance *placed = &sc->instances[inst];
+            lv_ray object_ray = lv_ray_make(lv_transform(placed->object_from_world, r.origin, 1.0f),
+                                       lv_transform(placed->object_from_world, r.dir, 0.0f), hit.t, LV_NO_HIT, LV_NO_HIT);
+            origin = object_ray.origin;
+            dir = object_ray.dir;
+            s = lv_shear_ray(object_ray);
+            inv_dir = lv_safe_inverse(dir);
+            stack[top++] = LV_LEAVE_INSTANCE;
+            node = (int)placed->root;
+            in_mesh = 1;
+            continue;
+        }
         if (n->count > 0) {
             for (int i = n->index; i < n->index + n->count; i++) {
-                if ((uint)i == r.skip) continue;
+                if ((uint)i == r.skip && inst == r.skip_inst) continue;
                 __global const float4 *v = &sc->tri_vertices[3 * i];
                 if (lv_intersect_triangle(&s, v[0], v[1], v[2], &hit.t, &hit.b1, &hit.b2)) {
                     hit.tri = (uint)i;
+                    hit.inst = inst;
                     if (any_hit) return hit;
                 }
             }
         } else {
             int first = node + 1, second = n->index;
-            float t_first = lv_box_entry(&sc->nodes[first], r.origin, inv_dir, hit.t);
-            float t_second = lv_box_entry(&sc->nodes[second], r.origin, inv_dir, hit.t);
+            float t_first = lv_box_entry(&sc->nodes[first], origin, inv_dir, hit.t);
+            float t_second = lv_box_entry(&sc->nodes[second], origin, inv_dir, hit.t);
             if (t_second < t_first) {
                 int tn = first;
                 first = second;
@@ -167,13 +208,23 @@ inline lv_hit lv_trace(const lv_scene *sc, lv_ray r, int any_hit)
         }
         if (top == 0) break;
         node = stack[--top];
+        if (node == LV_LEAVE_INSTANCE) {
+            /* Back to the top level and the world-space ray. */
+            origin = r.origin;
+            dir = r.dir;
+            s = lv_shear_ray(r);
+            inv_dir = lv_safe_inverse(dir);
+            in_mesh = 0;
+            if (top == 0) break;
+            node = stack[--top];
+        }
     }
     return hit;
 }
 
-inline int lv_occluded(const lv_scene *sc, float3 origin, float3 dir, float tmax, uint skip)
+inline int lv_occluded(const lv_scene *sc, float3 origin, float3 dir, float tmax, uint skip_inst, uint skip)
 {
-    return lv_trace(sc, lv_ray_make(origin, dir, tmax, skip), 1).tri != LV_NO_HIT;
+    return lv_trace(sc, lv_ray_make(origin, dir, tmax, skip_inst, skip), 1).tri != LV_NO_HIT;
 }
 
 #endif

@@ -87,7 +87,7 @@ else fail "NaN vertices skipped with a warning" "status $status: $(cat "$tmp/err
 for mode in lv lv-all; do
     "$lvcl" -q --mode $mode --particles 20000 --cells 8 --spp 2 --width 32 --stats "$tmp/lv.json" -o "$tmp/lv.exr" \
         cornell 2>"$tmp/err"
-    if [ $? -eq 0 ] && grep -q '"cells_allocated"' "$tmp/lv.json" && grep -q '"segments_per_second"' "$tmp/lv.json"
+    if [ $? -eq 0 ] && grep -q '"cells_allocated"' "$tmp/lv.json" && grep -q '"segments_per_second"' "$tmp/lv.json" && grep -q '"visibility_rays"' "$tmp/lv.json"
     then pass "--mode $mode renders and reports its grid"
     else fail "--mode $mode renders and reports its grid" "$(cat "$tmp/err")"; fi
 done

@@ -73,11 +73,10 @@ void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_
                    const char *kernel_name, const float *rays, size_t count, float *results)
 {
     lvcl_status st = {0};
-    lvcl_bvh bvh;
+    lvcl_accel accel;
     lvcl_packed_scene packed;
     lvcl_device_scene ds;
-    if (lvcl_bvh_build(scene->positions, scene->indices, scene->triangle_count, &bvh, &st) ||
-        lvcl_pack_scene(scene, &bvh, 0, 8, &packed, &st) || lvcl_device_scene_upload(dev, scene, &packed, &ds, &st))
+    if (lvcl_accel_build(scene, &accel, &st) || lvcl_pack_scene(scene, &accel, 0, 8, &packed, &st) || lvcl_device_scene_upload(dev, scene, &packed, &ds, &st))
         die("preparing the scene", st.message);
     cl_kernel k;
     if (lvcl_kernel_create(prog, kernel_name, &k, &st)) die("creating the kernel", st.message);
@@ -101,5 +100,5 @@ void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_
     clReleaseKernel(k);
     lvcl_device_scene_release(&ds);
     lvcl_packed_scene_free(&packed);
-    lvcl_bvh_free(&bvh);
+    lvcl_accel_free(&accel);
 }

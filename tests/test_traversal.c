@@ -148,7 +148,7 @@ static void add_ray(ray_list *l, vec3 origin, vec3 dir, float tmax)
 
 typedef struct {
     lvcl_scene scene;
-    lvcl_bvh bvh;
+    lvcl_accel accel;
     lvcl_packed_scene packed;
     lvcl_device_scene ds;
 } gpu_scene;
@@ -157,8 +157,7 @@ static void gpu_scene_make(const tri_list *l, gpu_scene *g)
 {
     lvcl_status st = {0};
     harness_triangle_scene(l->v, l->count, &g->scene);
-    if (lvcl_bvh_build(g->scene.positions, g->scene.indices, l->count, &g->bvh, &st) ||
-        lvcl_pack_scene(&g->scene, &g->bvh, 0, 8, &g->packed, &st) ||
+    if (lvcl_accel_build(&g->scene, &g->accel, &st) || lvcl_pack_scene(&g->scene, &g->accel, 0, 8, &g->packed, &st) ||
         lvcl_device_scene_upload(&dev, &g->scene, &g->packed, &g->ds, &st)) {
         printf("FAIL traversal: preparing a scene of %zu triangles: %s\n", l->count, st.message);
         exit(1);
@@ -169,7 +168,7 @@ static void gpu_scene_free(gpu_scene *g)
 {
     lvcl_device_scene_release(&g->ds);
     lvcl_packed_scene_free(&g->packed);
-    lvcl_bvh_free(&g->bvh);
+    lvcl_accel_free(&g->accel);
     lvcl_scene_free(&g->scene);
 }
 
@@ -400,7 +399,7 @@ static void test_random_soups(void)
               m.differ, m.rounding, hits, rays.count, m.first);
         snprintf(name, sizeof name, "bvh depth within LVCL_BVH_MAX_DEPTH: soup seed %llu",
                  (unsigned long long)cases[c].seed);
-        CHECK(name, g.bvh.depth <= LVCL_BVH_MAX_DEPTH, "depth %d > %d", g.bvh.depth, LVCL_BVH_MAX_DEPTH);
+        CHECK(name, g.accel.mesh_bvh[0].depth <= LVCL_BVH_MAX_DEPTH, "depth %d > %d", g.accel.mesh_bvh[0].depth, LVCL_BVH_MAX_DEPTH);
         free(bvh);
         free(brute);
         gpu_scene_free(&g);
@@ -808,8 +807,8 @@ static void test_degenerate(void)
     gpu_scene_make(&mixed, &gm);
     gpu_scene_make(&good, &gg);
     CHECK("degenerate: the BVH leaves out exactly the zero-area and non-finite triangles",
-          gm.bvh.skipped == bad_count && gm.bvh.triangle_count == good.count,
-          "skipped %zu of %zu bad, kept %zu of %zu good", gm.bvh.skipped, bad_count, gm.bvh.triangle_count,
+          gm.accel.skipped == bad_count && gm.accel.triangle_count == good.count,
+          "skipped %zu of %zu bad, kept %zu of %zu good", gm.accel.skipped, bad_count, gm.accel.triangle_count,
           good.count);
 
     ray_list rays = {0};

@@ -107,7 +107,7 @@ __kernel void t_bsdf_moments(__global const float *config, uint count, __global 
 inline lv_ray load_test_ray(__global const float *rays, uint i)
 {
     __global const float *q = rays + 8 * i;
-    return lv_ray_make((float3)(q[0], q[1], q[2]), (float3)(q[4], q[5], q[6]), q[3], LV_NO_HIT);
+    return lv_ray_make((float3)(q[0], q[1], q[2]), (float3)(q[4], q[5], q[6]), q[3], LV_NO_HIT, LV_NO_HIT);
 }
 
 __kernel void t_trace(LV_SCENE_PARAMS, __global const float *rays, uint count, __global float *results)
@@ -166,7 +166,7 @@ __kernel void t_offset_rays(LV_SCENE_PARAMS, __global const float *rays, uint co
     float4 l = reshoot[i];
     float3 n = l.w > 0.0f ? ng_in : -ng_in;
     lv_ray r2 = lv_ray_make(lv_offset_origin(s.p, n, sc.info.scene_scale), lv_to_world(lv_frame_make(n), l.xyz),
-                            LV_FAR, fabs(l.w) > 1.5f ? h.tri : LV_NO_HIT);
+                            LV_FAR, h.inst, fabs(l.w) > 1.5f ? h.tri : LV_NO_HIT);
     lv_hit h2 = lv_trace(&sc, r2, 0);
     o[0] = (float)sc.triangles[h.tri].prim_id;
     o[1] = h2.tri == LV_NO_HIT ? -1.0f : (float)sc.triangles[h2.tri].prim_id;
