@@ -5,11 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-void lvcl_transform_point(const float m[12], const float p[3], float w, float out[3])
-{
-    for (int r = 0; r < 3; r++) out[r] = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3] * w;
-}
-
 /* The box over every finite corner of a mesh's triangles, degenerate ones
  * included (they still say how far the scene reaches). */
 static void mesh_vertex_box(const lvcl_scene *scene, const lvcl_mesh *mesh, lv_bvh_node *box)

@@ -26,7 +26,4 @@ typedef struct {
 lvcl_error lvcl_accel_build(const lvcl_scene *scene, lvcl_accel *accel, lvcl_status *st);
 void lvcl_accel_free(lvcl_accel *accel);
 
-/* Applies a 3 x 4 row-major transform to point p (w = 1) or vector (w = 0). */
-void lvcl_transform_point(const float m[12], const float p[3], float w, float out[3]);
-
 #endif

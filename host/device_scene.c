@@ -104,31 +104,6 @@ static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lv
     return LVCL_OK;
 }
 
-/* The inverse of a 3 x 4 affine transform (in double precision), and
- * whether it mirrors (negative determinant). */
-static void invert_affine(const float m[12], float out[12], int *mirrored)
-{
-    double a[3][3], t[3];
-    for (int r = 0; r < 3; r++) {
-        for (int c = 0; c < 3; c++) a[r][c] = m[4 * r + c];
-        t[r] = m[4 * r + 3];
-    }
-    double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-                 a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-    double inv[3][3];
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++) {
-            /* Cofactor of (c, r), over the determinant. */
-            int r0 = (c + 1) % 3, r1 = (c + 2) % 3, c0 = (r + 1) % 3, c1 = (r + 2) % 3;
-            inv[r][c] = (a[r0][c0] * a[r1][c1] - a[r0][c1] * a[r1][c0]) / det;
-        }
-    for (int r = 0; r < 3; r++) {
-        for (int c = 0; c < 3; c++) out[4 * r + c] = (float)inv[r][c];
-        out[4 * r + 3] = (float)-(inv[r][0] * t[0] + inv[r][1] * t[1] + inv[r][2] * t[2]);
-    }
-    *mirrored = det < 0.0;
-}
-
 /* Copies a mesh's tree after the nodes already packed, with its indices
  * made absolute, and its triangles in leaf order. */
 static void pack_mesh(const lvcl_scene *scene, const lvcl_mesh *mesh, const lvcl_bvh *b, size_t node_base,
@@ -202,7 +177,7 @@ lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *a, uint32_
         lv_instance *out = &p->instances[slot];
         memcpy(out->world_from_object, in->world_from_object, sizeof out->world_from_object);
         int mirrored;
-        invert_affine(in->world_from_object, out->object_from_world, &mirrored);
+        lvcl_transform_invert(in->world_from_object, out->object_from_world, &mirrored);
         out->root = (lv_u32)mesh_root[in->mesh];
         out->flags = mirrored ? LV_INSTANCE_MIRRORED : 0u;
         out->mesh = in->mesh;

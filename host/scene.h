@@ -100,6 +100,17 @@ lvcl_error lvcl_scene_load_gltf_file(const char *path, lvcl_scene *scene, lvcl_s
 lvcl_error lvcl_scene_load_gltf_memory(const void *data, size_t size, const char *base_dir,
                                        lvcl_scene *scene, lvcl_status *st);
 
+/* Bakes every instance into world space (a mirroring transform reverses
+ * the winding, as glTF says), leaving a flat scene; no-op on a flat one. */
+lvcl_error lvcl_scene_flatten(lvcl_scene *scene, lvcl_status *st);
+
+/* Applies a 3 x 4 row-major transform to point p (w = 1) or vector (w = 0). */
+void lvcl_transform_point(const float m[12], const float p[3], float w, float out[3]);
+
+/* The inverse of a 3 x 4 affine transform (computed in double precision),
+ * and whether it mirrors (negative determinant). */
+void lvcl_transform_invert(const float m[12], float out[12], int *mirrored);
+
 /* Frees every array and zeroes the scene. Safe on a zeroed scene. */
 void lvcl_scene_free(lvcl_scene *scene);
 

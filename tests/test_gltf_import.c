@@ -117,6 +117,9 @@ static void check_triangle(const char *name, const lvcl_scene *s, size_t tri, co
 static int same_scene(const lvcl_scene *a, const lvcl_scene *b)
 {
     if (a->vertex_count != b->vertex_count || a->triangle_count != b->triangle_count ||
+        a->mesh_count != b->mesh_count || a->instance_count != b->instance_count ||
+        memcmp(a->meshes, b->meshes, a->mesh_count * sizeof *a->meshes) ||
+        memcmp(a->instances, b->instances, a->instance_count * sizeof *a->instances) ||
         a->material_count != b->material_count || a->texture_count != b->texture_count ||
         a->punctual_count != b->punctual_count)
         return 0;
@@ -148,6 +151,19 @@ static int is_zeroed(const lvcl_scene *s)
 
 /* ---- features.gltf ---- */
 
+/* Mesh 0 is used by five nodes: stored once and placed five times; mesh 1
+ * (one node) is baked into world space as mesh 0 of the scene. */
+static void check_instancing(const lvcl_scene *s)
+{
+    int ok = s->triangle_count == 2 && s->mesh_count == 2 && s->instance_count == 6 && s->instances[0].mesh == 0 &&
+             s->meshes[0].triangle_count == 1 && s->meshes[1].triangle_count == 1;
+    for (size_t i = 1; ok && i < 6; i++) ok = s->instances[i].mesh == 1;
+    CHECK("features: a mesh five nodes use is stored once and instanced", ok,
+          "%zu triangles, %zu meshes, %zu instances", s->triangle_count, s->mesh_count, s->instance_count);
+}
+
+/* The flattened scene: the baked triangle first, then the instances in
+ * node order. */
 static void check_geometry(const lvcl_scene *s)
 {
     CHECK("features: six triangles", s->triangle_count == 6, "got %zu", s->triangle_count);
@@ -155,35 +171,35 @@ static void check_geometry(const lvcl_scene *s)
 
     /* TRS: translate (1,2,3), rotate 90 degrees about Z, scale 2. */
     const float trs[9] = {1, 2, 3, 1, 4, 3, -1, 2, 3};
-    check_triangle("TRS node transform", s, 0, trs);
+    check_triangle("TRS node transform", s, 1, trs);
     /* Column-major matrix: rotate 90 degrees about Z, translate (5,0,0). */
     const float mat[9] = {5, 0, 0, 5, 1, 0, 4, 0, 0};
-    check_triangle("matrix node transform", s, 1, mat);
+    check_triangle("matrix node transform", s, 2, mat);
     /* parent T(0,0,10) > child S(3) > grandchild T(1,0,0). */
     const float child[9] = {0, 0, 10, 3, 0, 10, 0, 3, 10};
     const float grandchild[9] = {3, 0, 10, 6, 0, 10, 3, 3, 10};
-    check_triangle("nested hierarchy (child)", s, 2, child);
-    check_triangle("nested hierarchy (grandchild)", s, 3, grandchild);
+    check_triangle("nested hierarchy (child)", s, 3, child);
+    check_triangle("nested hierarchy (grandchild)", s, 4, grandchild);
     const float plain[9] = {0, 0, -1, 1, 0, -1, 0, 1, -1};
-    check_triangle("non-indexed primitive", s, 5, plain);
+    check_triangle("non-indexed primitive", s, 0, plain);
 
     /* Mirrored node: the geometric normal from the winding must still agree
      * with the (mirrored) shading normal, +Z. */
-    const float *p0 = corner(s, 4, 0), *p1 = corner(s, 4, 1), *p2 = corner(s, 4, 2);
+    const float *p0 = corner(s, 5, 0), *p1 = corner(s, 5, 1), *p2 = corner(s, 5, 2);
     float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
     float e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
     float nz = e1[0] * e2[1] - e1[1] * e2[0];
-    const float *sn = &s->normals[3 * s->indices[12]];
+    const float *sn = &s->normals[3 * s->indices[15]];
     CHECK("mirrored node flips winding", nz > 0.5f && near3(sn, 0, 0, 1),
           "geometric normal z %g, shading normal (%g %g %g)", nz, sn[0], sn[1], sn[2]);
 
-    const float *n0 = &s->normals[3 * s->indices[0]];
-    const float *uv1 = &s->uvs[2 * s->indices[1]];
+    const float *n0 = &s->normals[3 * s->indices[3]];
+    const float *uv1 = &s->uvs[2 * s->indices[4]];
     CHECK("normals and uvs of the TRS triangle",
           near3(n0, 0, 0, 1) && near(uv1[0], 1) && near(uv1[1], 0) &&
-              s->tri_flags[0] == (LV_TRI_HAS_NORMALS | LV_TRI_HAS_UVS) && s->tri_flags[5] == 0,
+              s->tri_flags[1] == (LV_TRI_HAS_NORMALS | LV_TRI_HAS_UVS) && s->tri_flags[0] == 0,
           "normal (%g %g %g) uv (%g %g) flags %u %u", n0[0], n0[1], n0[2], uv1[0], uv1[1],
-          s->tri_flags[0], s->tri_flags[5]);
+          s->tri_flags[1], s->tri_flags[0]);
 }
 
 static void check_camera_and_lights(const lvcl_scene *s)
@@ -239,10 +255,10 @@ static void check_materials(const lvcl_scene *s)
           "ior %g specular %g dist %g tex %d", p->ior, p->specular, p->attenuation_distance,
           p->base_color_texture);
     CHECK("default material for primitives without one",
-          s->tri_material[5] == 2 && s->tri_material[0] == 0 && d->base_color[0] == 1 &&
+          s->tri_material[0] == 2 && s->tri_material[1] == 0 && d->base_color[0] == 1 &&
               d->base_color[3] == 1 && d->metallic == 1 && d->roughness == 1 &&
               d->base_color_texture == -1,
-          "tri 5 material %u, metallic %g roughness %g", s->tri_material[5], d->metallic,
+          "tri 0 material %u, metallic %g roughness %g", s->tri_material[0], d->metallic,
           d->roughness);
 
     static const uint8_t expect[16] = {255, 0, 0, 255, 0, 255, 0, 255,
@@ -259,9 +275,7 @@ static void test_features(void)
     lvcl_error e = lvcl_scene_load_gltf_file(data_path("features.gltf"), &gltf, &st);
     CHECK("load features.gltf", e == LVCL_OK, "%s", st.message);
     if (e != LVCL_OK) return;
-    check_geometry(&gltf);
-    check_camera_and_lights(&gltf);
-    check_materials(&gltf);
+    check_instancing(&gltf);
 
     e = lvcl_scene_load_gltf_file(data_path("features.glb"), &glb, &st);
     CHECK("load features.glb", e == LVCL_OK, "%s", st.message);
@@ -277,6 +291,14 @@ static void test_features(void)
           e ? st.message : "scenes differ");
     if (e == LVCL_OK) lvcl_scene_free(&mem);
     free(bytes);
+
+    e = lvcl_scene_flatten(&gltf, &st);
+    CHECK("flatten the instances", e == LVCL_OK, "%s", st.message);
+    if (e == LVCL_OK) {
+        check_geometry(&gltf);
+        check_camera_and_lights(&gltf);
+        check_materials(&gltf);
+    }
     lvcl_scene_free(&gltf);
 }
 
