@@ -50,7 +50,8 @@ static lvcl_error run(const lvcl_options *o, lvcl_session *s, lvcl_render_result
     if ((e = lvcl_scene_load(o->scene, &scene, st))) return e;
     stats->scene_load_seconds = lvcl_seconds() - t;
 
-    lvcl_session_config cfg = {o->device, o->seed, o->max_depth, o->fast_math};
+    lvcl_session_config cfg = {o->device, o->seed, o->max_depth, o->fast_math,
+                               (uint64_t)(o->device_memory_mib * 1048576.0)};
     if ((e = lvcl_session_open(s, &scene, &cfg, st))) return e;
     stats->session = s;
 

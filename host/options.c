@@ -64,7 +64,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         static const char *with_value[] = {"--device", "--mode", "-o", "--output", "--stats", "--spp", "--width",
                                            "--height", "--seed", "--max-depth", "--exposure", "--time-limit",
                                            "--cells", "--cell-size", "--grid-offset", "--dirs", "--subcells", "--particles", "--threshold",
-                                           "--gather"};
+                                           "--gather", "--device-memory"};
         int known = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++) known |= !strcmp(a, with_value[k]);
         if (!known) return lvcl_fail(st, LVCL_ERR_USAGE, "unknown option '%s' (see --help)", a);
@@ -92,6 +92,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         else if (!strcmp(a, "--particles")) { e = parse_real(a, v, 1, 4294967295.0, &x, st); o->particles = floor(x); }
         else if (!strcmp(a, "--threshold")) { e = parse_real(a, v, 1e-12, 1e12, &x, st); o->threshold = x; }
         else if (!strcmp(a, "--gather")) o->gather = v;
+        else if (!strcmp(a, "--device-memory")) { e = parse_real(a, v, 1, 1e9, &x, st); o->device_memory_mib = x; }
         if (e) return e;
     }
     if (strcmp(o->mode, "pt") && strcmp(o->mode, "lv") && strcmp(o->mode, "lv-all"))
@@ -111,6 +112,7 @@ void lvcl_options_print_help(const char *program)
            "\n"
            "  --device cpu|gpu|N   OpenCL device (default: first GPU, else CPU)\n"
            "  --list-devices       list OpenCL devices and exit\n"
+           "  --device-memory MIB  use at most MIB MiB of device memory (default: what the device has)\n"
            "  --mode pt|lv|lv-all  pt: path tracing; lv: light volume for indirect light, shadow rays\n"
            "                       for direct (default pt); lv-all: the light volume answers all light\n"
            "  --particles N        light volume: particles traced (default 1e6)\n"
@@ -120,7 +122,7 @@ void lvcl_options_print_help(const char *program)
            "  --dirs N             light volume: N x N direction bins per hemisphere (default 11)\n"
            "  --subcells K         light volume: K x K x K subcells per cell estimate its lit volume\n"
            "                       (0 to 4, default 4; 0 = the whole cell)\n"
-           "  --threshold M        lv with --gather sample: reflected rays hitting closer than M metres\n"
+           "  --threshold M        lv: BSDF rays meeting a rough surface closer than M metres\n"
            "                       continue as paths (default the cell diagonal)\n"
            "  --gather integrate|sample  lv: integrate the BSDF over all bins of the cell (default),\n"
            "                       or read the bin of one BSDF-sampled direction\n"

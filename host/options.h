@@ -23,6 +23,7 @@ typedef struct {
     double particles;
     double threshold;       /* near-hit distance, 0 = cell diagonal */
     const char *gather;     /* "sample" or "integrate" */
+    double device_memory_mib; /* cap on device memory, 0 = the device's own */
     double time_limit;
     int quiet;
     int fast_math;

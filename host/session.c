@@ -31,6 +31,10 @@ lvcl_error lvcl_session_open(lvcl_session *s, lvcl_scene *scene, const lvcl_sess
     if (s->accel.skipped) lvcl_warn("%zu triangles of zero area or with non-finite vertices left out", s->accel.skipped);
 
     if ((e = lvcl_device_open(cfg->device, &s->device, st))) goto fail;
+    if (cfg->device_memory) {
+        if (s->device.global_mem > cfg->device_memory) s->device.global_mem = cfg->device_memory;
+        if (s->device.max_alloc > cfg->device_memory) s->device.max_alloc = cfg->device_memory;
+    }
     if ((e = lvcl_pack_scene(&s->scene, &s->accel, cfg->seed, (uint32_t)cfg->max_depth, &s->packed, st))) goto fail;
     if ((e = lvcl_device_scene_upload(&s->device, &s->scene, &s->packed, &s->device_scene, st))) goto fail;
     s->features = lvcl_scene_features(&s->scene);

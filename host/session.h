@@ -17,6 +17,7 @@ typedef struct {
     unsigned seed;
     int max_depth;
     int fast_math;
+    uint64_t device_memory; /* bytes the scene and light volume may use; 0 = what the device has */
 } lvcl_session_config;
 
 typedef struct {

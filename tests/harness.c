@@ -102,3 +102,12 @@ void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_
     lvcl_packed_scene_free(&packed);
     lvcl_accel_free(&accel);
 }
+
+double harness_uniform(harness_rng *r)
+{
+    uint64_t z = (r->s += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return (double)(z >> 11) * 0x1.0p-53;
+}

@@ -22,6 +22,12 @@ void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_
 /* Runs a 1-D kernel over `global` items (padded to 64) and waits. */
 void harness_run(const lvcl_device *dev, cl_kernel k, size_t global);
 
+/* Deterministic random numbers (splitmix64): seed s, then uniform in [0, 1). */
+typedef struct {
+    uint64_t s;
+} harness_rng;
+double harness_uniform(harness_rng *r);
+
 /* Aborts the test program with a message if err is not CL_SUCCESS. */
 void harness_cl(cl_int err, const char *what);
 

@@ -21,19 +21,13 @@ static lvcl_program prog;
 #define NO_LIMIT 3.0e38f
 #define PI 3.14159265358979323846
 
-/* ---- random numbers (splitmix64), so every run traces the same rays ---- */
+/* ---- random numbers: harness_uniform, so every run traces the same rays ---- */
 
-typedef struct {
-    uint64_t s;
-} rng;
+typedef harness_rng rng;
 
 static double uniform(rng *r)
 {
-    uint64_t z = (r->s += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) * 0x1.0p-53;
+    return harness_uniform(r);
 }
 
 static double range(rng *r, double lo, double hi)

@@ -103,7 +103,8 @@ __kernel void t_bsdf_moments(__global const float *config, uint count, __global 
 }
 
 /* Rays: 8 floats each (origin xyz, tmax, dir xyz, unused). Results: 4 per
- * ray (t, prim_id or -1, any-hit flag, unused). */
+ * ray (t, prim_id or -1, any-hit flag, 1 if the hit is on the front face,
+ * -1 on the back, 0 on a miss). */
 inline lv_ray load_test_ray(__global const float *rays, uint i)
 {
     __global const float *q = rays + 8 * i;
@@ -120,6 +121,7 @@ __kernel void t_trace(LV_SCENE_PARAMS, __global const float *rays, uint count, _
     results[4 * i + 0] = h.t;
     results[4 * i + 1] = h.tri == LV_NO_HIT ? -1.0f : (float)sc.triangles[h.tri].prim_id;
     results[4 * i + 2] = lv_trace(&sc, r, 1).tri == LV_NO_HIT ? 0.0f : 1.0f;
+    results[4 * i + 3] = h.tri == LV_NO_HIT ? 0.0f : (lv_surface_at(&sc, r, h).front ? 1.0f : -1.0f);
 }
 
 /* The same rays against every triangle, without the BVH. */
