@@ -53,6 +53,8 @@ expect_error "unknown device name" 2 --device tpu cornell
 expect_error "device index out of range" 1 --device 99 cornell
 expect_error "unwritable output" 1 --spp 1 --width 8 -o "$tmp/no/such/dir/x.png" cornell
 expect_error "unknown output format" 1 --spp 1 --width 8 -o "$tmp/x.unknownformat" cornell
+expect_error "device memory not a number" 2 --device-memory lots cornell
+expect_error "light volume over the device memory" 1 --device-memory 2 --mode lv --spp 1 --width 8 cornell
 
 if "$lvcl" --help | grep -q -- '--device'; then pass "--help lists the flags"; else fail "--help" "no --device in the text"; fi
 if "$lvcl" --list-devices | grep -q '^0 '; then pass "--list-devices"; else fail "--list-devices" "no device 0"; fi
