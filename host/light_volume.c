@@ -17,34 +17,79 @@ static size_t cell_index(const lv_grid_info *g, int x, int y, int z)
     return (size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z);
 }
 
-static void mark_triangle(const lvcl_packed_scene *p, size_t instance, size_t tri, const lv_grid_info *g, float inv,
-                          uint8_t *mark)
+/* Cell coordinates covering the world box lo..hi (clamped to the grid). A
+ * surface lying on a cell boundary belongs to the cells on both sides. */
+static void cell_range(const lv_grid_info *g, float inv, const float lo_w[3], const float hi_w[3], int lo[3], int hi[3])
 {
-    float v[9];
-    lvcl_packed_triangle_world(p, instance, tri, v);
-    int lo[3], hi[3];
     for (int k = 0; k < 3; k++) {
-        float a = fminf(v[k], fminf(v[3 + k], v[6 + k])), b = fmaxf(v[k], fmaxf(v[3 + k], v[6 + k]));
-        /* A surface lying on a cell boundary belongs to the cells on both sides. */
-        lo[k] = (int)floorf((a - g->origin[k]) * inv - 1e-4f);
-        hi[k] = (int)floorf((b - g->origin[k]) * inv + 1e-4f);
+        lo[k] = (int)floorf((lo_w[k] - g->origin[k]) * inv - 1e-4f);
+        hi[k] = (int)floorf((hi_w[k] - g->origin[k]) * inv + 1e-4f);
         if (lo[k] < 0) lo[k] = 0;
         if (hi[k] > (int)g->dims[k] - 1) hi[k] = (int)g->dims[k] - 1;
     }
+}
+
+static void mark_range(const lv_grid_info *g, const int lo[3], const int hi[3], uint8_t *mark)
+{
     for (int z = lo[2]; z <= hi[2]; z++)
         for (int y = lo[1]; y <= hi[1]; y++)
             for (int x = lo[0]; x <= hi[0]; x++) mark[cell_index(g, x, y, z)] = 1;
 }
 
-/* Marks the cells each placed triangle's bounding box touches
- * (conservative for slanted triangles; see docs/light-volume.md). */
+/* The world box of an object-space box under an instance's transform. */
+static void world_box(const lv_instance *in, const float bmin[3], const float bmax[3], float lo[3], float hi[3])
+{
+    for (int k = 0; k < 3; k++) {
+        lo[k] = INFINITY;
+        hi[k] = -INFINITY;
+    }
+    for (int c = 0; c < 8; c++) {
+        float p[3] = {c & 1 ? bmax[0] : bmin[0], c & 2 ? bmax[1] : bmin[1], c & 4 ? bmax[2] : bmin[2]}, q[3];
+        lvcl_transform_point(in->world_from_object, p, 1.0f, q);
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fminf(lo[k], q[k]);
+            hi[k] = fmaxf(hi[k], q[k]);
+        }
+    }
+}
+
+/* Marks the cells the geometry touches: each placed triangle's bounding box
+ * (conservative for slanted triangles; see docs/light-volume.md), except
+ * that a part of a mesh's tree whose placed box spans at most two cells
+ * along every axis marks that box whole. A tile instanced hundreds of
+ * times then costs a few boxes, not its 500,000 triangles. */
 static void mark_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, uint8_t *mark)
 {
     float inv = 1.0f / g->cell_size;
+    int stack[LVCL_BVH_MAX_DEPTH + 1];
     for (size_t in = 0; in < p->instance_count; in++) {
-        uint32_t m = p->instances[in].mesh;
-        for (size_t t = p->mesh_first[m]; t < p->mesh_first[m] + p->mesh_size[m]; t++)
-            mark_triangle(p, in, t, g, inv, mark);
+        const lv_instance *inst = &p->instances[in];
+        int top = 0;
+        stack[top++] = (int)inst->root;
+        while (top > 0) {
+            const lv_bvh_node *n = &p->nodes[stack[--top]];
+            float lo_w[3], hi_w[3];
+            int lo[3], hi[3];
+            world_box(inst, n->bmin, n->bmax, lo_w, hi_w);
+            cell_range(g, inv, lo_w, hi_w, lo, hi);
+            if (hi[0] - lo[0] <= 1 && hi[1] - lo[1] <= 1 && hi[2] - lo[2] <= 1) {
+                mark_range(g, lo, hi, mark);
+            } else if (n->count > 0) {
+                for (int t = n->index; t < n->index + n->count; t++) {
+                    float v[9];
+                    lvcl_packed_triangle_world(p, in, (size_t)t, v);
+                    for (int k = 0; k < 3; k++) {
+                        lo_w[k] = fminf(v[k], fminf(v[3 + k], v[6 + k]));
+                        hi_w[k] = fmaxf(v[k], fmaxf(v[3 + k], v[6 + k]));
+                    }
+                    cell_range(g, inv, lo_w, hi_w, lo, hi);
+                    mark_range(g, lo, hi, mark);
+                }
+            } else {
+                stack[top++] = (int)(n - p->nodes) + 1;
+                stack[top++] = n->index;
+            }
+        }
     }
 }
 

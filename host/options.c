@@ -108,7 +108,7 @@ void lvcl_options_print_help(const char *program)
     printf("usage: %s [options] [SCENE]\n"
            "\n"
            "Renders SCENE, a .gltf/.glb file or the name of an embedded scene\n"
-           "(cornell, furnace; default cornell).\n"
+           "(cornell, furnace, kitchen; default cornell).\n"
            "\n"
            "  --device cpu|gpu|N   OpenCL device (default: first GPU, else CPU)\n"
            "  --list-devices       list OpenCL devices and exit\n"

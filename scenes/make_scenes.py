@@ -260,7 +260,11 @@ def little_endian(a):
 def gltf_document(meshes, materials, camera, generator, note=None, index_bounds=True):
     """The glTF document (a dict, without a buffer URI) and its one binary
     buffer.  meshes: objects with name, material (an index into materials),
-    positions (flat float32 array) and indices (uint32 array); camera: dict
+    positions (flat float32 array) and indices (uint32 array), and
+    optionally normals (flat float32 array, for smooth shading) and
+    placements (a list of node properties such as translation, rotation,
+    scale: one node each, so the mesh is stored once and instanced; by
+    default one node in place); camera: dict
     with yfov, aspect, translation, rotation (xyzw) and optionally znear.
     index_bounds: also record the indices' min/max, which glTF leaves
     optional (the big benchmark scene has never had them)."""
@@ -292,11 +296,19 @@ def gltf_document(meshes, materials, camera, generator, note=None, index_bounds=
                           "count": len(m.indices), "type": "SCALAR"})
         if index_bounds:
             accessors[-1].update({"min": [min(m.indices)], "max": [max(m.indices)]})
+        attributes = {"POSITION": len(accessors) - 2}
+        indices = len(accessors) - 1
+        if getattr(m, "normals", None) is not None:
+            vn = add_view(little_endian(m.normals), 34962)
+            accessors.append({"bufferView": vn, "componentType": 5126,
+                              "count": len(m.normals) // 3, "type": "VEC3"})
+            attributes["NORMAL"] = len(accessors) - 1
         gl_meshes.append({"name": m.name, "primitives": [{
-            "attributes": {"POSITION": len(accessors) - 2},
-            "indices": len(accessors) - 1,
+            "attributes": attributes,
+            "indices": indices,
             "material": m.material, "mode": 4}]})
-        nodes.append({"name": m.name, "mesh": len(gl_meshes) - 1})
+        for placement in getattr(m, "placements", None) or [{}]:
+            nodes.append(dict({"name": m.name, "mesh": len(gl_meshes) - 1}, **placement))
 
     nodes.append({"name": "camera", "camera": 0,
                   "translation": list(camera["translation"]),
@@ -446,6 +458,45 @@ def furnace(path):
                "white furnace: albedo 0.5, Le 1, expected radiance 2")
 
 
+def table(slab_material, leg_material, centre, tx, tz, t0=0.72, t1=0.75):
+    """A table centred at `centre` (x, z): a slab 2 tx by 2 tz between
+    heights t0 and t1, on legs of 4 cm square section that stop 1 mm below
+    the slab. Returns the slab and the legs."""
+    cx, cz = centre
+    slab = Mesh("glass_top", slab_material)
+    box(slab, (cx - tx, t0, cz - tz), (cx + tx, t1, cz + tz))
+    legs = Mesh("legs", leg_material)
+    w, inset, lh = 0.04, 0.05, t0 - 0.001
+    for sx in (-1.0, 1.0):
+        for sz in (-1.0, 1.0):
+            x0 = cx + sx * (tx - inset) - w / 2.0
+            z0 = cz + sz * (tz - inset) - w / 2.0
+            block(legs, [(x0, lh, z0), (x0 + w, lh, z0),
+                         (x0 + w, lh, z0 + w), (x0, lh, z0 + w)], lh)
+    return slab, legs
+
+
+def shoe_mesh(material, x, z):
+    """A 32 cm long shoe standing on the floor, toe towards +x, its sole
+    centred near (x, z): a rounded footprint, wider at the toe, lofted up
+    through rings that shrink towards the heel."""
+    n, xh, length = 16, x - 0.14, 0.32
+    foot = []
+    for i in range(n):
+        t = 2.0 * math.pi * i / n
+        u = 0.5 - 0.5 * math.cos(t)                  # 0 at the heel, 1 at the toe
+        half = 0.042 + 0.018 * u
+        foot.append((xh + length * u, half * math.sin(t)))
+    rings = []
+    for y, sx, sw in ((0.0, 1.0, 1.0), (0.03, 1.0, 1.0), (0.035, 0.96, 0.92),
+                      (0.08, 0.9, 0.88), (0.115, 0.6, 0.8), (0.16, 0.36, 0.72)):
+        rings.append([(xh + 0.006 * (1.0 - sw) + (px - xh) * sx, y,
+                       z + pz * sw) for px, pz in foot])
+    shoe = Mesh("shoe", material)
+    loft(shoe, rings)
+    return shoe
+
+
 def glass_table(path):
     FLOOR, CEIL, BACK, LEFT, SIDE, LEG, SHOE, GLASS, LIGHT = range(9)
     le = (5.0, 5.0, 5.0)
@@ -488,37 +539,8 @@ def glass_table(path):
     light = wall("light", LIGHT, [(-h, ly, -h), (h, ly, -h), (h, ly, h),
                                   (-h, ly, h)], down)
 
-    # Table: glass slab 1.2 x 0.8 x 0.03 m with its top at 0.75 m; legs of
-    # 4 cm square section stop 1 mm below the slab.
-    tx, tz, t0, t1 = 0.6, 0.4, 0.72, 0.75
-    slab = Mesh("glass_top", GLASS)
-    box(slab, (-tx, t0, -tz), (tx, t1, tz))
-    legs = Mesh("legs", LEG)
-    w, inset, lh = 0.04, 0.05, t0 - 0.001
-    for sx in (-1.0, 1.0):
-        for sz in (-1.0, 1.0):
-            x0 = sx * (tx - inset) - w / 2.0
-            z0 = sz * (tz - inset) - w / 2.0
-            block(legs, [(x0, lh, z0), (x0 + w, lh, z0),
-                         (x0 + w, lh, z0 + w), (x0, lh, z0 + w)], lh)
-
-    # Shoe: a 32 cm long rounded sole footprint (toe towards +x, wider at the
-    # toe) lofted up through rings that shrink towards the heel.
-    n, xh, length = 16, -0.14, 0.32
-    foot = []
-    for i in range(n):
-        t = 2.0 * math.pi * i / n
-        u = 0.5 - 0.5 * math.cos(t)                  # 0 at the heel, 1 at the toe
-        half = 0.042 + 0.018 * u
-        foot.append((xh + length * u, half * math.sin(t)))
-    shoe_z = 0.05
-    rings = []
-    for y, sx, sw in ((0.0, 1.0, 1.0), (0.03, 1.0, 1.0), (0.035, 0.96, 0.92),
-                      (0.08, 0.9, 0.88), (0.115, 0.6, 0.8), (0.16, 0.36, 0.72)):
-        rings.append([(xh + 0.006 * (1.0 - sw) + (px - xh) * sx, y,
-                       shoe_z + pz * sw) for px, pz in foot])
-    shoe = Mesh("shoe", SHOE)
-    loft(shoe, rings)
+    slab, legs = table(GLASS, LEG, (0.0, 0.0), 0.6, 0.4)
+    shoe = shoe_mesh(SHOE, 0.0, 0.05)
 
     eye, target = (1.1, 1.05, 1.45), (0.0, 0.33, -0.05)
     camera = {"yfov": math.radians(50.0), "aspect": 1.0,
