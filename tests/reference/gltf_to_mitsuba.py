@@ -378,16 +378,20 @@ class Converter:
 
 # --------------------------------------------------------------------- geometry
 
-def write_ply(path, pos, faces, uv=None):
-    """Binary little-endian PLY: float x y z [u v], uchar/int face lists."""
+def write_ply(path, pos, faces, uv=None, normals=None):
+    """Binary little-endian PLY: float x y z [nx ny nz] [u v], uchar/int face lists."""
     n, f = len(pos), len(faces)
     props = "property float x\nproperty float y\nproperty float z\n"
+    if normals is not None:
+        props += "property float nx\nproperty float ny\nproperty float nz\n"
     if uv is not None:
         props += "property float u\nproperty float v\n"
     header = ("ply\nformat binary_little_endian 1.0\nelement vertex %d\n%s"
               "element face %d\nproperty list uchar int vertex_indices\nend_header\n"
               % (n, props, f))
     vert = pos.astype("<f4")
+    if normals is not None:
+        vert = np.concatenate([vert, normals.astype("<f4")], axis=1)
     if uv is not None:
         vert = np.concatenate([vert, uv.astype("<f4")], axis=1)
     frec = np.zeros(f, dtype=[("n", "u1"), ("i", "<i4", 3)])
@@ -494,6 +498,8 @@ def convert(path, width=None, height=None, spp=64, workdir=None, seed=0,
         emissive = False
         for pi, prim in enumerate(mesh.get("primitives", [])):
             pos, tri, uv = primitive_triangles(g, prim)
+            nrm = (g.accessor(prim["attributes"]["NORMAL"]).astype(np.float64)
+                   if pos is not None and "NORMAL" in prim["attributes"] else None)
             if pos is None:
                 conv.note("mesh %d primitive %d: non-triangle mode skipped" % (mesh_i, pi))
                 continue
@@ -504,14 +510,14 @@ def convert(path, width=None, height=None, spp=64, workdir=None, seed=0,
                 emissive = True
             if uv is not None and not m["base_tex"]:
                 uv = None
-            prims.append((pi, prim, pos, tri, uv, m))
+            prims.append((pi, prim, pos, tri, uv, nrm, m))
         instanced = len(users) > 1 and not emissive
         if instanced:
             group = {"type": "shapegroup"}
-            for pi, prim, pos, tri, uv, m in prims:
+            for pi, prim, pos, tri, uv, nrm, m in prims:
                 fn = os.path.join(workdir, "m%d_p%d.ply" % (mesh_i, pi))
-                write_ply(fn, pos, tri, None if uv is None else to_mitsuba_uv(uv))
-                shp = {"type": "ply", "filename": fn, "face_normals": True,
+                write_ply(fn, pos, tri, None if uv is None else to_mitsuba_uv(uv), nrm)
+                shp = {"type": "ply", "filename": fn, "face_normals": nrm is None,
                        "bsdf": bsdf_ref(prim.get("material"))}
                 med = conv.medium(m)
                 if med is not None:
@@ -528,12 +534,16 @@ def convert(path, width=None, height=None, spp=64, workdir=None, seed=0,
             continue
         for ni, w in users:
             flip_winding = np.linalg.det(w[:3, :3]) < 0
-            for pi, prim, pos, tri, uv, m in prims:
+            for pi, prim, pos, tri, uv, nrm, m in prims:
                 wp = pos @ w[:3, :3].T + w[:3, 3]
                 t = tri[:, ::-1] if flip_winding else tri
+                wn = None
+                if nrm is not None:  # normals by the inverse transpose
+                    wn = nrm @ np.linalg.inv(w[:3, :3])
+                    wn /= np.maximum(np.linalg.norm(wn, axis=1, keepdims=True), 1e-30)
                 fn = os.path.join(workdir, "n%d_m%d_p%d.ply" % (ni, mesh_i, pi))
-                write_ply(fn, wp, t, None if uv is None else to_mitsuba_uv(uv))
-                shp = {"type": "ply", "filename": fn, "face_normals": True,
+                write_ply(fn, wp, t, None if uv is None else to_mitsuba_uv(uv), wn)
+                shp = {"type": "ply", "filename": fn, "face_normals": nrm is None,
                        "bsdf": bsdf_ref(prim.get("material"))}
                 if any(c > 0 for c in m["emission"]):
                     # Mitsuba's area emitter emits on the side of the triangle
