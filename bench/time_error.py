@@ -4,7 +4,7 @@ light volume over a range of budgets, measures each image against a
 reference, prints one JSON object per run and plots error against time on
 log-log axes (PNG, when matplotlib is available).
 
-    bench/time_error.py SCENE REFERENCE.exr [--out DIR] [--quick]
+    bench/time_error.py SCENE REFERENCE.exr [--out DIR] [--quick] [--width W --height H]
 
 Each run records the wall time of its parts as lvcl's --stats reports them
 (scene load, BVH build, kernel build, particle trace, gather or path
@@ -116,11 +116,13 @@ def main():
     ap.add_argument("--build", default="build")
     ap.add_argument("--out", default=os.path.join("build", "bench"))
     ap.add_argument("--quick", action="store_true", help="fewer, smaller budgets")
+    ap.add_argument("--width", type=int, default=256, help="image width, as the reference's (default 256)")
+    ap.add_argument("--height", type=int, default=256, help="image height, as the reference's (default 256)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     error(a.build, a.reference, a.reference)  # fails early if the reference cannot be read
     flip = flip_metric()
-    width = height = 256
+    width, height = a.width, a.height
     records = []
     with tempfile.TemporaryDirectory() as tmp:
         for label, args in budgets(a.quick):
