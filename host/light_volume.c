@@ -181,6 +181,9 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
         vol->subcell_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
                                           ((size_t)g->slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(cl_uint), NULL, &err);
     if (err == CL_SUCCESS)
+        vol->lit_volume_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, ((size_t)g->slot_count + 1) * sizeof(float),
+                                             NULL, &err);
+    if (err == CL_SUCCESS)
         vol->bin_directions_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, g->bins * 4 * sizeof(float), NULL,
                                                  &err);
     if (err != CL_SUCCESS) {
@@ -210,6 +213,23 @@ static lvcl_error fill_bin_directions(const lvcl_device *dev, const lvcl_program
     if (err == CL_SUCCESS) err = clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL);
     clReleaseKernel(k);
     return cl_ok(err, "computing the bin directions", st);
+}
+
+/* Runs lv_lit_volumes: every stored cell's lit volume, for the lookups. */
+static lvcl_error fill_lit_volumes(const lvcl_device *dev, const lvcl_program *prog, lvcl_light_volume *vol,
+                                   lvcl_status *st)
+{
+    cl_kernel k;
+    lvcl_error e = lvcl_kernel_create(prog, "lv_lit_volumes", &k, st);
+    if (e) return e;
+    size_t local = LOCAL_SIZE, global = ((size_t)vol->info.slot_count + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
+    cl_int err = clSetKernelArg(k, 0, sizeof vol->info, &vol->info);
+    if (err == CL_SUCCESS) err = clSetKernelArg(k, 1, sizeof(cl_mem), &vol->subcell_buf);
+    if (err == CL_SUCCESS) err = clSetKernelArg(k, 2, sizeof(cl_mem), &vol->lit_volume_buf);
+    if (err == CL_SUCCESS && global) err = clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL);
+    if (err == CL_SUCCESS) err = clFinish(dev->queue);
+    clReleaseKernel(k);
+    return cl_ok(err, "computing the lit volumes", st);
 }
 
 lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_device_scene *ds,
@@ -276,10 +296,11 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
         lvcl_progress_update(&bar, (double)(first + count), (double)s->particles, "particles");
     }
     lvcl_progress_finish(&bar);
-    vol->trace_seconds = lvcl_seconds() - start;
-    vol->particles = s->particles;
     clReleaseKernel(k);
     clReleaseMemObject(counter);
+    if (!e) e = fill_lit_volumes(dev, prog, vol, st);
+    vol->trace_seconds = lvcl_seconds() - start;
+    vol->particles = s->particles;
     return e;
 }
 
@@ -335,6 +356,7 @@ void lvcl_volume_release(lvcl_light_volume *vol)
     if (vol->cell_slot_buf) clReleaseMemObject(vol->cell_slot_buf);
     if (vol->tallies_buf) clReleaseMemObject(vol->tallies_buf);
     if (vol->bin_directions_buf) clReleaseMemObject(vol->bin_directions_buf);
+    if (vol->lit_volume_buf) clReleaseMemObject(vol->lit_volume_buf);
     if (vol->subcell_buf) clReleaseMemObject(vol->subcell_buf);
     free(vol->cell_slot);
     memset(vol, 0, sizeof *vol);

@@ -27,6 +27,7 @@ typedef struct {
     cl_mem cell_slot_buf, tallies_buf;
     cl_mem bin_directions_buf; /* float4 per bin, filled by lvcl_volume_trace */
     cl_mem subcell_buf;        /* LV_SUBCELL_STRIDE uints per slot */
+    cl_mem lit_volume_buf;     /* float per slot, filled by lvcl_volume_trace */
     size_t tally_bytes;
     double trace_seconds;
     uint64_t particles;

@@ -58,10 +58,11 @@ static int set_pass_args(lvcl_session *s, cl_kernel k, const lvcl_render_request
         clSetKernelArg(k, i + 1, sizeof(cl_mem), &s->volume.cell_slot_buf) ||
         clSetKernelArg(k, i + 2, sizeof(cl_mem), &s->volume.tallies_buf) ||
         clSetKernelArg(k, i + 3, sizeof(cl_mem), &s->volume.subcell_buf) ||
-        clSetKernelArg(k, i + 4, sizeof(cl_mem), &s->volume.bin_directions_buf) ||
-        clSetKernelArg(k, i + 5, sizeof flags, &flags) || clSetKernelArg(k, i + 6, sizeof threshold, &threshold))
+        clSetKernelArg(k, i + 4, sizeof(cl_mem), &s->volume.lit_volume_buf) ||
+        clSetKernelArg(k, i + 5, sizeof(cl_mem), &s->volume.bin_directions_buf) ||
+        clSetKernelArg(k, i + 6, sizeof flags, &flags) || clSetKernelArg(k, i + 7, sizeof threshold, &threshold))
         return -1;
-    return (int)i + 7;
+    return (int)i + 8;
 }
 
 lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,

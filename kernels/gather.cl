@@ -4,6 +4,7 @@
 
 __kernel void lv_gather_pass(LV_SCENE_PARAMS, lv_grid_info grid_info, __global const uint *cell_slot,
                              __global const long *tallies, __global uint *subcells,
+                             __global const float *lit_volume,
                              __global const float4 *bin_directions, uint flags,
                              float threshold, lv_camera camera,
                              uint sample_index, __global float4 *sum)
@@ -15,6 +16,7 @@ __kernel void lv_gather_pass(LV_SCENE_PARAMS, lv_grid_info grid_info, __global c
     g.grid.g = grid_info;
     g.grid.cell_slot = cell_slot;
     g.grid.subcells = subcells;
+    g.grid.lit_volume = lit_volume;
     g.tallies = tallies;
     g.bin_directions = bin_directions;
     g.flags = flags;

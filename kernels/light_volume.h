@@ -15,6 +15,7 @@ typedef struct {
     lv_grid_info g;
     __global const uint *cell_slot;
     __global uint *subcells; /* LV_SUBCELL_STRIDE words per slot (shared_types.h) */
+    __global const float *lit_volume; /* per slot, lv_cell_lit_volume after the trace (lookups only) */
 } lv_grid;
 
 inline float3 lv_grid_origin(const lv_grid *grid)
@@ -211,7 +212,7 @@ inline float3 lv_volume_radiance(const lv_grid *grid, __global const long *talli
 {
     uint slot = lv_grid_slot_at(grid, p);
     if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
-    return lv_bin_radiance(grid, tallies, slot, lv_direction_bin(dir, grid->g.dirs), lv_cell_lit_volume(grid, slot));
+    return lv_bin_radiance(grid, tallies, slot, lv_direction_bin(dir, grid->g.dirs), grid->lit_volume[slot]);
 }
 
 /* A uniform point in the cell-sized box around p (paper section 4.2: the

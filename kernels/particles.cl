@@ -24,6 +24,7 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
     grid.g = grid_info;
     grid.cell_slot = cell_slot;
     grid.subcells = subcells;
+    grid.lit_volume = 0; /* not known yet */
     lv_rng rng = lv_rng_make(sc.info.seed ^ LV_PARTICLE_STREAM, first + id, 0u);
 
     lv_emission_sample es;
@@ -79,6 +80,18 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
     }
     atomic_add(&ray_counts[0], segments);
     atomic_add(&ray_counts[1], visibility_rays);
+}
+
+/* Every stored cell's lit volume, once the trace is done: lookups read one
+ * number instead of walking the subcell record. */
+__kernel void lv_lit_volumes(lv_grid_info grid_info, __global uint *subcells, __global float *lit_volume)
+{
+    uint slot = get_global_id(0);
+    if (slot >= grid_info.slot_count) return;
+    lv_grid grid;
+    grid.g = grid_info;
+    grid.subcells = subcells;
+    lit_volume[slot] = lv_cell_lit_volume(&grid, slot);
 }
 
 /* The central direction of every bin, for gathers that visit them all. */

@@ -73,7 +73,7 @@ inline float3 lv_gather_integrate(const lv_gather *g, const lv_bsdf *b, lv_frame
     if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
     float3 sum = (float3)(0.0f);
     uint n = g->grid.g.dirs;
-    float lit = lv_cell_lit_volume(&g->grid, slot);
+    float lit = g->grid.lit_volume[slot];
     for (uint bin = 0; bin < g->grid.g.bins; bin++) {
         /* Light arriving from wi travels along -wi. */
         float3 wi = lv_to_local(f, -g->bin_directions[bin].xyz);
