@@ -170,8 +170,11 @@ static void test_hits(void)
             snprintf(first, sizeof first, "ray %d: brute force t %.6g prim %ld front %d, kernel t %.6g prim %g front %g", i,
                      prim < 0 ? -1.0 : best, prim, front, r[0], r[1], r[3]);
     }
-    /* A ray through a shared edge may be given either triangle: allow a
-     * handful of those among 20,000, never more. */
+    printf("  hits: %zu of %d rays hit (%zu the mirrored instance), %zu disagree with brute force\n", hits, COUNT,
+           mirrored_hits, wrong);
+    /* A ray through a shared edge, or onto the first cube's bottom, which
+     * lies in the floor's plane, may be given either triangle: allow a
+     * handful of those among 20,000, never more (one is seen). */
     CHECK("instances: hits (distance, triangle, face) agree with brute force", wrong <= 4 && hits > COUNT / 4,
           "%zu of %d rays disagree (%zu hit); first: %s", wrong, COUNT, hits, first);
     CHECK("instances: the mirrored instance is hit", mirrored_hits > 100, "%zu hits", mirrored_hits);
