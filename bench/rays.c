@@ -39,7 +39,7 @@ typedef struct {
 static void usage(void)
 {
     fprintf(stderr, "usage: lvcl-bench rays [--device D] [--width W] [--repeat N] [--seed S] SCENE\n"
-                    "  SCENE: a .gltf/.glb path or an embedded scene name (cornell, furnace)\n"
+                    "  SCENE: a .gltf/.glb path or an embedded scene name (cornell, furnace, kitchen)\n"
                     "  --width W   primary-ray image width (default 1024; height from the camera's aspect)\n"
                     "  --repeat N  timed runs per workload, the median is reported (default 5)\n");
 }
@@ -83,7 +83,7 @@ static lvcl_error cl_check(cl_int err, const char *what, lvcl_status *st)
 static cl_mem device_buffer(bench *b, size_t bytes, const void *data, lvcl_status *st)
 {
     cl_int err;
-    cl_mem m = clCreateBuffer(b->s.device.context, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0),
+    cl_mem m = clCreateBuffer(b->s.devices[0].device.context, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0),
                               bytes ? bytes : 16, (void *)data, &err);
     if (err != CL_SUCCESS) {
         lvcl_fail(st, LVCL_ERR_DEVICE, "allocating %.1f MiB failed: %s", bytes / 1048576.0, lvcl_cl_error_name(err));
@@ -96,14 +96,14 @@ static lvcl_error launch(bench *b, cl_kernel k, size_t count, const char *what, 
 {
     size_t local = LOCAL_SIZE, global = (count + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
     if (global == 0) return LVCL_OK;
-    lvcl_error e = cl_check(clEnqueueNDRangeKernel(b->s.device.queue, k, 1, NULL, &global, &local, 0, NULL, NULL),
+    lvcl_error e = cl_check(clEnqueueNDRangeKernel(b->s.devices[0].device.queue, k, 1, NULL, &global, &local, 0, NULL, NULL),
                             what, st);
-    return e ? e : cl_check(clFinish(b->s.device.queue), what, st);
+    return e ? e : cl_check(clFinish(b->s.devices[0].device.queue), what, st);
 }
 
 static lvcl_error read_back(bench *b, cl_mem m, size_t bytes, void *out, lvcl_status *st)
 {
-    return cl_check(clEnqueueReadBuffer(b->s.device.queue, m, CL_TRUE, 0, bytes, out, 0, NULL, NULL), "reading back",
+    return cl_check(clEnqueueReadBuffer(b->s.devices[0].device.queue, m, CL_TRUE, 0, bytes, out, 0, NULL, NULL), "reading back",
                     st);
 }
 
@@ -126,7 +126,7 @@ static lvcl_error time_lvcl(bench *b, cl_mem rays, cl_mem hits, size_t count, in
                             lvcl_status *st)
 {
     cl_kernel k = any_hit ? b->any : b->closest;
-    int arg = lvcl_device_scene_set_args(&b->s.device_scene, k, 0);
+    int arg = lvcl_device_scene_set_args(&b->s.devices[0].device_scene, k, 0);
     cl_uint n = (cl_uint)count;
     if (arg < 0 || clSetKernelArg(k, (cl_uint)arg, sizeof rays, &rays) != CL_SUCCESS ||
         clSetKernelArg(k, (cl_uint)arg + 1, sizeof n, &n) != CL_SUCCESS ||
@@ -243,10 +243,10 @@ static lvcl_error run_workload(bench *b, const char *name, cl_mem rays, cl_mem h
 static lvcl_error create_kernels(bench *b, lvcl_status *st)
 {
     lvcl_error e;
-    if ((e = lvcl_kernel_create(&b->s.program, "lv_rays_primary", &b->primary, st)) ||
-        (e = lvcl_kernel_create(&b->s.program, "lv_rays_trace_closest", &b->closest, st)) ||
-        (e = lvcl_kernel_create(&b->s.program, "lv_rays_trace_any", &b->any, st)) ||
-        (e = lvcl_kernel_create(&b->s.program, "lv_rays_secondary", &b->secondary, st)))
+    if ((e = lvcl_kernel_create(&b->s.devices[0].program, "lv_rays_primary", &b->primary, st)) ||
+        (e = lvcl_kernel_create(&b->s.devices[0].program, "lv_rays_trace_closest", &b->closest, st)) ||
+        (e = lvcl_kernel_create(&b->s.devices[0].program, "lv_rays_trace_any", &b->any, st)) ||
+        (e = lvcl_kernel_create(&b->s.devices[0].program, "lv_rays_secondary", &b->secondary, st)))
         return e;
     return LVCL_OK;
 }
@@ -276,7 +276,7 @@ static lvcl_error generate_secondary(bench *b, cl_mem primary, cl_mem primary_hi
     float offset = 1e-5f * diag;
     cl_uint n = (cl_uint)count;
     cl_kernel k = b->secondary;
-    int a = lvcl_device_scene_set_args(&b->s.device_scene, k, 0);
+    int a = lvcl_device_scene_set_args(&b->s.devices[0].device_scene, k, 0);
     if (a < 0 || clSetKernelArg(k, (cl_uint)a, sizeof primary, &primary) != CL_SUCCESS ||
         clSetKernelArg(k, (cl_uint)a + 1, sizeof primary_hits, &primary_hits) != CL_SUCCESS ||
         clSetKernelArg(k, (cl_uint)a + 2, sizeof hit_pixels, &hit_pixels) != CL_SUCCESS ||
@@ -308,7 +308,7 @@ static void print_setup(bench *b, int width, int height)
            "\"bvh_nodes\": %zu, \"bvh_build_seconds\": %.4f, \"kernel_build_seconds\": %.3f, "
            "\"kernel_from_cache\": %s, \"width\": %d, \"height\": %d, \"repeat\": %d",
            scene, b->device_json, b->s.scene.triangle_count, b->s.accel.triangle_count, b->s.accel.node_count,
-           b->s.bvh_build_seconds, b->s.program.build_seconds, b->s.program.from_cache ? "true" : "false", width,
+           b->s.bvh_build_seconds, b->s.devices[0].program.build_seconds, b->s.devices[0].program.from_cache ? "true" : "false", width,
            height, b->opt.repeat);
     if (b->embree)
         printf(", \"embree\": \"%s\", \"embree_build_seconds\": %.4f", bench_embree_method(),
@@ -385,7 +385,7 @@ int main(int argc, char **argv)
     if (!e) e = lvcl_session_open(&b.s, &scene, &cfg, &st);
     if (!e) e = create_kernels(&b, &st);
     if (!e) {
-        json_string(b.device_json, sizeof b.device_json, b.s.device.name);
+        json_string(b.device_json, sizeof b.device_json, b.s.devices[0].device.name);
         /* Embree is handed the triangles as stored: world space only in a flat scene. */
         if (b.s.scene.mesh_count == 0)
             b.embree = bench_embree_create(b.s.scene.positions, b.s.scene.vertex_count, b.s.scene.indices,

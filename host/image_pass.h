@@ -1,6 +1,7 @@
 /* The camera passes (path tracing, final gather): one sample per pixel per
  * launch, added to a running sum, until the sample count or the time limit
- * is reached. */
+ * is reached. On several devices the image is cut into bands of rows that
+ * the devices take one at a time as they finish (dynamic load balancing). */
 #ifndef LVCL_IMAGE_PASS_H
 #define LVCL_IMAGE_PASS_H
 
@@ -9,7 +10,7 @@
 
 typedef struct {
     int spp;
-    double time_limit; /* seconds, 0 = none */
+    double time_limit; /* seconds, 0 = none (one device only) */
     int progress;      /* draw a progress bar on stderr */
 } lvcl_pass_settings;
 
@@ -21,10 +22,20 @@ typedef struct {
     double render_seconds;
 } lvcl_render_result;
 
-/* Runs `kernel`, whose last three arguments, from index `camera_arg`, are
- * (lv_camera, uint sample index, __global float4 *sum); the caller has set
- * all the others. */
-lvcl_error lvcl_image_pass(const lvcl_device *dev, cl_kernel kernel, cl_uint camera_arg, const lv_camera *camera,
+/* One device's share of a pass. The kernel's last five arguments, from
+ * index camera_arg, are (lv_camera, uint first pixel, uint pixel count,
+ * uint sample index, __global float4 *sum); the caller has set the others.
+ * The pass fills in the work the device did. */
+typedef struct {
+    const lvcl_device *device;
+    cl_kernel kernel;
+    cl_uint camera_arg;
+    int tiles;           /* bands rendered */
+    size_t pixels;       /* pixels rendered */
+    double busy_seconds; /* time spent rendering them */
+} lvcl_pass_device;
+
+lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int device_count, const lv_camera *camera,
                            const lvcl_pass_settings *settings, lvcl_render_result *out, lvcl_status *st);
 
 #endif

@@ -215,9 +215,8 @@ static lvcl_error fill_bin_directions(const lvcl_device *dev, const lvcl_program
     return cl_ok(err, "computing the bin directions", st);
 }
 
-/* Runs lv_lit_volumes: every stored cell's lit volume, for the lookups. */
-static lvcl_error fill_lit_volumes(const lvcl_device *dev, const lvcl_program *prog, lvcl_light_volume *vol,
-                                   lvcl_status *st)
+lvcl_error lvcl_volume_finish(const lvcl_device *dev, const lvcl_program *prog, lvcl_light_volume *vol,
+                              lvcl_status *st)
 {
     cl_kernel k;
     lvcl_error e = lvcl_kernel_create(prog, "lv_lit_volumes", &k, st);
@@ -273,14 +272,15 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
         clReleaseMemObject(counter);
         return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the particle tracer's arguments");
     }
+    uint64_t last = s->particle_count ? s->first_particle + s->particle_count : s->particles;
     lvcl_progress bar;
     lvcl_progress_start(&bar, "particles", s->progress);
     double start = lvcl_seconds();
     vol->segments = vol->visibility_rays = 0;
-    for (uint64_t first = 0; first < s->particles; first += BATCH) {
+    for (uint64_t first = s->first_particle; first < last; first += BATCH) {
         /* 32-bit counts per batch cannot overflow; the totals are 64-bit. */
         cl_uint counts[2] = {0, 0};
-        cl_uint f = (cl_uint)first, count = (cl_uint)(s->particles - first < BATCH ? s->particles - first : BATCH);
+        cl_uint f = (cl_uint)first, count = (cl_uint)(last - first < BATCH ? last - first : BATCH);
         size_t local = LOCAL_SIZE, global = (count + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
         clSetKernelArg(k, (cl_uint)a + 4, sizeof f, &f);
         clSetKernelArg(k, (cl_uint)a + 5, sizeof count, &count);
@@ -293,14 +293,14 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
             break;
         vol->segments += counts[0];
         vol->visibility_rays += counts[1];
-        lvcl_progress_update(&bar, (double)(first + count), (double)s->particles, "particles");
+        lvcl_progress_update(&bar, (double)(first + count - s->first_particle), (double)(last - s->first_particle),
+                             "particles");
     }
     lvcl_progress_finish(&bar);
     clReleaseKernel(k);
     clReleaseMemObject(counter);
-    if (!e) e = fill_lit_volumes(dev, prog, vol, st);
     vol->trace_seconds = lvcl_seconds() - start;
-    vol->particles = s->particles;
+    vol->particles = last - s->first_particle;
     return e;
 }
 
@@ -349,6 +349,41 @@ double lvcl_volume_radiance(const lv_grid_info *g, int64_t tally, double lit_fra
     double omega = 2.0 * 3.14159265358979 / ((double)g->dirs * g->dirs);
     return (double)g->total_power * ((double)tally / LV_TALLY_SCALE) /
            ((double)g->cell_size * g->cell_size * lit_fraction * omega);
+}
+
+lvcl_error lvcl_volume_merge(const lvcl_device *const *devs, lvcl_light_volume *const *vols, int count,
+                             lvcl_status *st)
+{
+    int64_t *sum = NULL, *t = NULL;
+    uint32_t *rec_sum = NULL, *rec = NULL;
+    const lv_grid_info *g = &vols[0]->info;
+    size_t words = ((size_t)g->slot_count + 1) * LV_SUBCELL_STRIDE, tally_count = vols[0]->tally_bytes / sizeof(int64_t);
+    lvcl_error e = lvcl_volume_read(devs[0], vols[0], &sum, &rec_sum, st);
+    for (int d = 1; d < count && !e; d++) {
+        if ((e = lvcl_volume_read(devs[d], vols[d], &t, &rec, st))) break;
+        for (size_t i = 0; i < tally_count; i++) sum[i] += t[i];
+        for (size_t s = 0; s <= g->slot_count; s++) {
+            uint32_t *a = &rec_sum[s * LV_SUBCELL_STRIDE], *b = &rec[s * LV_SUBCELL_STRIDE];
+            a[0] |= b[0]; /* the masks */
+            a[1] |= b[1];
+            for (size_t w = 2; w < LV_SUBCELL_STRIDE; w++) a[w] += b[w]; /* the ray counters */
+        }
+        free(t);
+        free(rec);
+        t = NULL;
+        rec = NULL;
+    }
+    for (int d = 0; d < count && !e; d++) {
+        cl_int err = clEnqueueWriteBuffer(devs[d]->queue, vols[d]->tallies_buf, CL_TRUE, 0,
+                                          vols[d]->tally_bytes ? vols[d]->tally_bytes : 8, sum, 0, NULL, NULL);
+        if (err == CL_SUCCESS)
+            err = clEnqueueWriteBuffer(devs[d]->queue, vols[d]->subcell_buf, CL_TRUE, 0, words * sizeof(uint32_t),
+                                       rec_sum, 0, NULL, NULL);
+        e = cl_ok(err, "storing the merged light volume", st);
+    }
+    free(sum);
+    free(rec_sum);
+    return e;
 }
 
 void lvcl_volume_release(lvcl_light_volume *vol)

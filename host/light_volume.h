@@ -15,7 +15,8 @@ typedef struct {
     double offset;        /* shift of the grid against the bounds, in cells, [0, 1) */
     int dirs;             /* n: n x n bins per hemisphere */
     int subcells;         /* k: k x k x k subcells per cell (0 to 4), 0 = the lit volume is the whole cell */
-    uint64_t particles;
+    uint64_t particles;   /* in all, over every device */
+    uint64_t first_particle, particle_count; /* the part one device traces; count 0 = all */
     int store_emitted;    /* lv-all: tally the segments leaving the lights too */
     int progress;
 } lvcl_volume_settings;
@@ -40,9 +41,22 @@ typedef struct {
 lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *packed,
                               const lvcl_volume_settings *settings, lvcl_light_volume *vol, lvcl_status *st);
 
-/* Traces settings->particles particles into the (cleared) volume. */
+/* Traces settings->particles particles (or the range first_particle,
+ * particle_count of them) into the (cleared) volume. Particle i draws its
+ * random numbers from i alone, so ranges traced apart and added make the
+ * volume traced at once. */
 lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_device_scene *ds,
                              const lvcl_volume_settings *settings, lvcl_light_volume *vol, lvcl_status *st);
+
+/* After the trace: the per-cell lit volumes the lookups read. */
+lvcl_error lvcl_volume_finish(const lvcl_device *dev, const lvcl_program *prog, lvcl_light_volume *vol,
+                              lvcl_status *st);
+
+/* Adds the tallies and subcell records of every volume (the same grid on
+ * several devices, each with its own particles) and stores the sum in each.
+ * Integer tallies and counters make the sum exact and order-free. */
+lvcl_error lvcl_volume_merge(const lvcl_device *const *devs, lvcl_light_volume *const *vols, int count,
+                             lvcl_status *st);
 
 /* Reads the tallies back (slot_count x bins x 3 int64, malloc'ed) and, if
  * masks is not NULL, the subcell records (LV_SUBCELL_STRIDE words per slot). */

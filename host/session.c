@@ -1,6 +1,9 @@
 #include "session.h"
 
 #include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -18,6 +21,50 @@ lvcl_error lvcl_scene_load(const char *name, lvcl_scene *scene, lvcl_status *st)
                      lvcl_embedded_scene_names());
 }
 
+/* The device indices that spec names ("all", or a comma-separated list),
+ * or 0 if it names a single device for lvcl_device_open. */
+static int device_list(const char *spec, int *indices, lvcl_status *st, lvcl_error *e)
+{
+    *e = LVCL_OK;
+    if (!spec || (strcmp(spec, "all") && !strchr(spec, ','))) return 0;
+    int n = 0;
+    if (!strcmp(spec, "all")) {
+        int count = lvcl_device_count();
+        if (count == 0) *e = lvcl_fail(st, LVCL_ERR_DEVICE, "no OpenCL device found");
+        for (; n < count && n < LVCL_MAX_DEVICES; n++) indices[n] = n;
+        return n;
+    }
+    for (const char *p = spec; *p;) {
+        char *end;
+        long v = strtol(p, &end, 10);
+        if (end == p || v < 0 || (*end && *end != ',')) {
+            *e = lvcl_fail(st, LVCL_ERR_USAGE, "bad device list '%s' (expected indices like 0,2, or all)", spec);
+            return 0;
+        }
+        for (int k = 0; k < n; k++)
+            if (indices[k] == v) *e = lvcl_fail(st, LVCL_ERR_USAGE, "device %ld is listed twice in '%s'", v, spec);
+        if (n == LVCL_MAX_DEVICES) *e = lvcl_fail(st, LVCL_ERR_USAGE, "more than %d devices in '%s'", LVCL_MAX_DEVICES, spec);
+        if (*e) return 0;
+        indices[n++] = (int)v;
+        p = *end ? end + 1 : end;
+    }
+    return n;
+}
+
+/* Opens one device and makes the packed scene ready on it. */
+static lvcl_error open_device(lvcl_session *s, const char *spec, const lvcl_session_config *cfg,
+                              lvcl_session_device *sd, lvcl_status *st)
+{
+    lvcl_error e;
+    if ((e = lvcl_device_open(spec, &sd->device, st))) return e;
+    if (cfg->device_memory) {
+        if (sd->device.global_mem > cfg->device_memory) sd->device.global_mem = cfg->device_memory;
+        if (sd->device.max_alloc > cfg->device_memory) sd->device.max_alloc = cfg->device_memory;
+    }
+    if ((e = lvcl_device_scene_upload(&sd->device, &s->scene, &s->packed, &sd->device_scene, st))) return e;
+    return lvcl_program_build(&sd->device, s->features, cfg->fast_math, &sd->program, st);
+}
+
 lvcl_error lvcl_session_open(lvcl_session *s, lvcl_scene *scene, const lvcl_session_config *cfg, lvcl_status *st)
 {
     memset(s, 0, sizeof *s);
@@ -25,20 +72,26 @@ lvcl_error lvcl_session_open(lvcl_session *s, lvcl_scene *scene, const lvcl_sess
     memset(scene, 0, sizeof *scene);
 
     lvcl_error e;
+    int indices[LVCL_MAX_DEVICES];
+    int n = device_list(cfg->device, indices, st, &e);
+    if (e) goto fail;
     double t = lvcl_seconds();
     if ((e = lvcl_accel_build(&s->scene, &s->accel, st))) goto fail;
     s->bvh_build_seconds = lvcl_seconds() - t;
     if (s->accel.skipped) lvcl_warn("%zu triangles of zero area or with non-finite vertices left out", s->accel.skipped);
-
-    if ((e = lvcl_device_open(cfg->device, &s->device, st))) goto fail;
-    if (cfg->device_memory) {
-        if (s->device.global_mem > cfg->device_memory) s->device.global_mem = cfg->device_memory;
-        if (s->device.max_alloc > cfg->device_memory) s->device.max_alloc = cfg->device_memory;
-    }
     if ((e = lvcl_pack_scene(&s->scene, &s->accel, cfg->seed, (uint32_t)cfg->max_depth, &s->packed, st))) goto fail;
-    if ((e = lvcl_device_scene_upload(&s->device, &s->scene, &s->packed, &s->device_scene, st))) goto fail;
     s->features = lvcl_scene_features(&s->scene);
-    if ((e = lvcl_program_build(&s->device, s->features, cfg->fast_math, &s->program, st))) goto fail;
+    if (n == 0) {
+        s->device_count = 1;
+        if ((e = open_device(s, cfg->device, cfg, &s->devices[0], st))) goto fail;
+        return LVCL_OK;
+    }
+    for (int d = 0; d < n; d++) {
+        char spec[16];
+        snprintf(spec, sizeof spec, "%d", indices[d]);
+        s->device_count = d + 1;
+        if ((e = open_device(s, spec, cfg, &s->devices[d], st))) goto fail;
+    }
     return LVCL_OK;
 fail:
     lvcl_session_close(s);
@@ -47,22 +100,93 @@ fail:
 
 /* Sets a camera pass kernel's scene arguments (and the light volume's, for
  * the gather); returns the index of its camera argument, or -1. */
-static int set_pass_args(lvcl_session *s, cl_kernel k, const lvcl_render_request *req)
+static int set_pass_args(lvcl_session_device *sd, cl_kernel k, const lvcl_render_request *req)
 {
-    int a = lvcl_device_scene_set_args(&s->device_scene, k, 0);
+    int a = lvcl_device_scene_set_args(&sd->device_scene, k, 0);
     if (a < 0 || req->mode == LVCL_MODE_PT) return a;
+    const lvcl_light_volume *v = &sd->volume;
     cl_uint i = (cl_uint)a;
     cl_uint flags = (req->mode == LVCL_MODE_LV_ALL ? 1u : 0u) | (req->integrate ? 2u : 0u);
-    float threshold = (float)(req->threshold > 0 ? req->threshold : sqrt(3.0) * s->volume.info.cell_size);
-    if (clSetKernelArg(k, i, sizeof s->volume.info, &s->volume.info) ||
-        clSetKernelArg(k, i + 1, sizeof(cl_mem), &s->volume.cell_slot_buf) ||
-        clSetKernelArg(k, i + 2, sizeof(cl_mem), &s->volume.tallies_buf) ||
-        clSetKernelArg(k, i + 3, sizeof(cl_mem), &s->volume.subcell_buf) ||
-        clSetKernelArg(k, i + 4, sizeof(cl_mem), &s->volume.lit_volume_buf) ||
-        clSetKernelArg(k, i + 5, sizeof(cl_mem), &s->volume.bin_directions_buf) ||
+    float threshold = (float)(req->threshold > 0 ? req->threshold : sqrt(3.0) * v->info.cell_size);
+    if (clSetKernelArg(k, i, sizeof v->info, &v->info) || clSetKernelArg(k, i + 1, sizeof(cl_mem), &v->cell_slot_buf) ||
+        clSetKernelArg(k, i + 2, sizeof(cl_mem), &v->tallies_buf) ||
+        clSetKernelArg(k, i + 3, sizeof(cl_mem), &v->subcell_buf) ||
+        clSetKernelArg(k, i + 4, sizeof(cl_mem), &v->lit_volume_buf) ||
+        clSetKernelArg(k, i + 5, sizeof(cl_mem), &v->bin_directions_buf) ||
         clSetKernelArg(k, i + 6, sizeof flags, &flags) || clSetKernelArg(k, i + 7, sizeof threshold, &threshold))
         return -1;
     return (int)i + 8;
+}
+
+typedef struct {
+    lvcl_session_device *sd;
+    lvcl_volume_settings vs;
+    lvcl_error e;
+    lvcl_status st;
+} trace_job;
+
+static void *trace_part(void *arg)
+{
+    trace_job *j = arg;
+    lvcl_session_device *sd = j->sd;
+    j->e = lvcl_volume_trace(&sd->device, &sd->program, &sd->device_scene, &j->vs, &sd->volume, &j->st);
+    return NULL;
+}
+
+/* The light volume on every device: each traces its share of the particles
+ * (in proportion to its compute units, a contiguous range of particle
+ * indices), then the tallies are added and stored on each. */
+static lvcl_error build_volume(lvcl_session *s, const lvcl_volume_settings *settings, lvcl_status *st)
+{
+    lvcl_error e = LVCL_OK;
+    int n = s->device_count;
+    for (int d = 0; d < n && !e; d++) {
+        lvcl_volume_release(&s->devices[d].volume);
+        e = lvcl_volume_create(&s->devices[d].device, &s->packed, settings, &s->devices[d].volume, st);
+    }
+    if (e) return e;
+    trace_job jobs[LVCL_MAX_DEVICES];
+    double units = 0;
+    for (int d = 0; d < n; d++) units += s->devices[d].device.compute_units ? s->devices[d].device.compute_units : 1;
+    uint64_t first = 0;
+    for (int d = 0; d < n; d++) {
+        double share = (s->devices[d].device.compute_units ? s->devices[d].device.compute_units : 1) / units;
+        uint64_t count = d == n - 1 ? settings->particles - first : (uint64_t)(settings->particles * share);
+        jobs[d] = (trace_job){.sd = &s->devices[d], .vs = *settings};
+        jobs[d].vs.first_particle = first;
+        jobs[d].vs.particle_count = count ? count : 0;
+        jobs[d].vs.progress = settings->progress && d == 0;
+        first += count;
+    }
+    if (n == 1) {
+        trace_part(&jobs[0]);
+    } else {
+        pthread_t threads[LVCL_MAX_DEVICES];
+        int started = 0;
+        for (; started < n; started++)
+            if (pthread_create(&threads[started], NULL, trace_part, &jobs[started])) break;
+        for (int d = 0; d < started; d++) pthread_join(threads[d], NULL);
+        if (started < n) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "cannot start a thread per device");
+    }
+    for (int d = 0; d < n; d++)
+        if (jobs[d].e) {
+            *st = jobs[d].st;
+            return jobs[d].e;
+        }
+    if (n > 1) {
+        const lvcl_device *devs[LVCL_MAX_DEVICES];
+        lvcl_light_volume *vols[LVCL_MAX_DEVICES];
+        for (int d = 0; d < n; d++) {
+            devs[d] = &s->devices[d].device;
+            vols[d] = &s->devices[d].volume;
+        }
+        double t = lvcl_seconds();
+        if ((e = lvcl_volume_merge(devs, vols, n, st))) return e;
+        s->merge_seconds = lvcl_seconds() - t;
+    }
+    for (int d = 0; d < n && !e; d++)
+        e = lvcl_volume_finish(&s->devices[d].device, &s->devices[d].program, &s->devices[d].volume, st);
+    return e;
 }
 
 lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
@@ -70,23 +194,32 @@ lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, 
 {
     lvcl_error e;
     if (req->mode != LVCL_MODE_PT) {
-        lvcl_volume_release(&s->volume);
         lvcl_volume_settings vs = req->volume;
         vs.store_emitted = req->mode == LVCL_MODE_LV_ALL;
-        if ((e = lvcl_volume_create(&s->device, &s->packed, &vs, &s->volume, st)) ||
-            (e = lvcl_volume_trace(&s->device, &s->program, &s->device_scene, &vs, &s->volume, st)))
-            return e;
+        if ((e = build_volume(s, &vs, st))) return e;
     }
     int w, h;
     lvcl_image_size(&s->scene.camera, req->width, req->height, &w, &h);
     lv_camera cam = lvcl_camera_make(&s->scene.camera, s->packed.bounds_min, s->packed.bounds_max, w, h);
-    cl_kernel k;
-    if ((e = lvcl_kernel_create(&s->program, req->mode == LVCL_MODE_PT ? "lv_pt_pass" : "lv_gather_pass", &k, st)))
-        return e;
-    int camera_arg = set_pass_args(s, k, req);
-    e = camera_arg < 0 ? lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the camera pass's arguments")
-                       : lvcl_image_pass(&s->device, k, (cl_uint)camera_arg, &cam, &req->pass, out, st);
-    clReleaseKernel(k);
+    lvcl_pass_device passes[LVCL_MAX_DEVICES];
+    memset(passes, 0, sizeof passes);
+    e = LVCL_OK;
+    for (int d = 0; d < s->device_count && !e; d++) {
+        lvcl_session_device *sd = &s->devices[d];
+        passes[d].device = &sd->device;
+        if ((e = lvcl_kernel_create(&sd->program, req->mode == LVCL_MODE_PT ? "lv_pt_pass" : "lv_gather_pass",
+                                    &passes[d].kernel, st)))
+            break;
+        int camera_arg = set_pass_args(sd, passes[d].kernel, req);
+        if (camera_arg < 0) e = lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the camera pass's arguments");
+        passes[d].camera_arg = (cl_uint)camera_arg;
+    }
+    if (!e) e = lvcl_image_pass(passes, s->device_count, &cam, &req->pass, out, st);
+    for (int d = 0; d < s->device_count; d++) {
+        if (passes[d].kernel) clReleaseKernel(passes[d].kernel);
+        passes[d].kernel = NULL;
+        s->devices[d].pass = passes[d];
+    }
     return e;
 }
 
@@ -103,10 +236,13 @@ lvcl_error lvcl_session_render_pt(lvcl_session *s, int width, int height, const 
 
 void lvcl_session_close(lvcl_session *s)
 {
-    lvcl_volume_release(&s->volume);
-    lvcl_program_release(&s->program);
-    lvcl_device_scene_release(&s->device_scene);
-    lvcl_device_close(&s->device);
+    for (int d = 0; d < s->device_count; d++) {
+        lvcl_session_device *sd = &s->devices[d];
+        lvcl_volume_release(&sd->volume);
+        lvcl_program_release(&sd->program);
+        lvcl_device_scene_release(&sd->device_scene);
+        lvcl_device_close(&sd->device);
+    }
     lvcl_packed_scene_free(&s->packed);
     lvcl_accel_free(&s->accel);
     lvcl_scene_free(&s->scene);

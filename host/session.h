@@ -1,6 +1,6 @@
-/* A rendering session: a scene made ready on one device (BVH built, buffers
- * uploaded, kernels built) and the passes run on it. lvcl's main, the tests
- * and the benchmarks all render through this. */
+/* A rendering session: a scene made ready on one or more devices (BVHs
+ * built once, buffers uploaded and kernels built on each) and the passes run
+ * on them. lvcl's main, the tests and the benchmarks all render through this. */
 #ifndef LVCL_SESSION_H
 #define LVCL_SESSION_H
 
@@ -13,21 +13,31 @@
 #include "scene.h"
 
 typedef struct {
-    const char *device;  /* --device value, NULL for the default */
+    const char *device;  /* --device value: cpu, gpu, an index, a list "0,2" or "all"; NULL for the default */
     unsigned seed;
     int max_depth;
     int fast_math;
     uint64_t device_memory; /* bytes the scene and light volume may use; 0 = what the device has */
 } lvcl_session_config;
 
+/* The scene on one device, and that device's share of the last render. */
+typedef struct {
+    lvcl_device device;
+    lvcl_device_scene device_scene;
+    lvcl_program program;
+    lvcl_light_volume volume; /* lv modes only; its particles and timings are this device's */
+    lvcl_pass_device pass;    /* bands, pixels and time of the last camera pass */
+} lvcl_session_device;
+
+#define LVCL_MAX_DEVICES 16
+
 typedef struct {
     lvcl_scene scene;
     lvcl_accel accel;
     lvcl_packed_scene packed;
-    lvcl_device device;
-    lvcl_device_scene device_scene;
-    lvcl_program program;
-    lvcl_light_volume volume; /* lv modes only */
+    lvcl_session_device devices[LVCL_MAX_DEVICES];
+    int device_count;
+    double merge_seconds;     /* adding the devices' light volumes */
     unsigned features;
     double bvh_build_seconds;
 } lvcl_session;

@@ -1,17 +1,18 @@
-/* The final gather (paper section 5): camera rays, one sample per pixel per
- * launch, with the light volume answering at rough surfaces. */
+/* The final gather (paper section 5): camera rays, one sample per pixel of
+ * the range [first_pixel, first_pixel + pixel_count) per launch, with the
+ * light volume answering at rough surfaces. */
 #include "path.h"
 
 __kernel void lv_gather_pass(LV_SCENE_PARAMS, lv_grid_info grid_info, __global const uint *cell_slot,
                              __global const long *tallies, __global uint *subcells,
                              __global const float *lit_volume,
                              __global const float4 *bin_directions, uint flags,
-                             float threshold, lv_camera camera,
+                             float threshold, lv_camera camera, uint first_pixel, uint pixel_count,
                              uint sample_index, __global float4 *sum)
 {
     LV_SCENE_OPEN(sc);
-    uint pixel = get_global_id(0);
-    if (pixel >= camera.width * camera.height) return;
+    if (get_global_id(0) >= pixel_count) return;
+    uint pixel = first_pixel + (uint)get_global_id(0);
     lv_gather g;
     g.grid.g = grid_info;
     g.grid.cell_slot = cell_slot;

@@ -1,12 +1,15 @@
-/* The path-tracing pass: one work-item per pixel, one sample per launch,
- * added to a running sum per pixel (no atomics: each pixel has one owner). */
+/* The path-tracing pass: one work-item per pixel of the range [first_pixel,
+ * first_pixel + pixel_count) (a tile, or the whole image), one sample per
+ * launch, added to a running sum per pixel (no atomics: each pixel has one
+ * owner). */
 #include "path.h"
 
-__kernel void lv_pt_pass(LV_SCENE_PARAMS, lv_camera camera, uint sample_index, __global float4 *sum)
+__kernel void lv_pt_pass(LV_SCENE_PARAMS, lv_camera camera, uint first_pixel, uint pixel_count, uint sample_index,
+                         __global float4 *sum)
 {
     LV_SCENE_OPEN(sc);
-    uint pixel = get_global_id(0);
-    if (pixel >= camera.width * camera.height) return;
+    if (get_global_id(0) >= pixel_count) return;
+    uint pixel = first_pixel + (uint)get_global_id(0);
     lv_rng rng = lv_rng_make(sc.info.seed, pixel, sample_index);
     lv_ray r = lv_camera_ray(camera, pixel % camera.width, pixel / camera.width, lv_rng_next2(&rng));
     float3 l = lv_path_radiance(&sc, r, &rng, sc.info.max_depth, 0);

@@ -50,6 +50,11 @@ expect_error "zero particles" 2 --mode lv --particles 0 cornell
 expect_error "too many direction bins" 2 --mode lv --dirs 65 cornell
 expect_error "grid offset out of range" 2 --mode lv --grid-offset 1.5 cornell
 expect_error "unknown device name" 2 --device tpu cornell
+expect_error "bad device list" 2 --device 0,x cornell
+expect_error "device listed twice" 2 --device 0,0 cornell
+expect_error "device list out of range" 1 --device 0,99 cornell
+(export POCL_DEVICES="pthread basic"
+ expect_error "time limit on several devices" 2 --device 0,1 --time-limit 1 --spp 1 --width 8 cornell)
 expect_error "device index out of range" 1 --device 99 cornell
 expect_error "unwritable output" 1 --spp 1 --width 8 -o "$tmp/no/such/dir/x.png" cornell
 expect_error "unknown output format" 1 --spp 1 --width 8 -o "$tmp/x.unknownformat" cornell

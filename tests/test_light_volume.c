@@ -24,11 +24,14 @@ static int trace(lvcl_scene *scene, const char *device, unsigned seed, const lvc
     lvcl_status st = {0};
     lvcl_session_config cfg = {device, seed, 64, 1};
     memset(tv, 0, sizeof *tv);
-    if (lvcl_session_open(&tv->session, scene, &cfg, &st) ||
-        lvcl_volume_create(&tv->session.device, &tv->session.packed, vs, &tv->volume, &st) ||
-        lvcl_volume_trace(&tv->session.device, &tv->session.program, &tv->session.device_scene, vs, &tv->volume,
-                          &st) ||
-        lvcl_volume_read(&tv->session.device, &tv->volume, &tv->tallies, &tv->masks, &st)) {
+    if (lvcl_session_open(&tv->session, scene, &cfg, &st)) {
+        CHECK("light volume trace", 0, "%s", st.message);
+        return 0;
+    }
+    lvcl_session_device *sd = &tv->session.devices[0];
+    if (lvcl_volume_create(&sd->device, &tv->session.packed, vs, &tv->volume, &st) ||
+        lvcl_volume_trace(&sd->device, &sd->program, &sd->device_scene, vs, &tv->volume, &st) ||
+        lvcl_volume_read(&sd->device, &tv->volume, &tv->tallies, &tv->masks, &st)) {
         CHECK("light volume trace", 0, "%s", st.message);
         return 0;
     }
