@@ -9,7 +9,7 @@ CXXFLAGS ?= -O2 -g
 WARN := -Wall -Wextra -Wno-missing-field-initializers -Wno-format-truncation
 ALL_CFLAGS := -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) $(CFLAGS)
 ALL_CXXFLAGS := -std=c++17 $(WARN) $(CXXFLAGS)
-LIBS := -lOpenCL -lOpenImageIO -lOpenImageIO_Util -ltinygltf -lstdc++ -lm
+LIBS := -lOpenCL -lOpenImageIO -lOpenImageIO_Util -ltinygltf -lstdc++ -lm -lpthread
 
 # Debian packages lvcl needs to build and run.
 DEBIAN_PACKAGES := build-essential pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers \

@@ -40,8 +40,8 @@ def lvcl_stats(build, env, args, tmp):
 
 
 def rays(build, env, device, scene):
-    out = subprocess.run([os.path.join(build, "lvcl-bench"), "rays", "--device", str(device), "--width", "512",
-                          "--repeat", "3", scene], env=env, check=True, capture_output=True, text=True).stdout
+    out = subprocess.run([os.path.join(build, "lvcl-bench"), "rays", "--device", str(device), "--width", "1024",
+                          "--repeat", "5", scene], env=env, check=True, capture_output=True, text=True).stdout
     result = {}
     for line in out.splitlines():
         r = json.loads(line)

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "parallel.h"
 #include "progress.h"
 #include "timer.h"
 
@@ -168,17 +169,7 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
     if (!e) {
         lvcl_progress_start(&ps.bar, "render", settings->progress);
         ps.start = lvcl_seconds();
-        pthread_t *threads = calloc((size_t)n, sizeof *threads);
-        int started = 0;
-        if (n == 1) {
-            render_bands(&workers[0]);
-        } else if (threads) {
-            for (; started < n; started++)
-                if (pthread_create(&threads[started], NULL, render_bands, &workers[started])) break;
-            if (started < n) ps.failed = 1; /* the running ones stop after their band */
-            for (int d = 0; d < started; d++) pthread_join(threads[d], NULL);
-        }
-        free(threads);
+        int threads_failed = lvcl_run_parallel(render_bands, workers, sizeof workers[0], n);
         lvcl_progress_finish(&ps.bar);
         out->render_seconds = lvcl_seconds() - ps.start;
         out->first_launch_seconds = ps.first_launch_seconds;
@@ -188,8 +179,7 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
                 *st = workers[d].st;
                 e = workers[d].e;
             }
-        if (!e && n > 1 && (!threads || started < n))
-            e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "cannot start a thread per device");
+        if (!e && threads_failed) e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "cannot start a thread per device");
         if (!e) e = gather_image(workers, n, &ps, out, st);
     }
     if (!e) {

@@ -1,7 +1,6 @@
 #include "session.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,6 +8,7 @@
 
 #include "embedded_scenes.h"
 #include "materials.h"
+#include "parallel.h"
 #include "timer.h"
 
 lvcl_error lvcl_scene_load(const char *name, lvcl_scene *scene, lvcl_status *st)
@@ -158,16 +158,8 @@ static lvcl_error build_volume(lvcl_session *s, const lvcl_volume_settings *sett
         jobs[d].vs.progress = settings->progress && d == 0;
         first += count;
     }
-    if (n == 1) {
-        trace_part(&jobs[0]);
-    } else {
-        pthread_t threads[LVCL_MAX_DEVICES];
-        int started = 0;
-        for (; started < n; started++)
-            if (pthread_create(&threads[started], NULL, trace_part, &jobs[started])) break;
-        for (int d = 0; d < started; d++) pthread_join(threads[d], NULL);
-        if (started < n) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "cannot start a thread per device");
-    }
+    if (lvcl_run_parallel(trace_part, jobs, sizeof jobs[0], n))
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "cannot start a thread per device");
     for (int d = 0; d < n; d++)
         if (jobs[d].e) {
             *st = jobs[d].st;

@@ -111,3 +111,15 @@ double harness_uniform(harness_rng *r)
     z ^= z >> 31;
     return (double)(z >> 11) * 0x1.0p-53;
 }
+
+lvcl_error harness_render(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_render_request *req,
+                          lvcl_render_result *out, lvcl_status *st)
+{
+    lvcl_session s;
+    lvcl_session_config cfg = {device, seed, 64, 1};
+    memset(out, 0, sizeof *out);
+    lvcl_error e = lvcl_session_open(&s, scene, &cfg, st);
+    if (!e) e = lvcl_session_render(&s, req, out, st);
+    lvcl_session_close(&s);
+    return e;
+}

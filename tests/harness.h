@@ -19,6 +19,11 @@ void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *scene);
 void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_scene *scene,
                    const char *kernel_name, const float *rays, size_t count, float *results);
 
+/* Opens a session on `scene` (consumed) on `device` with `seed` and renders
+ * req into out (zeroed on failure, with st saying why). */
+lvcl_error harness_render(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_render_request *req,
+                          lvcl_render_result *out, lvcl_status *st);
+
 /* Runs a 1-D kernel over `global` items (padded to 64) and waits. */
 void harness_run(const lvcl_device *dev, cl_kernel k, size_t global);
 

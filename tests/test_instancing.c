@@ -251,22 +251,18 @@ static int instanced_cornell(lvcl_scene *s)
 static int render(lvcl_scene *scene, lvcl_mode mode, unsigned seed, float **rgb)
 {
     lvcl_status st = {0};
-    lvcl_session s;
-    lvcl_session_config cfg = {NULL, seed, 64, 1};
     lvcl_render_request req = {0};
     req.mode = mode;
     req.width = req.height = 48;
     req.pass.spp = mode == LVCL_MODE_PT ? 64 : 16;
     req.volume = (lvcl_volume_settings){.cells = 16, .dirs = 8, .subcells = 4, .particles = 200000};
     req.integrate = 1;
-    lvcl_render_result r = {0};
+    lvcl_render_result r;
     *rgb = NULL;
-    if (lvcl_session_open(&s, scene, &cfg, &st) || lvcl_session_render(&s, &req, &r, &st)) {
+    if (harness_render(scene, NULL, seed, &req, &r, &st)) {
         CHECK("instanced render", 0, "%s", st.message);
-        lvcl_session_close(&s);
         return 0;
     }
-    lvcl_session_close(&s);
     *rgb = r.rgb;
     return 1;
 }

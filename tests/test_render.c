@@ -28,25 +28,31 @@ static int all_finite(const image *im)
 
 /* Renders `scene` (consumed) with the path tracer; returns 0 and leaves
  * im->rgb NULL on failure, after a FAIL line. */
-static int render(const char *what, lvcl_scene *scene, const char *device, unsigned seed, int width, int height,
-                  int spp, image *im)
+static int render_request(const char *what, lvcl_scene *scene, const char *device, unsigned seed,
+                          const lvcl_render_request *req, image *im)
 {
     lvcl_status st = {0};
-    lvcl_session s;
-    lvcl_session_config cfg = {device, seed, 64, 1};
-    lvcl_render_result r = {0};
-    lvcl_pass_settings ps = {spp, 0.0, 0};
+    lvcl_render_result r;
     memset(im, 0, sizeof *im);
-    if (lvcl_session_open(&s, scene, &cfg, &st) || lvcl_session_render_pt(&s, width, height, &ps, &r, &st)) {
+    if (harness_render(scene, device, seed, req, &r, &st)) {
         CHECK(what, 0, "render failed: %s", st.message);
-        lvcl_session_close(&s);
         return 0;
     }
-    lvcl_session_close(&s);
     im->rgb = r.rgb;
     im->width = r.width;
     im->height = r.height;
     return 1;
+}
+
+static int render(const char *what, lvcl_scene *scene, const char *device, unsigned seed, int width, int height,
+                  int spp, image *im)
+{
+    lvcl_render_request req = {0};
+    req.mode = LVCL_MODE_PT;
+    req.width = width;
+    req.height = height;
+    req.pass.spp = spp;
+    return render_request(what, scene, device, seed, &req, im);
 }
 
 static int load(const char *name, lvcl_scene *scene)
@@ -147,27 +153,13 @@ static int render_lv(const char *what, lvcl_mode mode, const char *device, unsig
 {
     lvcl_scene scene;
     if (!load("cornell", &scene)) return 0;
-    lvcl_status st = {0};
-    lvcl_session s;
-    lvcl_session_config cfg = {device, seed, 64, 1};
     lvcl_render_request req = {0};
     req.mode = mode;
     req.width = req.height = 48;
     req.pass.spp = 8;
     req.volume = (lvcl_volume_settings){.cells = 16, .dirs = 8, .subcells = 4, .particles = 100000};
     req.integrate = 1;
-    lvcl_render_result r = {0};
-    memset(im, 0, sizeof *im);
-    if (lvcl_session_open(&s, &scene, &cfg, &st) || lvcl_session_render(&s, &req, &r, &st)) {
-        CHECK(what, 0, "render failed: %s", st.message);
-        lvcl_session_close(&s);
-        return 0;
-    }
-    lvcl_session_close(&s);
-    im->rgb = r.rgb;
-    im->width = r.width;
-    im->height = r.height;
-    return 1;
+    return render_request(what, &scene, device, seed, &req, im);
 }
 
 /* Every device renders what device 0 renders, for the same seed, with the
