@@ -231,6 +231,35 @@ lvcl_error lvcl_volume_finish(const lvcl_device *dev, const lvcl_program *prog, 
     return cl_ok(err, "computing the lit volumes", st);
 }
 
+void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t particles)
+{
+    pthread_mutex_init(&src->lock, NULL);
+    src->next = 0;
+    src->end = particles;
+}
+
+void lvcl_particle_source_destroy(lvcl_particle_source *src)
+{
+    pthread_mutex_destroy(&src->lock);
+}
+
+/* The next batch of particle indices: from the shared source, or else the
+ * next slice of all the particles (cursor). Returns 0 when none is left. */
+static int next_batch(const lvcl_volume_settings *s, uint64_t *cursor, uint64_t *first, cl_uint *count)
+{
+    uint64_t end = s->particles;
+    if (s->source) {
+        pthread_mutex_lock(&s->source->lock);
+        cursor = &s->source->next;
+        end = s->source->end;
+    }
+    *first = *cursor;
+    *count = (cl_uint)(end - *cursor < BATCH ? end - *cursor : BATCH);
+    *cursor += *count;
+    if (s->source) pthread_mutex_unlock(&s->source->lock);
+    return *count > 0;
+}
+
 lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_device_scene *ds,
                              const lvcl_volume_settings *s, lvcl_light_volume *vol, lvcl_status *st)
 {
@@ -272,15 +301,16 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
         clReleaseMemObject(counter);
         return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the particle tracer's arguments");
     }
-    uint64_t last = s->particle_count ? s->first_particle + s->particle_count : s->particles;
     lvcl_progress bar;
     lvcl_progress_start(&bar, "particles", s->progress);
     double start = lvcl_seconds();
-    vol->segments = vol->visibility_rays = 0;
-    for (uint64_t first = s->first_particle; first < last; first += BATCH) {
+    vol->segments = vol->visibility_rays = vol->particles = 0;
+    uint64_t cursor = 0, first;
+    cl_uint count;
+    while (next_batch(s, &cursor, &first, &count)) {
         /* 32-bit counts per batch cannot overflow; the totals are 64-bit. */
         cl_uint counts[2] = {0, 0};
-        cl_uint f = (cl_uint)first, count = (cl_uint)(last - first < BATCH ? last - first : BATCH);
+        cl_uint f = (cl_uint)first;
         size_t local = LOCAL_SIZE, global = (count + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
         clSetKernelArg(k, (cl_uint)a + 4, sizeof f, &f);
         clSetKernelArg(k, (cl_uint)a + 5, sizeof count, &count);
@@ -293,14 +323,13 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
             break;
         vol->segments += counts[0];
         vol->visibility_rays += counts[1];
-        lvcl_progress_update(&bar, (double)(first + count - s->first_particle), (double)(last - s->first_particle),
-                             "particles");
+        vol->particles += count;
+        lvcl_progress_update(&bar, (double)(first + count), (double)s->particles, "particles");
     }
     lvcl_progress_finish(&bar);
     clReleaseKernel(k);
     clReleaseMemObject(counter);
     vol->trace_seconds = lvcl_seconds() - start;
-    vol->particles = last - s->first_particle;
     return e;
 }
 

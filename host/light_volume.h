@@ -4,10 +4,21 @@
 #ifndef LVCL_LIGHT_VOLUME_H
 #define LVCL_LIGHT_VOLUME_H
 
+#include <pthread.h>
 #include <stdint.h>
 
 #include "device_scene.h"
 #include "program.h"
+
+/* Hands out batches of particle indices to the devices tracing one volume
+ * together, so that a faster device traces more (lvcl_particle_source_init). */
+typedef struct {
+    pthread_mutex_t lock;
+    uint64_t next, end;
+} lvcl_particle_source;
+
+void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t particles);
+void lvcl_particle_source_destroy(lvcl_particle_source *src);
 
 typedef struct {
     int cells;            /* cells along the longest axis (used if cell_size is 0) */
@@ -16,7 +27,7 @@ typedef struct {
     int dirs;             /* n: n x n bins per hemisphere */
     int subcells;         /* k: k x k x k subcells per cell (0 to 4), 0 = the lit volume is the whole cell */
     uint64_t particles;   /* in all, over every device */
-    uint64_t first_particle, particle_count; /* the part one device traces; count 0 = all */
+    lvcl_particle_source *source; /* several devices: take batches from here; NULL: trace them all */
     int store_emitted;    /* lv-all: tally the segments leaving the lights too */
     int progress;
 } lvcl_volume_settings;
@@ -41,10 +52,10 @@ typedef struct {
 lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *packed,
                               const lvcl_volume_settings *settings, lvcl_light_volume *vol, lvcl_status *st);
 
-/* Traces settings->particles particles (or the range first_particle,
- * particle_count of them) into the (cleared) volume. Particle i draws its
- * random numbers from i alone, so ranges traced apart and added make the
- * volume traced at once. */
+/* Traces settings->particles particles (or the batches it takes from
+ * settings->source) into the (cleared) volume. Particle i draws its random
+ * numbers from i alone, so batches traced apart and added make the volume
+ * traced at once. */
 lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_device_scene *ds,
                              const lvcl_volume_settings *settings, lvcl_light_volume *vol, lvcl_status *st);
 

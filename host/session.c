@@ -133,9 +133,9 @@ static void *trace_part(void *arg)
     return NULL;
 }
 
-/* The light volume on every device: each traces its share of the particles
- * (in proportion to its compute units, a contiguous range of particle
- * indices), then the tallies are added and stored on each. */
+/* The light volume on every device: each takes batches of particles until
+ * none is left (a faster device takes more), then the tallies are added and
+ * stored on each. */
 static lvcl_error build_volume(lvcl_session *s, const lvcl_volume_settings *settings, lvcl_status *st)
 {
     lvcl_error e = LVCL_OK;
@@ -146,20 +146,16 @@ static lvcl_error build_volume(lvcl_session *s, const lvcl_volume_settings *sett
     }
     if (e) return e;
     trace_job jobs[LVCL_MAX_DEVICES];
-    double units = 0;
-    for (int d = 0; d < n; d++) units += s->devices[d].device.compute_units ? s->devices[d].device.compute_units : 1;
-    uint64_t first = 0;
+    lvcl_particle_source source;
+    lvcl_particle_source_init(&source, settings->particles);
     for (int d = 0; d < n; d++) {
-        double share = (s->devices[d].device.compute_units ? s->devices[d].device.compute_units : 1) / units;
-        uint64_t count = d == n - 1 ? settings->particles - first : (uint64_t)(settings->particles * share);
         jobs[d] = (trace_job){.sd = &s->devices[d], .vs = *settings};
-        jobs[d].vs.first_particle = first;
-        jobs[d].vs.particle_count = count ? count : 0;
+        jobs[d].vs.source = n > 1 ? &source : NULL;
         jobs[d].vs.progress = settings->progress && d == 0;
-        first += count;
     }
-    if (lvcl_run_parallel(trace_part, jobs, sizeof jobs[0], n))
-        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "cannot start a thread per device");
+    int threads_failed = lvcl_run_parallel(trace_part, jobs, sizeof jobs[0], n);
+    lvcl_particle_source_destroy(&source);
+    if (threads_failed) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "cannot start a thread per device");
     for (int d = 0; d < n; d++)
         if (jobs[d].e) {
             *st = jobs[d].st;
