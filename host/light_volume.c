@@ -161,22 +161,29 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     g->slot_count = (lv_u32)assign_slots(g, mark, vol->cell_slot);
     free(mark);
 
-    vol->tally_bytes = (size_t)g->slot_count * g->bins * 3 * sizeof(int64_t);
-    if (vol->tally_bytes > dev->max_alloc || vol->tally_bytes + vol->cell_count * 4 > dev->global_mem) {
+    /* The tallies go in as few buffers as the device's largest allocation
+     * allows (GPUs often allow a quarter of their memory in one). */
+    size_t slot_bytes = (size_t)g->bins * 3 * sizeof(int64_t);
+    vol->tally_bytes = (size_t)g->slot_count * slot_bytes;
+    size_t per_part = dev->max_alloc / slot_bytes;
+    if (per_part > UINT32_MAX) per_part = UINT32_MAX;
+    size_t parts = per_part ? ((size_t)g->slot_count + per_part - 1) / per_part : SIZE_MAX;
+    if (parts > LV_TALLY_PARTS || vol->tally_bytes + vol->cell_count * 4 > dev->global_mem) {
         lvcl_error e = lvcl_fail(st, LVCL_ERR_TOO_LARGE,
                                  "the light volume needs %.1f MiB (%u cells x %u bins) but %s allows %.1f MiB in one "
-                                 "buffer; use fewer --cells or --dirs",
+                                 "buffer (at most %d buffers) and %.1f MiB in all; use fewer --cells or --dirs",
                                  vol->tally_bytes / 1048576.0, g->slot_count, g->bins, dev->name,
-                                 dev->max_alloc / 1048576.0);
+                                 dev->max_alloc / 1048576.0, LV_TALLY_PARTS, dev->global_mem / 1048576.0);
         lvcl_volume_release(vol);
         return e;
     }
+    vol->tally_parts = parts ? (int)parts : 1;
+    g->slots_per_part = (lv_u32)(parts > 1 ? per_part : (g->slot_count ? g->slot_count : 1));
     cl_int err;
     vol->cell_slot_buf = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                         vol->cell_count * sizeof(uint32_t), vol->cell_slot, &err);
-    if (err == CL_SUCCESS)
-        vol->tallies_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
-                                          vol->tally_bytes ? vol->tally_bytes : 8, NULL, &err);
+    for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS; i++)
+        vol->tallies_buf[i] = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, lvcl_volume_part_bytes(vol, i), NULL, &err);
     if (err == CL_SUCCESS)
         vol->subcell_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
                                           ((size_t)g->slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(cl_uint), NULL, &err);
@@ -192,6 +199,25 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
                          lvcl_cl_error_name(err));
     }
     return LVCL_OK;
+}
+
+size_t lvcl_volume_part_bytes(const lvcl_light_volume *vol, int part)
+{
+    size_t slot_bytes = (size_t)vol->info.bins * 3 * sizeof(int64_t);
+    size_t first = (size_t)part * vol->info.slots_per_part;
+    size_t slots = vol->info.slot_count > first ? vol->info.slot_count - first : 0;
+    if (slots > vol->info.slots_per_part) slots = vol->info.slots_per_part;
+    return slots ? slots * slot_bytes : 8; /* OpenCL refuses empty buffers */
+}
+
+int lvcl_volume_set_tally_args(const lvcl_light_volume *vol, cl_kernel k, cl_uint first)
+{
+    for (int i = 0; i < LV_TALLY_PARTS; i++) {
+        /* Parts the grid does not need are never read: any buffer will do. */
+        const cl_mem *b = vol->tallies_buf[i] ? &vol->tallies_buf[i] : &vol->tallies_buf[0];
+        if (clSetKernelArg(k, first + (cl_uint)i, sizeof(cl_mem), b) != CL_SUCCESS) return -1;
+    }
+    return 0;
 }
 
 static lvcl_error cl_ok(cl_int err, const char *what, lvcl_status *st)
@@ -268,10 +294,11 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
     if (s->particles == 0 || s->particles > UINT32_MAX)
         return lvcl_fail(st, LVCL_ERR_USAGE, "--particles must be from 1 to %u", UINT32_MAX);
     cl_long zero = 0;
-    if ((e = cl_ok(clEnqueueFillBuffer(dev->queue, vol->tallies_buf, &zero, sizeof zero, 0,
-                                       vol->tally_bytes ? vol->tally_bytes : 8, 0, NULL, NULL),
-                   "clearing the light volume", st)))
-        return e;
+    for (int i = 0; i < vol->tally_parts; i++)
+        if ((e = cl_ok(clEnqueueFillBuffer(dev->queue, vol->tallies_buf[i], &zero, sizeof zero, 0,
+                                           lvcl_volume_part_bytes(vol, i), 0, NULL, NULL),
+                       "clearing the light volume", st)))
+            return e;
     cl_uint none = 0;
     if ((e = cl_ok(clEnqueueFillBuffer(dev->queue, vol->subcell_buf, &none, sizeof none, 0,
                                        ((size_t)vol->info.slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(cl_uint), 0, NULL,
@@ -293,10 +320,11 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
     cl_uint store = s->store_emitted ? 1 : 0;
     if (a < 0 || clSetKernelArg(k, (cl_uint)a, sizeof vol->info, &vol->info) ||
         clSetKernelArg(k, (cl_uint)a + 1, sizeof(cl_mem), &vol->cell_slot_buf) ||
-        clSetKernelArg(k, (cl_uint)a + 2, sizeof(cl_mem), &vol->tallies_buf) ||
-        clSetKernelArg(k, (cl_uint)a + 3, sizeof(cl_mem), &vol->subcell_buf) ||
-        clSetKernelArg(k, (cl_uint)a + 6, sizeof inv_n, &inv_n) || clSetKernelArg(k, (cl_uint)a + 7, sizeof store, &store) ||
-        clSetKernelArg(k, (cl_uint)a + 8, sizeof counter, &counter)) {
+        lvcl_volume_set_tally_args(vol, k, (cl_uint)a + 2) ||
+        clSetKernelArg(k, (cl_uint)a + 6, sizeof(cl_mem), &vol->subcell_buf) ||
+        clSetKernelArg(k, (cl_uint)a + 9, sizeof inv_n, &inv_n) ||
+        clSetKernelArg(k, (cl_uint)a + 10, sizeof store, &store) ||
+        clSetKernelArg(k, (cl_uint)a + 11, sizeof counter, &counter)) {
         clReleaseKernel(k);
         clReleaseMemObject(counter);
         return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the particle tracer's arguments");
@@ -312,8 +340,8 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
         cl_uint counts[2] = {0, 0};
         cl_uint f = (cl_uint)first;
         size_t local = LOCAL_SIZE, global = (count + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
-        clSetKernelArg(k, (cl_uint)a + 4, sizeof f, &f);
-        clSetKernelArg(k, (cl_uint)a + 5, sizeof count, &count);
+        clSetKernelArg(k, (cl_uint)a + 7, sizeof f, &f);
+        clSetKernelArg(k, (cl_uint)a + 8, sizeof count, &count);
         if ((e = cl_ok(clEnqueueWriteBuffer(dev->queue, counter, CL_FALSE, 0, sizeof counts, counts, 0, NULL, NULL),
                        "clearing the ray counters", st)) ||
             (e = cl_ok(clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL),
@@ -344,8 +372,13 @@ lvcl_error lvcl_volume_read(const lvcl_device *dev, const lvcl_light_volume *vol
         if (masks) free(*masks);
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory reading the light volume");
     }
-    cl_int err = clEnqueueReadBuffer(dev->queue, vol->tallies_buf, CL_TRUE, 0, vol->tally_bytes, *tallies, 0, NULL,
-                                     NULL);
+    cl_int err = CL_SUCCESS;
+    size_t offset = 0;
+    for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS && vol->tally_bytes; i++) {
+        err = clEnqueueReadBuffer(dev->queue, vol->tallies_buf[i], CL_TRUE, 0, lvcl_volume_part_bytes(vol, i),
+                                  (char *)*tallies + offset, 0, NULL, NULL);
+        offset += lvcl_volume_part_bytes(vol, i);
+    }
     if (err == CL_SUCCESS && masks)
         err = clEnqueueReadBuffer(dev->queue, vol->subcell_buf, CL_TRUE, 0, mask_bytes, *masks, 0, NULL, NULL);
     lvcl_error e = cl_ok(err, "reading the light volume", st);
@@ -403,8 +436,13 @@ lvcl_error lvcl_volume_merge(const lvcl_device *const *devs, lvcl_light_volume *
         rec = NULL;
     }
     for (int d = 0; d < count && !e; d++) {
-        cl_int err = clEnqueueWriteBuffer(devs[d]->queue, vols[d]->tallies_buf, CL_TRUE, 0,
-                                          vols[d]->tally_bytes ? vols[d]->tally_bytes : 8, sum, 0, NULL, NULL);
+        cl_int err = CL_SUCCESS;
+        size_t offset = 0;
+        for (int i = 0; i < vols[d]->tally_parts && err == CL_SUCCESS && vols[d]->tally_bytes; i++) {
+            err = clEnqueueWriteBuffer(devs[d]->queue, vols[d]->tallies_buf[i], CL_TRUE, 0,
+                                       lvcl_volume_part_bytes(vols[d], i), (char *)sum + offset, 0, NULL, NULL);
+            offset += lvcl_volume_part_bytes(vols[d], i);
+        }
         if (err == CL_SUCCESS)
             err = clEnqueueWriteBuffer(devs[d]->queue, vols[d]->subcell_buf, CL_TRUE, 0, words * sizeof(uint32_t),
                                        rec_sum, 0, NULL, NULL);
@@ -418,7 +456,8 @@ lvcl_error lvcl_volume_merge(const lvcl_device *const *devs, lvcl_light_volume *
 void lvcl_volume_release(lvcl_light_volume *vol)
 {
     if (vol->cell_slot_buf) clReleaseMemObject(vol->cell_slot_buf);
-    if (vol->tallies_buf) clReleaseMemObject(vol->tallies_buf);
+    for (int i = 0; i < LV_TALLY_PARTS; i++)
+        if (vol->tallies_buf[i]) clReleaseMemObject(vol->tallies_buf[i]);
     if (vol->bin_directions_buf) clReleaseMemObject(vol->bin_directions_buf);
     if (vol->lit_volume_buf) clReleaseMemObject(vol->lit_volume_buf);
     if (vol->subcell_buf) clReleaseMemObject(vol->subcell_buf);

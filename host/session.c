@@ -58,8 +58,10 @@ static lvcl_error open_device(lvcl_session *s, const char *spec, const lvcl_sess
     lvcl_error e;
     if ((e = lvcl_device_open(spec, &sd->device, st))) return e;
     if (cfg->device_memory) {
+        /* As a device of that size would be: OpenCL promises a quarter of
+         * its memory in one buffer, and GPUs often allow no more. */
         if (sd->device.global_mem > cfg->device_memory) sd->device.global_mem = cfg->device_memory;
-        if (sd->device.max_alloc > cfg->device_memory) sd->device.max_alloc = cfg->device_memory;
+        if (sd->device.max_alloc > cfg->device_memory / 4) sd->device.max_alloc = cfg->device_memory / 4;
     }
     if ((e = lvcl_device_scene_upload(&sd->device, &s->scene, &s->packed, &sd->device_scene, st))) return e;
     return lvcl_program_build(&sd->device, s->features, cfg->fast_math, &sd->program, st);
@@ -109,13 +111,12 @@ static int set_pass_args(lvcl_session_device *sd, cl_kernel k, const lvcl_render
     cl_uint flags = (req->mode == LVCL_MODE_LV_ALL ? 1u : 0u) | (req->integrate ? 2u : 0u);
     float threshold = (float)(req->threshold > 0 ? req->threshold : sqrt(3.0) * v->info.cell_size);
     if (clSetKernelArg(k, i, sizeof v->info, &v->info) || clSetKernelArg(k, i + 1, sizeof(cl_mem), &v->cell_slot_buf) ||
-        clSetKernelArg(k, i + 2, sizeof(cl_mem), &v->tallies_buf) ||
-        clSetKernelArg(k, i + 3, sizeof(cl_mem), &v->subcell_buf) ||
-        clSetKernelArg(k, i + 4, sizeof(cl_mem), &v->lit_volume_buf) ||
-        clSetKernelArg(k, i + 5, sizeof(cl_mem), &v->bin_directions_buf) ||
-        clSetKernelArg(k, i + 6, sizeof flags, &flags) || clSetKernelArg(k, i + 7, sizeof threshold, &threshold))
+        lvcl_volume_set_tally_args(v, k, i + 2) || clSetKernelArg(k, i + 6, sizeof(cl_mem), &v->subcell_buf) ||
+        clSetKernelArg(k, i + 7, sizeof(cl_mem), &v->lit_volume_buf) ||
+        clSetKernelArg(k, i + 8, sizeof(cl_mem), &v->bin_directions_buf) ||
+        clSetKernelArg(k, i + 9, sizeof flags, &flags) || clSetKernelArg(k, i + 10, sizeof threshold, &threshold))
         return -1;
-    return (int)i + 8;
+    return (int)i + 11;
 }
 
 typedef struct {

@@ -17,7 +17,7 @@ typedef struct {
     unsigned seed;
     int max_depth;
     int fast_math;
-    uint64_t device_memory; /* bytes the scene and light volume may use; 0 = what the device has */
+    uint64_t device_memory; /* act as a device of this many bytes (a quarter in one buffer); 0 = the device's own */
 } lvcl_session_config;
 
 /* The scene on one device, and that device's share of the last render. */

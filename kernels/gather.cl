@@ -4,7 +4,8 @@
 #include "path.h"
 
 __kernel void lv_gather_pass(LV_SCENE_PARAMS, lv_grid_info grid_info, __global const uint *cell_slot,
-                             __global const long *tallies, __global uint *subcells,
+                             __global long *tallies0, __global long *tallies1, __global long *tallies2,
+                             __global long *tallies3, __global uint *subcells,
                              __global const float *lit_volume,
                              __global const float4 *bin_directions, uint flags,
                              float threshold, lv_camera camera, uint first_pixel, uint pixel_count,
@@ -18,7 +19,10 @@ __kernel void lv_gather_pass(LV_SCENE_PARAMS, lv_grid_info grid_info, __global c
     g.grid.cell_slot = cell_slot;
     g.grid.subcells = subcells;
     g.grid.lit_volume = lit_volume;
-    g.tallies = tallies;
+    g.grid.tallies[0] = tallies0;
+    g.grid.tallies[1] = tallies1;
+    g.grid.tallies[2] = tallies2;
+    g.grid.tallies[3] = tallies3;
     g.bin_directions = bin_directions;
     g.flags = flags;
     g.threshold = threshold;

@@ -1,7 +1,8 @@
 /* The light volume: tallying particle segments into cells (paper eq. 5) and
  * reading radiance back. See lv_grid_info in shared_types.h for the layout:
  * cell_slot maps a cell (x + dims.x (y + dims.y z)) to its slot or
- * LV_EMPTY_CELL; slot s, bin b, channel c is tallies[(s * bins + b) * 3 + c]. */
+ * LV_EMPTY_CELL; slot s, bin b, channel c is, with q = slots_per_part,
+ * tallies[s / q][((s % q) * bins + b) * 3 + c]. */
 #ifndef LV_LIGHT_VOLUME_H
 #define LV_LIGHT_VOLUME_H
 
@@ -16,7 +17,16 @@ typedef struct {
     __global const uint *cell_slot;
     __global uint *subcells; /* LV_SUBCELL_STRIDE words per slot (shared_types.h) */
     __global const float *lit_volume; /* per slot, lv_cell_lit_volume after the trace (lookups only) */
+    __global long *tallies[LV_TALLY_PARTS];
 } lv_grid;
+
+/* The three (RGB) tallies of one bin of a stored cell. */
+inline __global long *lv_tally_bin(const lv_grid *grid, uint slot, uint bin)
+{
+    uint part = slot / grid->g.slots_per_part;
+    uint local_slot = slot - part * grid->g.slots_per_part;
+    return grid->tallies[part] + ((size_t)local_slot * grid->g.bins + bin) * 3;
+}
 
 inline float3 lv_grid_origin(const lv_grid *grid)
 {
@@ -36,9 +46,9 @@ inline uint lv_grid_slot_at(const lv_grid *grid, float3 p)
 /* Adds an RGB amount (in tally units of 1) to one bin. Non-finite or
  * negative amounts are dropped; huge ones are clamped, so no bin can
  * overflow (see LV_TALLY_MAX_CONTRIBUTION). */
-inline void lv_tally_add(__global long *tallies, uint slot, uint bins, uint bin, float3 amount)
+inline void lv_tally_add(const lv_grid *grid, uint slot, uint bin, float3 amount)
 {
-    __global long *t = tallies + ((size_t)slot * bins + bin) * 3;
+    __global long *t = lv_tally_bin(grid, slot, bin);
     float a[3] = {amount.x, amount.y, amount.z};
     for (int c = 0; c < 3; c++) {
         if (!(a[c] > 0.0f) || !isfinite(a[c])) continue;
@@ -78,7 +88,7 @@ inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float
  * carrying `weight` (power over total power, over particle count) at t0, to
  * every stored cell it crosses, in bin `bin`. sigma > 0 absorbs along the
  * segment (inside glass). A 3-D DDA (Amanatides and Woo) walks the cells. */
-inline void lv_tally_segment(const lv_grid *grid, __global long *tallies, float3 origin, float3 dir, float t0,
+inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, float t0,
                              float t1, uint bin, float3 weight, float3 sigma)
 {
     const float h = grid->g.cell_size;
@@ -118,7 +128,7 @@ inline void lv_tally_segment(const lv_grid *grid, __global long *tallies, float3
             } else {
                 amount = (float3)(s_exit - s);
             }
-            lv_tally_add(tallies, slot, grid->g.bins, bin, weight * amount);
+            lv_tally_add(grid, slot, bin, weight * amount);
         }
         s = s_exit;
         if (s_next.x <= s_next.y && s_next.x <= s_next.z) {
@@ -199,20 +209,20 @@ inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
 
 /* Radiance (W m^-2 sr^-1) of one bin of a stored cell whose lit volume is
  * `lit` cells, from its tallies (paper eq. 5). */
-inline float3 lv_bin_radiance(const lv_grid *grid, __global const long *tallies, uint slot, uint bin, float lit)
+inline float3 lv_bin_radiance(const lv_grid *grid, uint slot, uint bin, float lit)
 {
-    __global const long *t = tallies + ((size_t)slot * grid->g.bins + bin) * 3;
+    __global const long *t = lv_tally_bin(grid, slot, bin);
     float3 tally = (float3)((float)t[0], (float)t[1], (float)t[2]) * (1.0f / LV_TALLY_SCALE);
     float h = grid->g.cell_size;
     return tally * (grid->g.total_power / (h * h * lit * lv_bin_solid_angle(grid->g.dirs)));
 }
 
 /* Radiance of the light travelling along `dir` through the cell at p. */
-inline float3 lv_volume_radiance(const lv_grid *grid, __global const long *tallies, float3 p, float3 dir)
+inline float3 lv_volume_radiance(const lv_grid *grid, float3 p, float3 dir)
 {
     uint slot = lv_grid_slot_at(grid, p);
     if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
-    return lv_bin_radiance(grid, tallies, slot, lv_direction_bin(dir, grid->g.dirs), grid->lit_volume[slot]);
+    return lv_bin_radiance(grid, slot, lv_direction_bin(dir, grid->g.dirs), grid->lit_volume[slot]);
 }
 
 /* A uniform point in the cell-sized box around p (paper section 4.2: the

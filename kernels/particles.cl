@@ -14,7 +14,9 @@
 #define LV_PARTICLE_STREAM 0x9e3779b9u
 
 __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __global const uint *cell_slot,
-                                __global long *tallies, __global uint *subcells, uint first, uint count, float inv_total_particles,
+                                __global long *tallies0, __global long *tallies1, __global long *tallies2,
+                                __global long *tallies3, __global uint *subcells, uint first, uint count,
+                                float inv_total_particles,
                                 uint store_emitted, __global uint *ray_counts)
 {
     LV_SCENE_OPEN(sc);
@@ -25,6 +27,10 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
     grid.cell_slot = cell_slot;
     grid.subcells = subcells;
     grid.lit_volume = 0; /* not known yet */
+    grid.tallies[0] = tallies0;
+    grid.tallies[1] = tallies1;
+    grid.tallies[2] = tallies2;
+    grid.tallies[3] = tallies3;
     lv_rng rng = lv_rng_make(sc.info.seed ^ LV_PARTICLE_STREAM, first + id, 0u);
 
     lv_emission_sample es;
@@ -49,7 +55,7 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
         /* Emitted light (the first segment) is left to shadow rays in lv mode. */
         int tallied = depth > 1 || store_emitted;
         if (tallied)
-            lv_tally_segment(&grid, tallies, r.origin, r.dir, 0.0f, h.t, lv_direction_bin(r.dir, grid.g.dirs),
+            lv_tally_segment(&grid, r.origin, r.dir, 0.0f, h.t, lv_direction_bin(r.dir, grid.g.dirs),
                              throughput * inv_total_particles, sigma);
         if (tallied && grid.g.subcells && h.tri != LV_NO_HIT && lv_rng_next(&rng) < LV_VISIBILITY_RATE)
             visibility_rays += lv_sample_subcell_visibility(&grid, &sc, s.p, r.origin, &rng);

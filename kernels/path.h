@@ -39,7 +39,6 @@ inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, lv_hit h,
 /* How the final gather reads the light volume (NULL: plain path tracing). */
 typedef struct {
     lv_grid grid;
-    __global const long *tallies;
     __global const float4 *bin_directions; /* central direction of each bin */
     uint flags;      /* LV_GATHER_* */
     float threshold; /* a BSDF ray hitting closer than this continues as a path */
@@ -79,7 +78,7 @@ inline float3 lv_gather_integrate(const lv_gather *g, const lv_bsdf *b, lv_frame
         float3 wi = lv_to_local(f, -g->bin_directions[bin].xyz);
         if (wi.z <= 0.0f) continue; /* the gather runs on reflecting surfaces only */
         float3 fcos = lv_bsdf_eval(b, wo, wi, LV_RADIANCE);
-        if (lv_max3(fcos) > 0.0f) sum += fcos * lv_bin_radiance(&g->grid, g->tallies, slot, bin, lit);
+        if (lv_max3(fcos) > 0.0f) sum += fcos * lv_bin_radiance(&g->grid, slot, bin, lit);
     }
     return sum * lv_bin_solid_angle(n);
 }
@@ -128,7 +127,7 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         }
         if (lookup != LV_LOOKUP_NONE) {
             /* Light arriving from r.dir travels along -r.dir. */
-            float3 volume = beta * lv_volume_radiance(&g->grid, g->tallies, lookup_point, -r.dir);
+            float3 volume = beta * lv_volume_radiance(&g->grid, lookup_point, -r.dir);
             if (far) {
                 if (lookup == LV_LOOKUP_READ) radiance += volume;
                 break;
@@ -173,7 +172,7 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         if (!lv_finite3(beta) || lv_max3(beta) <= 0.0f) break;
         if (gather) {
             if (all_light) { /* no threshold: the volume answers at once */
-                radiance += beta * lv_volume_radiance(&g->grid, g->tallies, lookup_point, -wi);
+                radiance += beta * lv_volume_radiance(&g->grid, lookup_point, -wi);
                 break;
             }
             lookup = integrate ? LV_LOOKUP_CORRECT : LV_LOOKUP_READ;

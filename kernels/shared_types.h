@@ -165,8 +165,13 @@ typedef struct {
     float total_power; /* luminance watts emitted by all lights */
     float particles;   /* particles traced in all (for normalisation) */
     lv_u32 subcells;   /* k: k x k x k binary subcells per cell (k <= 4), 0 = none */
-    lv_u32 pad[3];
+    lv_u32 slots_per_part; /* the tallies are split over buffers of this many slots each */
+    lv_u32 pad[2];
 } lv_grid_info;
+
+/* Buffers the tallies may be split over, each within the device's largest
+ * allocation (slot s lies in buffer s / slots_per_part). */
+#define LV_TALLY_PARTS 4
 
 /* Subcell records, LV_SUBCELL_STRIDE 32-bit words per stored cell: a mask
  * of two words (bit x + k (y + k z) is switched on when a tallied segment
