@@ -13,6 +13,18 @@
 /* Different from every pixel stream of the camera passes. */
 #define LV_PARTICLE_STREAM 0x9e3779b9u
 
+/* Importance carried across a surface whose shading normal is not its
+ * geometric one picks up |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) (Veach 1997,
+ * section 5.3): without it particles would not carry the power that the
+ * shading-normal BSDF of radiance transport implies. 1 without normals. */
+inline float lv_shading_normal_adjoint(const lv_surface *s, float3 wo, float3 wi)
+{
+    if (all(s->ns == s->ng)) return 1.0f;
+    float num = fabs(dot(wo, s->ns)) * fabs(dot(wi, s->ng));
+    float den = fabs(dot(wo, s->ng)) * fabs(dot(wi, s->ns));
+    return den > 0.0f ? num / den : 0.0f;
+}
+
 __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __global const uint *cell_slot,
                                 __global long *tallies0, __global long *tallies1, __global long *tallies2,
                                 __global long *tallies3, __global uint *subcells, uint first, uint count,
@@ -73,7 +85,7 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
         float3 wi = lv_to_world(f, bs.wi);
         int reflected = dot(wi, ng_out) > 0.0f;
         if (reflected != (bs.wi.z * wo.z > 0.0f)) break;
-        throughput *= bs.weight;
+        throughput *= bs.weight * lv_shading_normal_adjoint(&s, -r.dir, wi);
         if (!lv_finite3(throughput) || lv_max3(throughput) <= 0.0f) break;
         if (depth >= LV_RR_DEPTH) {
             /* Relative to the particle's starting power, so that bright

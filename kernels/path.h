@@ -65,8 +65,9 @@ inline int lv_gather_here(const lv_bsdf *b)
 }
 
 /* The BSDF-weighted sum of the volume's radiance over every bin of the cell
- * at p (each bin read at its central direction). */
-inline float3 lv_gather_integrate(const lv_gather *g, const lv_bsdf *b, lv_frame f, float3 wo, float3 p)
+ * at p (each bin read at its central direction); ng_out is the geometric
+ * normal on the side wo leaves from. */
+inline float3 lv_gather_integrate(const lv_gather *g, const lv_bsdf *b, lv_frame f, float3 wo, float3 ng_out, float3 p)
 {
     uint slot = lv_grid_slot_at(&g->grid, p);
     if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
@@ -74,9 +75,13 @@ inline float3 lv_gather_integrate(const lv_gather *g, const lv_bsdf *b, lv_frame
     uint n = g->grid.g.dirs;
     float lit = g->grid.lit_volume[slot];
     for (uint bin = 0; bin < g->grid.g.bins; bin++) {
-        /* Light arriving from wi travels along -wi. */
-        float3 wi = lv_to_local(f, -g->bin_directions[bin].xyz);
-        if (wi.z <= 0.0f) continue; /* the gather runs on reflecting surfaces only */
+        /* Light arriving from wi travels along -wi. The gather runs on
+         * reflecting surfaces only; a direction the shading normal allows
+         * but the true surface does not would read light leaving the
+         * surface itself. */
+        float3 wiw = -g->bin_directions[bin].xyz;
+        float3 wi = lv_to_local(f, wiw);
+        if (wi.z <= 0.0f || dot(wiw, ng_out) <= 0.0f) continue;
         float3 fcos = lv_bsdf_eval(b, wo, wi, LV_RADIANCE);
         if (lv_max3(fcos) > 0.0f) sum += fcos * lv_bin_radiance(&g->grid, slot, bin, lit);
     }
@@ -154,7 +159,7 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         if (depth + 1 <= max_depth && lv_bsdf_has_smooth_lobe(&b) && !all_light)
             radiance += beta * lv_direct_light(sc, &s, h, &b, f, wo, ng_out, rng);
         if (integrate) {
-            radiance += beta * lv_gather_integrate(g, &b, f, wo, lookup_point);
+            radiance += beta * lv_gather_integrate(g, &b, f, wo, ng_out, lookup_point);
             if (all_light) break; /* no threshold: the volume answers for every direction */
         }
 

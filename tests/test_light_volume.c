@@ -308,6 +308,66 @@ static void test_determinism(void)
     release(&first);
 }
 
+/* Turns every triangle's shading normal 30 degrees away from its geometric
+ * one (all three corners alike). */
+static void tilt_normals(lvcl_scene *s)
+{
+    for (size_t t = 0; t < s->triangle_count; t++) {
+        const float *p[3];
+        for (int c = 0; c < 3; c++) p[c] = &s->positions[3 * s->indices[3 * t + c]];
+        double e1[3], e2[3], n[3], a[3], len = 0, dot = 0, alen = 0;
+        for (int k = 0; k < 3; k++) e1[k] = p[1][k] - p[0][k], e2[k] = p[2][k] - p[0][k];
+        n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        for (int k = 0; k < 3; k++) len += n[k] * n[k];
+        for (int k = 0; k < 3; k++) n[k] /= sqrt(len);
+        /* A direction in the triangle's plane to turn towards. */
+        for (int k = 0; k < 3; k++) a[k] = n[(k + 1) % 3] + n[(k + 2) % 3];
+        for (int k = 0; k < 3; k++) dot += a[k] * n[k];
+        for (int k = 0; k < 3; k++) a[k] -= dot * n[k], alen += a[k] * a[k];
+        float m[3];
+        for (int k = 0; k < 3; k++) m[k] = (float)(cos(0.52) * n[k] + sin(0.52) * a[k] / sqrt(alen));
+        for (int c = 0; c < 3; c++) memcpy(&s->normals[3 * s->indices[3 * t + c]], m, sizeof m);
+        s->tri_flags[t] |= LV_TRI_HAS_NORMALS;
+    }
+}
+
+static double mean_render(int tilted, lvcl_mode mode)
+{
+    lvcl_scene scene;
+    lvcl_status st = {0};
+    if (lvcl_scene_load("furnace", &scene, &st)) return NAN;
+    if (tilted) tilt_normals(&scene);
+    lvcl_render_request req = {0};
+    req.mode = mode;
+    req.width = req.height = 32;
+    req.pass.spp = mode == LVCL_MODE_PT ? 128 : 16;
+    req.volume = (lvcl_volume_settings){.cells = 8, .dirs = 8, .subcells = 4, .particles = 500000};
+    req.integrate = 1;
+    lvcl_render_result r;
+    if (harness_render(&scene, NULL, 1, &req, &r, &st)) return NAN;
+    double m = 0;
+    for (int i = 0; i < 32 * 32 * 3; i++) m += r.rgb[i];
+    free(r.rgb);
+    return m / (32 * 32 * 3);
+}
+
+/* Shading normals: particles must carry importance with the adjoint
+ * correction (Veach 1997, 5.3), and the gather must not read bins the
+ * shading normal allows but the surface does not. In the white furnace with
+ * every shading normal turned 30 degrees the path tracer no longer gives 2;
+ * lv-all must still stand to it as it does without the turn (both ratios
+ * carry the volume's own small bias: 1.7% here). Without the correction
+ * lv-all came out 3.4% above the path tracer, and 5.6% when the gather also
+ * read the bins below the surface. */
+static void test_shading_normals(void)
+{
+    double flat = mean_render(0, LVCL_MODE_LV_ALL) / mean_render(0, LVCL_MODE_PT);
+    double turned = mean_render(1, LVCL_MODE_LV_ALL) / mean_render(1, LVCL_MODE_PT);
+    printf("  shading normals: lv-all / pt %.4f without the turn, %.4f with it\n", flat, turned);
+    CHECK("shading normals: lv-all agrees with pt as well as without them", fabs(turned - flat) < 0.015,
+          "lv-all / pt %.4f with turned normals, %.4f without", turned, flat);
+}
+
 int main(int argc, char **argv)
 {
     (void)argc;
@@ -319,5 +379,6 @@ int main(int argc, char **argv)
     test_visibility();
     test_furnace();
     test_determinism();
+    test_shading_normals();
     CHECK_EXIT();
 }
