@@ -148,6 +148,7 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     g->bins = 2 * g->dirs * g->dirs;
     g->total_power = p->info.total_light_power;
     g->subcells = (lv_u32)s->subcells;
+    g->visibility_rate = (float)(s->visibility_rate > 0 ? s->visibility_rate : LVCL_VISIBILITY_RATE);
 
     vol->cell_count = (size_t)cells;
     uint8_t *mark = calloc(vol->cell_count, 1);

@@ -65,6 +65,7 @@ static lvcl_error run(const lvcl_options *o, lvcl_session *s, lvcl_render_result
                                         .offset = o->grid_offset,
                                         .dirs = o->dirs,
                                         .subcells = o->subcells,
+                                        .visibility_rate = o->visibility_rate,
                                         .particles = (uint64_t)o->particles,
                                         .progress = !o->quiet};
     req.integrate = !strcmp(o->gather, "integrate");

@@ -64,7 +64,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         static const char *with_value[] = {"--device", "--mode", "-o", "--output", "--stats", "--spp", "--width",
                                            "--height", "--seed", "--max-depth", "--exposure", "--time-limit",
                                            "--cells", "--cell-size", "--grid-offset", "--dirs", "--subcells", "--particles", "--threshold",
-                                           "--gather", "--device-memory"};
+                                           "--gather", "--device-memory", "--visibility-rate"};
         int known = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++) known |= !strcmp(a, with_value[k]);
         if (!known) return lvcl_fail(st, LVCL_ERR_USAGE, "unknown option '%s' (see --help)", a);
@@ -89,6 +89,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         else if (!strcmp(a, "--grid-offset")) { e = parse_real(a, v, 0, 0.999, &x, st); o->grid_offset = x; }
         else if (!strcmp(a, "--dirs")) { e = parse_int(a, v, 1, 64, &n, st); o->dirs = (int)n; }
         else if (!strcmp(a, "--subcells")) { e = parse_int(a, v, 0, 4, &n, st); o->subcells = (int)n; }
+        else if (!strcmp(a, "--visibility-rate")) { e = parse_real(a, v, 0.001, 1, &x, st); o->visibility_rate = x; }
         else if (!strcmp(a, "--particles")) { e = parse_real(a, v, 1, 4294967295.0, &x, st); o->particles = floor(x); }
         else if (!strcmp(a, "--threshold")) { e = parse_real(a, v, 1e-12, 1e12, &x, st); o->threshold = x; }
         else if (!strcmp(a, "--gather")) o->gather = v;
@@ -123,6 +124,8 @@ void lvcl_options_print_help(const char *program)
            "  --dirs N             light volume: N x N direction bins per hemisphere (default 11)\n"
            "  --subcells K         light volume: K x K x K subcells per cell estimate its lit volume\n"
            "                       (0 to 4, default 4; 0 = the whole cell)\n"
+           "  --visibility-rate R  light volume: share of particle hits that cast a subcell visibility\n"
+           "                       ray (0.001 to 1, default 0.25)\n"
            "  --threshold M        lv: BSDF rays meeting a rough surface closer than M metres\n"
            "                       continue as paths (default the cell diagonal)\n"
            "  --gather integrate|sample  lv: integrate the BSDF over all bins of the cell (default),\n"

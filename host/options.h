@@ -20,6 +20,7 @@ typedef struct {
     double grid_offset;     /* fraction of a cell */
     int dirs;               /* n x n bins per hemisphere */
     int subcells;           /* k x k x k subcells per cell, 0 = none */
+    double visibility_rate; /* share of surface hits casting a visibility ray, 0 = default */
     double particles;
     double threshold;       /* near-hit distance, 0 = cell diagonal */
     const char *gather;     /* "sample" or "integrate" */

@@ -6,10 +6,6 @@
 #include "light_volume.h"
 #include "path.h"
 
-/* The share of surface hits that cast a visibility ray: enough samples per
- * subcell at a fraction of the particle trace's cost. */
-#define LV_VISIBILITY_RATE 0.25f
-
 /* Different from every pixel stream of the camera passes. */
 #define LV_PARTICLE_STREAM 0x9e3779b9u
 
@@ -69,7 +65,7 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
         if (tallied)
             lv_tally_segment(&grid, r.origin, r.dir, 0.0f, h.t, lv_direction_bin(r.dir, grid.g.dirs),
                              throughput * inv_total_particles, sigma);
-        if (tallied && grid.g.subcells && h.tri != LV_NO_HIT && lv_rng_next(&rng) < LV_VISIBILITY_RATE)
+        if (tallied && grid.g.subcells && h.tri != LV_NO_HIT && lv_rng_next(&rng) < grid.g.visibility_rate)
             visibility_rays += lv_sample_subcell_visibility(&grid, &sc, s.p, r.origin, &rng);
         if (h.tri == LV_NO_HIT || depth == sc.info.max_depth) break;
         throughput *= exp(-sigma * h.t);

@@ -166,7 +166,8 @@ typedef struct {
     float particles;   /* particles traced in all (for normalisation) */
     lv_u32 subcells;   /* k: k x k x k binary subcells per cell (k <= 4), 0 = none */
     lv_u32 slots_per_part; /* the tallies are split over buffers of this many slots each */
-    lv_u32 pad[2];
+    float visibility_rate; /* share of tallied surface hits that cast a subcell visibility ray */
+    lv_u32 pad;
 } lv_grid_info;
 
 /* Buffers the tallies may be split over, each within the device's largest
