@@ -123,3 +123,14 @@ lvcl_error harness_render(lvcl_scene *scene, const char *device, unsigned seed, 
     lvcl_session_close(&s);
     return e;
 }
+
+lvcl_render_request harness_request(lvcl_mode mode, int size, int spp, int cells, uint64_t particles)
+{
+    lvcl_render_request req = {0};
+    req.mode = mode;
+    req.width = req.height = size;
+    req.pass.spp = spp;
+    req.volume = (lvcl_volume_settings){.cells = cells, .dirs = 8, .subcells = 4, .particles = particles};
+    req.integrate = 1;
+    return req;
+}

@@ -19,6 +19,11 @@ void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *scene);
 void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_scene *scene,
                    const char *kernel_name, const float *rays, size_t count, float *results);
 
+/* A square size x size render request: the path tracer, or the light volume
+ * of `cells` cells and `particles` particles (8 x 8 bins per hemisphere,
+ * 4 subcells, integrating gather). */
+lvcl_render_request harness_request(lvcl_mode mode, int size, int spp, int cells, uint64_t particles);
+
 /* Opens a session on `scene` (consumed) on `device` with `seed` and renders
  * req into out (zeroed on failure, with st saying why). */
 lvcl_error harness_render(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_render_request *req,

@@ -251,12 +251,7 @@ static int instanced_cornell(lvcl_scene *s)
 static int render(lvcl_scene *scene, lvcl_mode mode, unsigned seed, float **rgb)
 {
     lvcl_status st = {0};
-    lvcl_render_request req = {0};
-    req.mode = mode;
-    req.width = req.height = 48;
-    req.pass.spp = mode == LVCL_MODE_PT ? 64 : 16;
-    req.volume = (lvcl_volume_settings){.cells = 16, .dirs = 8, .subcells = 4, .particles = 200000};
-    req.integrate = 1;
+    lvcl_render_request req = harness_request(mode, 48, mode == LVCL_MODE_PT ? 64 : 16, 16, 200000);
     lvcl_render_result r;
     *rgb = NULL;
     if (harness_render(scene, NULL, seed, &req, &r, &st)) {

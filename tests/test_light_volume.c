@@ -337,12 +337,7 @@ static double mean_render(int tilted, lvcl_mode mode)
     lvcl_status st = {0};
     if (lvcl_scene_load("furnace", &scene, &st)) return NAN;
     if (tilted) tilt_normals(&scene);
-    lvcl_render_request req = {0};
-    req.mode = mode;
-    req.width = req.height = 32;
-    req.pass.spp = mode == LVCL_MODE_PT ? 128 : 16;
-    req.volume = (lvcl_volume_settings){.cells = 8, .dirs = 8, .subcells = 4, .particles = 500000};
-    req.integrate = 1;
+    lvcl_render_request req = harness_request(mode, 32, mode == LVCL_MODE_PT ? 128 : 16, 8, 500000);
     lvcl_render_result r;
     if (harness_render(&scene, NULL, 1, &req, &r, &st)) return NAN;
     double m = 0;

@@ -153,12 +153,7 @@ static int render_lv(const char *what, lvcl_mode mode, const char *device, unsig
 {
     lvcl_scene scene;
     if (!load("cornell", &scene)) return 0;
-    lvcl_render_request req = {0};
-    req.mode = mode;
-    req.width = req.height = 48;
-    req.pass.spp = 8;
-    req.volume = (lvcl_volume_settings){.cells = 16, .dirs = 8, .subcells = 4, .particles = 100000};
-    req.integrate = 1;
+    lvcl_render_request req = harness_request(mode, 48, 8, 16, 100000);
     return render_request(what, &scene, device, seed, &req, im);
 }
 
