@@ -23,29 +23,9 @@ static void mesh_vertex_box(const lvcl_scene *scene, const lvcl_mesh *mesh, lv_b
     }
 }
 
-/* The world box of a mesh-space box under an instance's transform. */
-static void instance_box(const lvcl_instance *in, const lv_bvh_node *root, float box[6])
-{
-    for (int k = 0; k < 3; k++) {
-        box[k] = FLT_MAX;
-        box[3 + k] = -FLT_MAX;
-    }
-    for (int c = 0; c < 8; c++) {
-        float p[3] = {c & 1 ? root->bmax[0] : root->bmin[0], c & 2 ? root->bmax[1] : root->bmin[1],
-                      c & 4 ? root->bmax[2] : root->bmin[2]};
-        float q[3];
-        lvcl_transform_point(in->world_from_object, p, 1.0f, q);
-        for (int k = 0; k < 3; k++) {
-            if (q[k] < box[k]) box[k] = q[k];
-            if (q[k] > box[3 + k]) box[3 + k] = q[k];
-        }
-    }
-}
-
 static int is_identity(const float m[12])
 {
-    static const float id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
-    return memcmp(m, id, sizeof id) == 0;
+    return memcmp(m, lvcl_identity_transform, sizeof lvcl_identity_transform) == 0;
 }
 
 /* The scene's meshes and instances, or the one mesh and identity instance
@@ -62,7 +42,8 @@ static lvcl_error copy_layout(const lvcl_scene *scene, lvcl_accel *a, lvcl_statu
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for %zu instances", a->instance_count);
     if (flat) {
         a->meshes[0] = (lvcl_mesh){0, scene->triangle_count};
-        a->instances[0] = (lvcl_instance){0, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}};
+        a->instances[0].mesh = 0;
+        memcpy(a->instances[0].world_from_object, lvcl_identity_transform, sizeof lvcl_identity_transform);
     } else {
         memcpy(a->meshes, scene->meshes, a->mesh_count * sizeof *a->meshes);
         memcpy(a->instances, scene->instances, a->instance_count * sizeof *a->instances);
@@ -104,7 +85,8 @@ lvcl_error lvcl_accel_build(const lvcl_scene *scene, lvcl_accel *a, lvcl_status 
         const lvcl_bvh *b = &a->mesh_bvh[a->instances[i].mesh];
         if (b->node_count == 0) continue;
         a->instances[live] = a->instances[i];
-        instance_box(&a->instances[live], &b->nodes[0], &boxes[6 * live]);
+        lvcl_transform_box(a->instances[live].world_from_object, b->nodes[0].bmin, b->nodes[0].bmax, &boxes[6 * live],
+                           &boxes[6 * live + 3]);
         a->instanced_triangles += b->triangle_count;
         live++;
     }
@@ -128,11 +110,12 @@ lvcl_error lvcl_accel_build(const lvcl_scene *scene, lvcl_accel *a, lvcl_status 
     }
     for (size_t m = 0; m < a->mesh_count; m++) mesh_vertex_box(scene, &a->meshes[m], &vertex_box[m]);
     for (size_t i = 0; i < live; i++) {
-        float world[6];
-        instance_box(&a->instances[i], &vertex_box[a->instances[i].mesh], world);
+        const lv_bvh_node *box = &vertex_box[a->instances[i].mesh];
+        float lo[3], hi[3];
+        lvcl_transform_box(a->instances[i].world_from_object, box->bmin, box->bmax, lo, hi);
         for (int k = 0; k < 3; k++) {
-            if (world[k] < a->bounds_min[k]) a->bounds_min[k] = world[k];
-            if (world[3 + k] > a->bounds_max[k]) a->bounds_max[k] = world[3 + k];
+            if (lo[k] < a->bounds_min[k]) a->bounds_min[k] = lo[k];
+            if (hi[k] > a->bounds_max[k]) a->bounds_max[k] = hi[k];
         }
     }
     free(vertex_box);

@@ -796,12 +796,11 @@ void Importer::count_mesh_uses()
 void Importer::build_instances()
 {
     if (placements.empty()) return;
-    const float identity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
     size_t baked = indices.size() / 3;
     if (baked) {
         meshes.push_back({0, baked});
         lvcl_instance in{};
-        memcpy(in.world_from_object, identity, sizeof identity);
+        memcpy(in.world_from_object, lvcl_identity_transform, sizeof in.world_from_object);
         instances.push_back(in);
     }
     std::map<int, uint32_t> stored;

@@ -36,23 +36,6 @@ static void mark_range(const lv_grid_info *g, const int lo[3], const int hi[3], 
             for (int x = lo[0]; x <= hi[0]; x++) mark[cell_index(g, x, y, z)] = 1;
 }
 
-/* The world box of an object-space box under an instance's transform. */
-static void world_box(const lv_instance *in, const float bmin[3], const float bmax[3], float lo[3], float hi[3])
-{
-    for (int k = 0; k < 3; k++) {
-        lo[k] = INFINITY;
-        hi[k] = -INFINITY;
-    }
-    for (int c = 0; c < 8; c++) {
-        float p[3] = {c & 1 ? bmax[0] : bmin[0], c & 2 ? bmax[1] : bmin[1], c & 4 ? bmax[2] : bmin[2]}, q[3];
-        lvcl_transform_point(in->world_from_object, p, 1.0f, q);
-        for (int k = 0; k < 3; k++) {
-            lo[k] = fminf(lo[k], q[k]);
-            hi[k] = fmaxf(hi[k], q[k]);
-        }
-    }
-}
-
 /* Marks the cells the geometry touches: each placed triangle's bounding box
  * (conservative for slanted triangles; see docs/light-volume.md), except
  * that a part of a mesh's tree whose placed box spans at most two cells
@@ -70,7 +53,7 @@ static void mark_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, uin
             const lv_bvh_node *n = &p->nodes[stack[--top]];
             float lo_w[3], hi_w[3];
             int lo[3], hi[3];
-            world_box(inst, n->bmin, n->bmax, lo_w, hi_w);
+            lvcl_transform_box(inst->world_from_object, n->bmin, n->bmax, lo_w, hi_w);
             cell_range(g, inv, lo_w, hi_w, lo, hi);
             if (hi[0] - lo[0] <= 1 && hi[1] - lo[1] <= 1 && hi[2] - lo[2] <= 1) {
                 mark_range(g, lo, hi, mark);

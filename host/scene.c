@@ -22,9 +22,27 @@ void lvcl_scene_free(lvcl_scene *scene)
     memset(scene, 0, sizeof *scene);
 }
 
+const float lvcl_identity_transform[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+
 void lvcl_transform_point(const float m[12], const float p[3], float w, float out[3])
 {
     for (int r = 0; r < 3; r++) out[r] = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3] * w;
+}
+
+void lvcl_transform_box(const float m[12], const float lo[3], const float hi[3], float out_lo[3], float out_hi[3])
+{
+    for (int k = 0; k < 3; k++) {
+        out_lo[k] = INFINITY;
+        out_hi[k] = -INFINITY;
+    }
+    for (int c = 0; c < 8; c++) {
+        float p[3] = {c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]}, q[3];
+        lvcl_transform_point(m, p, 1.0f, q);
+        for (int k = 0; k < 3; k++) {
+            if (q[k] < out_lo[k]) out_lo[k] = q[k];
+            if (q[k] > out_hi[k]) out_hi[k] = q[k];
+        }
+    }
 }
 
 void lvcl_transform_invert(const float m[12], float out[12], int *mirrored)

@@ -104,8 +104,14 @@ lvcl_error lvcl_scene_load_gltf_memory(const void *data, size_t size, const char
  * the winding, as glTF says), leaving a flat scene; no-op on a flat one. */
 lvcl_error lvcl_scene_flatten(lvcl_scene *scene, lvcl_status *st);
 
+/* The 3 x 4 row-major identity transform. */
+extern const float lvcl_identity_transform[12];
+
 /* Applies a 3 x 4 row-major transform to point p (w = 1) or vector (w = 0). */
 void lvcl_transform_point(const float m[12], const float p[3], float w, float out[3]);
+
+/* The axis-aligned box around the transformed corners of box lo..hi. */
+void lvcl_transform_box(const float m[12], const float lo[3], const float hi[3], float out_lo[3], float out_hi[3]);
 
 /* The inverse of a 3 x 4 affine transform (computed in double precision),
  * and whether it mirrors (negative determinant). */
