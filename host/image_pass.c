@@ -93,7 +93,7 @@ static void *render_bands(void *arg)
         ps->owner[band] = w->index;
         ps->samples = s;
         pthread_mutex_unlock(&ps->lock);
-        w->pd->tiles++;
+        w->pd->bands++;
         w->pd->pixels += count;
         w->pd->busy_seconds += lvcl_seconds() - band_start;
     }
@@ -156,7 +156,7 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
     for (int d = 0; d < n && !e; d++) {
         cl_int err;
         workers[d] = (worker){.ps = &ps, .pd = &devices[d], .index = d};
-        devices[d].tiles = 0;
+        devices[d].bands = 0;
         devices[d].pixels = 0;
         devices[d].busy_seconds = 0;
         workers[d].sum = clCreateBuffer(devices[d].device->context, CL_MEM_READ_WRITE, ps.pixels * 4 * sizeof(float),

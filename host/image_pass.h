@@ -30,7 +30,7 @@ typedef struct {
     const lvcl_device *device;
     cl_kernel kernel;
     cl_uint camera_arg;
-    int tiles;           /* bands rendered */
+    int bands;           /* bands rendered */
     size_t pixels;       /* pixels rendered */
     double busy_seconds; /* time spent rendering them */
 } lvcl_pass_device;

@@ -85,7 +85,7 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
                 ", \"index\": %d, \"compute_units\": %u, \"particles\": %llu, \"particle_trace_seconds\": %.4f, "
                 "\"bands\": %d, \"pixels\": %zu, \"render_busy_seconds\": %.4f}",
                 sd->device.index, sd->device.compute_units, (unsigned long long)sd->volume.particles,
-                sd->volume.trace_seconds, sd->pass.tiles, sd->pass.pixels, sd->pass.busy_seconds);
+                sd->volume.trace_seconds, sd->pass.bands, sd->pass.pixels, sd->pass.busy_seconds);
     }
     fprintf(f, "\n  ]");
     fprintf(f, "\n}\n");
