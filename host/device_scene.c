@@ -230,12 +230,51 @@ void lvcl_packed_scene_free(lvcl_packed_scene *p)
     memset(p, 0, sizeof *p);
 }
 
+/* One table to upload: count elements of `size` bytes, in buffers of
+ * per_part elements (UINT32_MAX: one buffer). */
 typedef struct {
-    cl_mem *slot;
-    const void *data;
-    size_t bytes;
+    cl_mem *parts;    /* max_parts slots */
+    int max_parts;    /* LV_SCENE_PARTS for the tables the kernels read split, else 1 */
+    const void *data; /* NULL: allocated uninitialised (the kernels never read it) */
+    size_t count, size;
+    uint32_t per_part;
     const char *what;
-} upload;
+} table;
+
+/* Elements per buffer for tables of `count` elements, the largest
+ * `largest` bytes each: all in one buffer if they fit, else as many as the
+ * largest allocation holds (0 if not even one does). */
+static uint32_t elements_per_part(size_t count, size_t largest, cl_ulong max_alloc)
+{
+    cl_ulong fit = max_alloc / largest;
+    if (count <= fit) return UINT32_MAX;
+    return (uint32_t)fit; /* count < 2^32, so fit is too */
+}
+
+static size_t part_count(const table *t)
+{
+    if (t->per_part == UINT32_MAX) return 1;
+    return t->per_part ? (t->count + t->per_part - 1) / t->per_part : SIZE_MAX;
+}
+
+static lvcl_error upload_table(const lvcl_device *dev, const table *t, lvcl_status *st)
+{
+    size_t parts = part_count(t);
+    for (size_t k = 0; k < parts; k++) {
+        size_t first = k * (size_t)t->per_part, n = t->count - first;
+        if (parts > 1 && n > t->per_part) n = t->per_part;
+        cl_int err;
+        cl_mem_flags flags = CL_MEM_READ_ONLY | (t->data ? CL_MEM_COPY_HOST_PTR : 0);
+        void *host = t->data ? (char *)t->data + first * t->size : NULL;
+        t->parts[k] = clCreateBuffer(dev->context, flags, n * t->size, host, &err);
+        if (err != CL_SUCCESS)
+            return lvcl_fail(st, err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ? LVCL_ERR_TOO_LARGE
+                                                                                                      : LVCL_ERR_DEVICE,
+                             "cannot allocate %.1f MiB for %s on %s: %s", n * t->size / 1048576.0, t->what, dev->name,
+                             lvcl_cl_error_name(err));
+    }
+    return LVCL_OK;
+}
 
 lvcl_error lvcl_device_scene_upload(const lvcl_device *dev, const lvcl_scene *scene, const lvcl_packed_scene *p,
                                     lvcl_device_scene *ds, lvcl_status *st)
@@ -244,67 +283,101 @@ lvcl_error lvcl_device_scene_upload(const lvcl_device *dev, const lvcl_scene *sc
     ds->info = p->info;
     /* OpenCL refuses zero-sized buffers, so empty tables get a dummy entry. */
 #define AT_LEAST_ONE(n) ((n) ? (n) : 1)
-    upload list[] = {
-        {&ds->nodes, p->nodes, p->node_count * sizeof(lv_bvh_node), "BVH nodes"},
-        {&ds->instances, p->instances, p->instance_count * sizeof(lv_instance), "instances"},
-        {&ds->tri_vertices, p->tri_vertices, p->triangle_count * 12 * sizeof(float), "triangle vertices"},
-        {&ds->triangles, p->triangles, p->triangle_count * sizeof(lv_triangle), "triangles"},
-        {&ds->normals, scene->normals, AT_LEAST_ONE(scene->vertex_count) * 3 * sizeof(float), "normals"},
-        {&ds->uvs, scene->uvs, AT_LEAST_ONE(scene->vertex_count) * 2 * sizeof(float), "texture coordinates"},
-        {&ds->materials, p->materials, AT_LEAST_ONE(p->material_count) * sizeof(lv_material), "materials"},
-        {&ds->textures, p->textures, AT_LEAST_ONE(p->texture_count) * sizeof(lv_texture), "textures"},
-        {&ds->texels, p->texels, AT_LEAST_ONE(p->texel_count) * 4, "texels"},
-        {&ds->lights, p->lights, AT_LEAST_ONE(p->light_count) * sizeof(lv_light), "lights"},
-        {&ds->punctuals, scene->punctuals, AT_LEAST_ONE(scene->punctual_count) * sizeof(lv_punctual_light),
-         "punctual lights"},
+    size_t vertices = AT_LEAST_ONE(scene->vertex_count);
+    /* Tables read with the same index split at the same element. */
+    lv_scene_info *in = &ds->info;
+    in->nodes_per_part = elements_per_part(p->node_count, sizeof(lv_bvh_node), dev->max_alloc);
+    in->triangles_per_part = elements_per_part(p->triangle_count, 12 * sizeof(float), dev->max_alloc);
+    in->vertices_per_part = elements_per_part(vertices, 3 * sizeof(float), dev->max_alloc);
+    const int split = LV_SCENE_PARTS;
+    _Static_assert(sizeof(lv_triangle) <= 12 * sizeof(float), "triangle records split where their corners do");
+    table list[] = {
+        {ds->nodes, split, p->nodes, p->node_count, sizeof(lv_bvh_node), in->nodes_per_part, "BVH nodes"},
+        {&ds->instances, 1, p->instances, p->instance_count, sizeof(lv_instance), UINT32_MAX, "instances"},
+        {ds->tri_vertices, split, p->tri_vertices, p->triangle_count, 12 * sizeof(float), in->triangles_per_part,
+         "triangle vertices"},
+        {ds->triangles, split, p->triangles, p->triangle_count, sizeof(lv_triangle), in->triangles_per_part,
+         "triangles"},
+        {ds->normals, split, scene->normals, vertices, 3 * sizeof(float), in->vertices_per_part, "normals"},
+        {ds->uvs, split, scene->uvs, vertices, 2 * sizeof(float), in->vertices_per_part, "texture coordinates"},
+        {&ds->materials, 1, p->materials, AT_LEAST_ONE(p->material_count), sizeof(lv_material), UINT32_MAX,
+         "materials"},
+        {&ds->textures, 1, p->textures, AT_LEAST_ONE(p->texture_count), sizeof(lv_texture), UINT32_MAX, "textures"},
+        {&ds->texels, 1, p->texels, AT_LEAST_ONE(p->texel_count), 4, UINT32_MAX, "texels"},
+        {&ds->lights, 1, p->lights, AT_LEAST_ONE(p->light_count), sizeof(lv_light), UINT32_MAX, "lights"},
+        {&ds->punctuals, 1, scene->punctuals, AT_LEAST_ONE(scene->punctual_count), sizeof(lv_punctual_light),
+         UINT32_MAX, "punctual lights"},
     };
 #undef AT_LEAST_ONE
     size_t count = sizeof list / sizeof list[0];
     size_t total = 0;
     for (size_t i = 0; i < count; i++) {
-        if (list[i].bytes > dev->max_alloc)
-            return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "the scene's %s need %.1f MiB in one buffer, but %s allows %.1f MiB",
-                             list[i].what, list[i].bytes / 1048576.0, dev->name, dev->max_alloc / 1048576.0);
-        total += list[i].bytes;
+        table *t = &list[i];
+        size_t bytes = t->count * t->size;
+        if (t->max_parts == 1 && bytes > dev->max_alloc) t->per_part = 0; /* cannot split */
+        size_t parts = part_count(t);
+        if (parts > (size_t)t->max_parts)
+            return lvcl_fail(st, LVCL_ERR_TOO_LARGE,
+                             "the scene's %s need %.1f MiB, but %s allows %.1f MiB in one buffer (%d buffer%s at most)",
+                             t->what, bytes / 1048576.0, dev->name, dev->max_alloc / 1048576.0, t->max_parts,
+                             t->max_parts > 1 ? "s" : "");
+        if (parts > 1) ds->split_tables++;
+        total += bytes;
     }
     if (total > dev->global_mem)
         return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "the scene needs %.1f MiB of device memory, but %s has %.1f MiB",
                          total / 1048576.0, dev->name, dev->global_mem / 1048576.0);
 
     for (size_t i = 0; i < count; i++) {
-        cl_int err;
-        /* Tables that may be NULL on the host (no normals, no punctual lights) are
-         * allocated uninitialised: the kernels never read them then. */
-        cl_mem_flags flags = CL_MEM_READ_ONLY | (list[i].data ? CL_MEM_COPY_HOST_PTR : 0);
-        *list[i].slot = clCreateBuffer(dev->context, flags, list[i].bytes, (void *)list[i].data, &err);
-        if (err != CL_SUCCESS) {
+        lvcl_error e = upload_table(dev, &list[i], st);
+        if (e) {
             lvcl_device_scene_release(ds);
-            return lvcl_fail(st, err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ? LVCL_ERR_TOO_LARGE
-                                                                                                         : LVCL_ERR_DEVICE,
-                             "cannot allocate %.1f MiB for %s on %s: %s", list[i].bytes / 1048576.0, list[i].what,
-                             dev->name, lvcl_cl_error_name(err));
+            return e;
         }
     }
     ds->device_bytes = total;
     return LVCL_OK;
 }
 
+/* The buffer slots of ds in the order of LV_SCENE_PARAMS: runs of
+ * LV_SCENE_PARTS slots for the split tables, one slot for the others. */
+typedef struct {
+    cl_mem *slots;
+    int count;
+} slot_run;
+
+#define SCENE_SLOT_RUNS 11
+static void scene_slot_runs(lvcl_device_scene *ds, slot_run runs[SCENE_SLOT_RUNS])
+{
+    slot_run order[SCENE_SLOT_RUNS] = {
+        {ds->nodes, LV_SCENE_PARTS}, {&ds->instances, 1}, {ds->tri_vertices, LV_SCENE_PARTS},
+        {ds->triangles, LV_SCENE_PARTS}, {ds->normals, LV_SCENE_PARTS}, {ds->uvs, LV_SCENE_PARTS},
+        {&ds->materials, 1}, {&ds->textures, 1}, {&ds->texels, 1}, {&ds->lights, 1}, {&ds->punctuals, 1},
+    };
+    memcpy(runs, order, sizeof order);
+}
+
 void lvcl_device_scene_release(lvcl_device_scene *ds)
 {
-    cl_mem *all[] = {&ds->nodes, &ds->instances, &ds->tri_vertices, &ds->triangles, &ds->normals, &ds->uvs,
-                     &ds->materials, &ds->textures, &ds->texels, &ds->lights, &ds->punctuals};
-    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
-        if (*all[i]) clReleaseMemObject(*all[i]);
+    slot_run runs[SCENE_SLOT_RUNS];
+    scene_slot_runs(ds, runs);
+    for (int r = 0; r < SCENE_SLOT_RUNS; r++)
+        for (int k = 0; k < runs[r].count; k++)
+            if (runs[r].slots[k]) clReleaseMemObject(runs[r].slots[k]);
     memset(ds, 0, sizeof *ds);
 }
 
 int lvcl_device_scene_set_args(const lvcl_device_scene *ds, cl_kernel k, cl_uint first)
 {
-    const cl_mem *bufs[] = {&ds->nodes, &ds->instances, &ds->tri_vertices, &ds->triangles, &ds->normals, &ds->uvs,
-                            &ds->materials, &ds->textures, &ds->texels, &ds->lights, &ds->punctuals};
+    slot_run runs[SCENE_SLOT_RUNS];
+    scene_slot_runs((lvcl_device_scene *)ds, runs);
     cl_uint i = first;
-    for (size_t b = 0; b < sizeof bufs / sizeof bufs[0]; b++, i++)
-        if (clSetKernelArg(k, i, sizeof(cl_mem), bufs[b]) != CL_SUCCESS) return -1;
+    for (int r = 0; r < SCENE_SLOT_RUNS; r++)
+        for (int p = 0; p < runs[r].count; p++, i++) {
+            /* A split table's unused parts are never read: part 0 stands in. */
+            const cl_mem *buf = runs[r].slots[p] ? &runs[r].slots[p] : &runs[r].slots[0];
+            if (clSetKernelArg(k, i, sizeof(cl_mem), buf) != CL_SUCCESS) return -1;
+        }
     if (clSetKernelArg(k, i++, sizeof ds->info, &ds->info) != CL_SUCCESS) return -1;
     return (int)i;
 }

@@ -31,10 +31,16 @@ typedef struct {
     float bounds_min[3], bounds_max[3];
 } lvcl_packed_scene;
 
+/* The uploaded tables. The large ones come in up to LV_SCENE_PARTS
+ * buffers (kernels/scene.h); parts a scene does not need stay NULL, and the
+ * kernels get part 0 in their place. */
 typedef struct {
-    cl_mem nodes, instances, tri_vertices, triangles, normals, uvs, materials, textures, texels, lights, punctuals;
+    cl_mem nodes[LV_SCENE_PARTS], tri_vertices[LV_SCENE_PARTS], triangles[LV_SCENE_PARTS];
+    cl_mem normals[LV_SCENE_PARTS], uvs[LV_SCENE_PARTS];
+    cl_mem instances, materials, textures, texels, lights, punctuals;
     lv_scene_info info;
     size_t device_bytes;
+    int split_tables; /* how many of the tables take more than one buffer */
 } lvcl_device_scene;
 
 /* Packs scene and its acceleration structure. The packed scene borrows
@@ -47,8 +53,10 @@ lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *accel, uin
 void lvcl_packed_triangle_world(const lvcl_packed_scene *p, size_t instance, size_t tri, float v[9]);
 void lvcl_packed_scene_free(lvcl_packed_scene *packed);
 
-/* Uploads; fails with LVCL_ERR_TOO_LARGE, naming the sizes, if a buffer
- * exceeds the device's largest allocation or all of them its memory. */
+/* Uploads, splitting the large tables over up to LV_SCENE_PARTS buffers
+ * where one would exceed the device's largest allocation; fails with
+ * LVCL_ERR_TOO_LARGE, naming the sizes, if that is not enough or all of
+ * them exceed its memory. */
 lvcl_error lvcl_device_scene_upload(const lvcl_device *dev, const lvcl_scene *scene, const lvcl_packed_scene *packed,
                                     lvcl_device_scene *ds, lvcl_status *st);
 void lvcl_device_scene_release(lvcl_device_scene *ds);

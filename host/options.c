@@ -93,7 +93,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         else if (!strcmp(a, "--particles")) { e = parse_real(a, v, 1, 4294967295.0, &x, st); o->particles = floor(x); }
         else if (!strcmp(a, "--threshold")) { e = parse_real(a, v, 1e-12, 1e12, &x, st); o->threshold = x; }
         else if (!strcmp(a, "--gather")) o->gather = v;
-        else if (!strcmp(a, "--device-memory")) { e = parse_real(a, v, 1, 1e9, &x, st); o->device_memory_mib = x; }
+        else if (!strcmp(a, "--device-memory")) { e = parse_real(a, v, 0.01, 1e9, &x, st); o->device_memory_mib = x; }
         if (e) return e;
     }
     if (strcmp(o->mode, "pt") && strcmp(o->mode, "lv") && strcmp(o->mode, "lv-all"))

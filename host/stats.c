@@ -33,10 +33,11 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
     fprintf(f,
             ",\n  \"triangles\": %zu,\n  \"triangles_skipped\": %zu,\n  \"meshes\": %zu,\n  \"instances\": %zu,\n"
             "  \"instanced_triangles\": %zu,\n  \"bvh_nodes\": %zu,\n  \"bvh_depth\": %d,\n  \"bvh_bytes\": %zu,\n"
-            "  \"device_bytes\": %zu,\n",
+            "  \"device_bytes\": %zu,\n  \"scene_tables_split\": %d,\n",
             ss->accel.triangle_count, ss->accel.skipped, ss->accel.mesh_count, ss->accel.instance_count,
             ss->accel.instanced_triangles, ss->accel.node_count, ss->accel.depth,
-            ss->accel.node_count * sizeof(lv_bvh_node), first->device_scene.device_bytes);
+            ss->accel.node_count * sizeof(lv_bvh_node), first->device_scene.device_bytes,
+            first->device_scene.split_tables);
     fprintf(f, "  \"kernel_options\": ");
     json_string(f, first->program.options);
     fprintf(f,

@@ -80,7 +80,7 @@ inline int lv_sample_light(const lv_scene *sc, float3 p, float3 u, lv_light_samp
     float cos_l = -dot(ls->wi, n);
     if (cos_l <= 0.0f) return 0; /* emitters shine from their front face only */
     ls->target = lv_offset_origin(q, n, sc->info.scene_scale);
-    ls->li = LV_F3(sc->materials[sc->triangles[light.index].material].emission);
+    ls->li = LV_F3(sc->materials[lv_triangle_record(sc, light.index).material].emission);
     ls->pdf = light.pdf_select * lv_area_to_solid_angle(1.0f / area, dist2, cos_l);
     ls->delta = 0;
     return 1;
@@ -91,7 +91,7 @@ inline int lv_sample_light(const lv_scene *sc, float3 p, float3 u, lv_light_samp
  * distance h.t; ng is its front normal. */
 inline float lv_light_pdf(const lv_scene *sc, lv_hit h, float3 dir, float3 ng)
 {
-    uint emitter = sc->triangles[h.tri].light;
+    uint emitter = lv_triangle_record(sc, h.tri).light;
     if (emitter == LV_NO_LIGHT) return 0.0f;
     float3 v0, v1, v2;
     lv_triangle_world(sc, h.inst, h.tri, &v0, &v1, &v2);
@@ -148,7 +148,7 @@ inline int lv_sample_emission(const lv_scene *sc, float2 u_light, float2 u_dir, 
     es->triangle = light.index;
     es->instance = light.instance;
     es->dir = lv_to_world(lv_frame_make(n), lv_sample_cosine_hemisphere(u_dir));
-    float3 le = LV_F3(sc->materials[sc->triangles[light.index].material].emission);
+    float3 le = LV_F3(sc->materials[lv_triangle_record(sc, light.index).material].emission);
     es->weight = le * (LV_PI * area / select_power);
     return 1;
 }

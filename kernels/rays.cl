@@ -39,7 +39,7 @@ __kernel void lv_rays_primary(lv_camera camera, __global float4 *rays)
 inline void lv_rays_trace(const lv_scene *sc, __global const float4 *rays, uint i, int any_hit, __global uint4 *hits)
 {
     lv_hit h = lv_trace(sc, lv_rays_load(rays, i), any_hit);
-    uint prim = h.tri == LV_NO_HIT ? LV_NO_HIT : sc->triangles[h.tri].prim_id;
+    uint prim = h.tri == LV_NO_HIT ? LV_NO_HIT : lv_triangle_record(sc, h.tri).prim_id;
     hits[i] = (uint4)(as_uint(h.t), prim, h.tri, 0u);
 }
 
@@ -77,7 +77,7 @@ __kernel void lv_rays_secondary(LV_SCENE_PARAMS, __global const float4 *primary,
     lv_ray r = lv_rays_load(primary, pixel);
     uint4 h = primary_hits[pixel];
 
-    __global const float4 *v = &sc.tri_vertices[3 * h.z];
+    __global const float4 *v = lv_tri_corners(&sc, h.z);
     float3 n = normalize(cross(v[1].xyz - v[0].xyz, v[2].xyz - v[0].xyz));
     if (dot(n, r.dir) > 0.0f) n = -n;
     float3 o = r.origin + as_float(h.x) * r.dir + offset * n;
@@ -88,7 +88,7 @@ __kernel void lv_rays_secondary(LV_SCENE_PARAMS, __global const float4 *primary,
 
     if (emissive_count == 0) return;
     uint pick = min((uint)(lv_rng_next(&rng) * (float)emissive_count), emissive_count - 1u);
-    __global const float4 *lv = &sc.tri_vertices[3 * sc.lights[pick].index];
+    __global const float4 *lv = lv_tri_corners(&sc, sc.lights[pick].index);
     float2 b = lv_sample_triangle(lv_rng_next2(&rng));
     float3 target = (1.0f - b.x - b.y) * lv[0].xyz + b.x * lv[1].xyz + b.y * lv[2].xyz;
     float3 to = target - o;

@@ -130,6 +130,11 @@ typedef struct {
     float pad1;
 } lv_camera;
 
+/* Buffers each of the large scene tables (BVH nodes, triangles, vertex
+ * attributes) may be split over, each within the device's largest
+ * allocation. */
+#define LV_SCENE_PARTS 4
+
 /* Everything a kernel needs to know about the scene besides its buffers. */
 typedef struct {
     lv_u32 triangle_count;
@@ -140,6 +145,12 @@ typedef struct {
     float scene_scale;       /* largest extent of the scene bounds, metres */
     lv_u32 instance_count;
     lv_u32 flat;             /* one instance, identity transform: rays skip the top level */
+    /* Elements per buffer of the tables split over LV_SCENE_PARTS buffers
+     * (kernels/scene.h); 0xffffffff where one buffer holds them all. */
+    lv_u32 nodes_per_part;
+    lv_u32 triangles_per_part; /* tri_vertices and triangles */
+    lv_u32 vertices_per_part;  /* normals and uvs */
+    lv_u32 pad;
 } lv_scene_info;
 
 /* The light volume (DESIGN.md section 1): a regular grid of cubic cells

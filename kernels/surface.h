@@ -49,7 +49,7 @@ inline float3 lv_texture_rgb(const lv_scene *sc, int index, float2 uv)
  * mirrored instance, whose transform reverses the winding). */
 inline float lv_triangle_world(const lv_scene *sc, uint inst, uint tri, float3 *v0, float3 *v1, float3 *v2)
 {
-    __global const float4 *v = &sc->tri_vertices[3 * tri];
+    __global const float4 *v = lv_tri_corners(sc, tri);
     *v0 = v[0].xyz;
     *v1 = v[1].xyz;
     *v2 = v[2].xyz;
@@ -80,12 +80,12 @@ inline lv_surface lv_surface_at(const lv_scene *sc, lv_ray r, lv_hit h)
     s.p = b0 * v0 + h.b1 * v1 + h.b2 * v2;
     s.ng = front_sign * normalize(cross(v1 - v0, v2 - v0));
     s.front = dot(r.dir, s.ng) < 0.0f;
-    lv_triangle tri = sc->triangles[h.tri];
+    lv_triangle tri = lv_triangle_record(sc, h.tri);
     s.material = tri.material;
     s.ns = s.ng;
     if (tri.flags & LV_TRI_HAS_NORMALS) {
-        float3 n = b0 * vload3(tri.v[0], sc->normals) + h.b1 * vload3(tri.v[1], sc->normals) +
-                   h.b2 * vload3(tri.v[2], sc->normals);
+        float3 n = b0 * lv_vertex_normal(sc, tri.v[0]) + h.b1 * lv_vertex_normal(sc, tri.v[1]) +
+                   h.b2 * lv_vertex_normal(sc, tri.v[2]);
         n = lv_normal_to_world(sc, h.inst, n);
         float len2 = dot(n, n);
         if (len2 > 0.0f && isfinite(len2)) {
@@ -95,8 +95,8 @@ inline lv_surface lv_surface_at(const lv_scene *sc, lv_ray r, lv_hit h)
     }
     s.uv = (float2)(0.0f);
     if (tri.flags & LV_TRI_HAS_UVS)
-        s.uv = b0 * vload2(tri.v[0], sc->uvs) + h.b1 * vload2(tri.v[1], sc->uvs) +
-               h.b2 * vload2(tri.v[2], sc->uvs);
+        s.uv = b0 * lv_vertex_uv(sc, tri.v[0]) + h.b1 * lv_vertex_uv(sc, tri.v[1]) +
+               h.b2 * lv_vertex_uv(sc, tri.v[2]);
     return s;
 }
 

@@ -156,13 +156,13 @@ inline lv_hit lv_trace(const lv_scene *sc, lv_ray r, int any_hit)
 
     int stack[LV_TRAVERSAL_STACK];
     int top = 0;
-    if (lv_box_entry(&sc->nodes[0], origin, inv_dir, hit.t) == LV_FAR) return hit;
+    if (lv_box_entry(lv_node(sc, 0u), origin, inv_dir, hit.t) == LV_FAR) return hit;
     /* A flat scene's one instance is the identity: start in its mesh. */
     uint inst = 0u;
     int in_mesh = sc->info.flat != 0u;
     int node = in_mesh ? (int)sc->instances[0].root : 0;
     for (;;) {
-        __global const lv_bvh_node *n = &sc->nodes[node];
+        __global const lv_bvh_node *n = lv_node(sc, (uint)node);
         if (n->count > 0 && !in_mesh) {
             /* A top-level leaf holds one instance: enter its mesh. */
             inst = (uint)n->index;
@@ -181,7 +181,7 @@ inline lv_hit lv_trace(const lv_scene *sc, lv_ray r, int any_hit)
         if (n->count > 0) {
             for (int i = n->index; i < n->index + n->count; i++) {
                 if ((uint)i == r.skip && inst == r.skip_inst) continue;
-                __global const float4 *v = &sc->tri_vertices[3 * i];
+                __global const float4 *v = lv_tri_corners(sc, (uint)i);
                 if (lv_intersect_triangle(&s, v[0], v[1], v[2], &hit.t, &hit.b1, &hit.b2)) {
                     hit.tri = (uint)i;
                     hit.inst = inst;
@@ -190,8 +190,8 @@ inline lv_hit lv_trace(const lv_scene *sc, lv_ray r, int any_hit)
             }
         } else {
             int first = node + 1, second = n->index;
-            float t_first = lv_box_entry(&sc->nodes[first], origin, inv_dir, hit.t);
-            float t_second = lv_box_entry(&sc->nodes[second], origin, inv_dir, hit.t);
+            float t_first = lv_box_entry(lv_node(sc, (uint)first), origin, inv_dir, hit.t);
+            float t_second = lv_box_entry(lv_node(sc, (uint)second), origin, inv_dir, hit.t);
             if (t_second < t_first) {
                 int tn = first;
                 first = second;

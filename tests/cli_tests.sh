@@ -84,6 +84,16 @@ else fail "second run loads kernels from cache" "$(grep cache "$tmp/s2.json")"; 
 if "$build/lvcl-compare" "$tmp/a.exr" "$tmp/b.exr" | grep -q '"rmse": 0,'; then pass "same seed, same image"
 else fail "same seed, same image" "the pixels differ"; fi
 
+# A device just big enough for the kitchen (--device-memory gives a quarter
+# of it to one buffer) splits the large scene tables and renders the same.
+"$lvcl" -q --spp 1 --width 24 --stats "$tmp/k1.json" -o "$tmp/k1.exr" kitchen 2>/dev/null
+mib=$(awk -F': ' '/"device_bytes"/ { printf "%.4f", $2 * 1.01 / 1048576 }' "$tmp/k1.json")
+"$lvcl" -q --spp 1 --width 24 --device-memory "$mib" --stats "$tmp/k2.json" -o "$tmp/k2.exr" kitchen 2>"$tmp/err"
+split=$(awk -F': ' '/"scene_tables_split"/ { print $2 + 0 }' "$tmp/k2.json" 2>/dev/null)
+if [ "${split:-0}" -ge 2 ] && "$build/lvcl-compare" "$tmp/k1.exr" "$tmp/k2.exr" | grep -q '"rmse": 0,'
+then pass "scene tables split over buffers render the same image"
+else fail "scene tables split over buffers render the same image" "--device-memory $mib: ${split:-no} tables split; $(cat "$tmp/err")"; fi
+
 # Non-finite vertices are skipped with a warning, and the image stays finite.
 "$lvcl" -q --spp 2 --width 32 -o "$tmp/nan.exr" "$data/nan_vertex.gltf" 2>"$tmp/err"
 status=$?

@@ -147,12 +147,24 @@ typedef struct {
     lvcl_device_scene ds;
 } gpu_scene;
 
+/* Builds and uploads a scene, to `on` (the test device, or a copy of it
+ * that claims a smaller largest allocation). */
+static lvcl_error gpu_scene_prepare(const tri_list *l, const lvcl_device *on, gpu_scene *g, lvcl_status *st)
+{
+    harness_triangle_scene(l->v, l->count, &g->scene);
+    memset(&g->accel, 0, sizeof g->accel);
+    memset(&g->packed, 0, sizeof g->packed);
+    memset(&g->ds, 0, sizeof g->ds);
+    lvcl_error e = lvcl_accel_build(&g->scene, &g->accel, st);
+    if (!e) e = lvcl_pack_scene(&g->scene, &g->accel, 0, 8, &g->packed, st);
+    if (!e) e = lvcl_device_scene_upload(on, &g->scene, &g->packed, &g->ds, st);
+    return e;
+}
+
 static void gpu_scene_make(const tri_list *l, gpu_scene *g)
 {
     lvcl_status st = {0};
-    harness_triangle_scene(l->v, l->count, &g->scene);
-    if (lvcl_accel_build(&g->scene, &g->accel, &st) || lvcl_pack_scene(&g->scene, &g->accel, 0, 8, &g->packed, &st) ||
-        lvcl_device_scene_upload(&dev, &g->scene, &g->packed, &g->ds, &st)) {
+    if (gpu_scene_prepare(l, &dev, g, &st)) {
         printf("FAIL traversal: preparing a scene of %zu triangles: %s\n", l->count, st.message);
         exit(1);
     }
@@ -400,6 +412,88 @@ static void test_random_soups(void)
         free(soup.v);
         free(rays.v);
     }
+}
+
+/* ---- 1b. tables split over several buffers ---- */
+
+/* Gives every vertex of g a random normal and uv, re-uploaded to `on`. */
+static void random_attributes(const lvcl_device *on, uint64_t seed, gpu_scene *g, lvcl_status *st)
+{
+    rng r = {seed};
+    lvcl_scene *s = &g->scene;
+    for (size_t v = 0; v < s->vertex_count; v++) {
+        vec3 n = random_unit(&r);
+        s->normals[3 * v] = (float)n.x, s->normals[3 * v + 1] = (float)n.y, s->normals[3 * v + 2] = (float)n.z;
+        s->uvs[2 * v] = (float)uniform(&r), s->uvs[2 * v + 1] = (float)uniform(&r);
+    }
+    for (size_t t = 0; t < s->triangle_count; t++) s->tri_flags[t] |= LV_TRI_HAS_NORMALS | LV_TRI_HAS_UVS;
+    lvcl_packed_scene_free(&g->packed);
+    lvcl_device_scene_release(&g->ds);
+    if (lvcl_pack_scene(s, &g->accel, 0, 8, &g->packed, st) ||
+        lvcl_device_scene_upload(on, s, &g->packed, &g->ds, st)) {
+        printf("FAIL traversal: re-uploading with attributes: %s\n", st->message);
+        exit(1);
+    }
+}
+
+static void test_split_tables(void)
+{
+    rng r = {7};
+    tri_list soup = {0};
+    ray_list rays = {0};
+    make_soup(&r, 10000, 1, &soup);
+    make_soup_rays(&r, 20000, &rays);
+    lvcl_status st = {0};
+    gpu_scene whole, split;
+    if (gpu_scene_prepare(&soup, &dev, &whole, &st)) {
+        printf("FAIL traversal: preparing the split-table scene: %s\n", st.message);
+        exit(1);
+    }
+    /* A device whose largest allocation holds a third of the triangle
+     * corners: every large table needs two to four buffers. */
+    lvcl_device small = dev;
+    small.max_alloc = 10000 * 48 / 3 + 1000;
+    if (gpu_scene_prepare(&soup, &small, &split, &st)) {
+        CHECK("split tables: a scene over the largest allocation uploads in parts", 0, "%s", st.message);
+        gpu_scene_free(&split);
+        gpu_scene_free(&whole);
+        return;
+    }
+    random_attributes(&dev, 11, &whole, &st);
+    random_attributes(&small, 11, &split, &st);
+    const lv_scene_info *in = &split.ds.info;
+    CHECK("split tables: nodes, triangles and vertices each take several buffers",
+          split.ds.split_tables == 5 && whole.ds.split_tables == 0 && in->triangles_per_part < 10000 &&
+              in->vertices_per_part < 30000 && in->nodes_per_part < split.packed.node_count,
+          "%d tables split (one buffer: %d); per part: %u nodes of %zu, %u triangles, %u vertices", split.ds.split_tables,
+          whole.ds.split_tables, in->nodes_per_part, split.packed.node_count, in->triangles_per_part,
+          in->vertices_per_part);
+
+    float *hits_whole = trace(&whole, &rays), *hits_split = trace(&split, &rays);
+    float *surf_whole = run_rays(&whole, "t_surface", &rays, NULL), *surf_split = run_rays(&split, "t_surface", &rays, NULL);
+    size_t n = 4 * rays.count * sizeof(float);
+    size_t hits = count_hits(hits_whole, rays.count);
+    CHECK("split tables: hits and surfaces (normals, uvs) equal one buffer's bit for bit",
+          !memcmp(hits_whole, hits_split, n) && !memcmp(surf_whole, surf_split, n) && hits > rays.count / 4,
+          "hits %s, surfaces %s, %zu of %zu rays hit", memcmp(hits_whole, hits_split, n) ? "differ" : "equal",
+          memcmp(surf_whole, surf_split, n) ? "differ" : "equal", hits, rays.count);
+    free(hits_whole);
+    free(hits_split);
+    free(surf_whole);
+    free(surf_split);
+    gpu_scene_free(&split);
+
+    /* Over four buffers' worth, the upload fails and says what and why. */
+    small.max_alloc = 10000 * 48 / 5;
+    lvcl_error e = gpu_scene_prepare(&soup, &small, &split, &st);
+    CHECK("split tables: more than four buffers' worth fails, naming the table and sizes",
+          e == LVCL_ERR_TOO_LARGE && strstr(st.message, "the scene's ") && strstr(st.message, "MiB") &&
+              strstr(st.message, "4 buffers at most"),
+          "error %d: %s", e, st.message);
+    gpu_scene_free(&split);
+    gpu_scene_free(&whole);
+    free(soup.v);
+    free(rays.v);
 }
 
 /* ---- 2. watertightness ---- */
@@ -1009,6 +1103,7 @@ int main(int argc, char **argv)
     (void)argv;
     harness_open(NULL, &dev, &prog);
     test_random_soups();
+    test_split_tables();
     test_watertight();
     test_grazing();
     test_degenerate();

@@ -119,9 +119,26 @@ __kernel void t_trace(LV_SCENE_PARAMS, __global const float *rays, uint count, _
     lv_ray r = load_test_ray(rays, i);
     lv_hit h = lv_trace(&sc, r, 0);
     results[4 * i + 0] = h.t;
-    results[4 * i + 1] = h.tri == LV_NO_HIT ? -1.0f : (float)sc.triangles[h.tri].prim_id;
+    results[4 * i + 1] = h.tri == LV_NO_HIT ? -1.0f : (float)lv_triangle_record(&sc, h.tri).prim_id;
     results[4 * i + 2] = lv_trace(&sc, r, 1).tri == LV_NO_HIT ? 0.0f : 1.0f;
     results[4 * i + 3] = h.tri == LV_NO_HIT ? 0.0f : (lv_surface_at(&sc, r, h).front ? 1.0f : -1.0f);
+}
+
+/* The surface each ray meets: 4 floats (shading normal x and y, uv), zero
+ * on a miss. */
+__kernel void t_surface(LV_SCENE_PARAMS, __global const float *rays, uint count, __global float *results)
+{
+    LV_SCENE_OPEN(sc);
+    uint i = get_global_id(0);
+    if (i >= count) return;
+    lv_ray r = load_test_ray(rays, i);
+    lv_hit h = lv_trace(&sc, r, 0);
+    float4 o = (float4)(0.0f);
+    if (h.tri != LV_NO_HIT) {
+        lv_surface s = lv_surface_at(&sc, r, h);
+        o = (float4)(s.ns.x, s.ns.y, s.uv.x, s.uv.y);
+    }
+    vstore4(o, i, results);
 }
 
 /* The same rays against every triangle, without the BVH. */
@@ -135,11 +152,11 @@ __kernel void t_trace_brute_force(LV_SCENE_PARAMS, __global const float *rays, u
     float t = r.tmax, b1, b2;
     int best = -1;
     for (uint k = 0; k < sc.info.triangle_count; k++) {
-        __global const float4 *v = &sc.tri_vertices[3 * k];
+        __global const float4 *v = lv_tri_corners(&sc, k);
         if (lv_intersect_triangle(&s, v[0], v[1], v[2], &t, &b1, &b2)) best = (int)k;
     }
     results[4 * i + 0] = t;
-    results[4 * i + 1] = best < 0 ? -1.0f : (float)sc.triangles[best].prim_id;
+    results[4 * i + 1] = best < 0 ? -1.0f : (float)lv_triangle_record(&sc, best).prim_id;
     results[4 * i + 2] = best < 0 ? 0.0f : 1.0f;
 }
 
@@ -170,8 +187,8 @@ __kernel void t_offset_rays(LV_SCENE_PARAMS, __global const float *rays, uint co
     lv_ray r2 = lv_ray_make(lv_offset_origin(s.p, n, sc.info.scene_scale), lv_to_world(lv_frame_make(n), l.xyz),
                             LV_FAR, h.inst, fabs(l.w) > 1.5f ? h.tri : LV_NO_HIT);
     lv_hit h2 = lv_trace(&sc, r2, 0);
-    o[0] = (float)sc.triangles[h.tri].prim_id;
-    o[1] = h2.tri == LV_NO_HIT ? -1.0f : (float)sc.triangles[h2.tri].prim_id;
+    o[0] = (float)lv_triangle_record(&sc, h.tri).prim_id;
+    o[1] = h2.tri == LV_NO_HIT ? -1.0f : (float)lv_triangle_record(&sc, h2.tri).prim_id;
     o[2] = h2.t;
     o[3] = length(r2.origin - s.p);
 }
