@@ -11,7 +11,6 @@
 #include "../host/timer.h"
 #include "rays.h"
 
-#define LOCAL_SIZE 64 /* as the renderer; global sizes are padded to it */
 
 typedef struct {
     const char *device;
@@ -94,10 +93,7 @@ static cl_mem device_buffer(bench *b, size_t bytes, const void *data, lvcl_statu
 
 static lvcl_error launch(bench *b, cl_kernel k, size_t count, const char *what, lvcl_status *st)
 {
-    size_t local = LOCAL_SIZE, global = (count + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
-    if (global == 0) return LVCL_OK;
-    lvcl_error e = cl_check(clEnqueueNDRangeKernel(b->s.devices[0].device.queue, k, 1, NULL, &global, &local, 0, NULL, NULL),
-                            what, st);
+    lvcl_error e = cl_check(lvcl_kernel_enqueue(&b->s.devices[0].device, k, count), what, st);
     return e ? e : cl_check(clFinish(b->s.devices[0].device.queue), what, st);
 }
 

@@ -5,11 +5,10 @@
 #include <string.h>
 
 #include "parallel.h"
+#include "program.h"
 #include "progress.h"
 #include "timer.h"
 
-/* PoCL and GPUs both do well with 64; the global size is padded to it. */
-#define LOCAL_SIZE 64
 /* Bands per device: enough for a device that runs ahead to take more. */
 #define BANDS_PER_DEVICE 8
 
@@ -63,15 +62,13 @@ static void *render_bands(void *arg)
         double band_start = lvcl_seconds();
         cl_uint first = (cl_uint)((size_t)band * ps->band_pixels);
         cl_uint count = (cl_uint)(ps->pixels - first < ps->band_pixels ? ps->pixels - first : ps->band_pixels);
-        size_t global = (count + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE, local = LOCAL_SIZE;
         clSetKernelArg(w->pd->kernel, a + 1, sizeof first, &first);
         clSetKernelArg(w->pd->kernel, a + 2, sizeof count, &count);
         int s = 0;
         while (s < ps->settings->spp) {
             cl_uint index = (cl_uint)s;
             clSetKernelArg(w->pd->kernel, a + 3, sizeof index, &index);
-            if ((w->e = cl_check(clEnqueueNDRangeKernel(dev->queue, w->pd->kernel, 1, NULL, &global, &local, 0, NULL,
-                                                        NULL),
+            if ((w->e = cl_check(lvcl_kernel_enqueue(dev, w->pd->kernel, count),
                                  "launching the camera pass", &w->st)) ||
                 (w->e = cl_check(clFinish(dev->queue), "running the camera pass", &w->st))) {
                 pthread_mutex_lock(&ps->lock);

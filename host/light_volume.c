@@ -7,7 +7,6 @@
 #include "progress.h"
 #include "timer.h"
 
-#define LOCAL_SIZE 64
 /* Particles per launch: big enough to keep a device busy, small enough for
  * progress and for --time-limit to be checked often. */
 #define BATCH (1u << 18)
@@ -217,10 +216,9 @@ static lvcl_error fill_bin_directions(const lvcl_device *dev, const lvcl_program
     lvcl_error e = lvcl_kernel_create(prog, "lv_bin_directions", &k, st);
     if (e) return e;
     cl_uint n = vol->info.dirs;
-    size_t local = LOCAL_SIZE, global = (vol->info.bins + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
     cl_int err = clSetKernelArg(k, 0, sizeof n, &n);
     if (err == CL_SUCCESS) err = clSetKernelArg(k, 1, sizeof(cl_mem), &vol->bin_directions_buf);
-    if (err == CL_SUCCESS) err = clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL);
+    if (err == CL_SUCCESS) err = lvcl_kernel_enqueue(dev, k, vol->info.bins);
     clReleaseKernel(k);
     return cl_ok(err, "computing the bin directions", st);
 }
@@ -231,11 +229,10 @@ lvcl_error lvcl_volume_finish(const lvcl_device *dev, const lvcl_program *prog, 
     cl_kernel k;
     lvcl_error e = lvcl_kernel_create(prog, "lv_lit_volumes", &k, st);
     if (e) return e;
-    size_t local = LOCAL_SIZE, global = ((size_t)vol->info.slot_count + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
     cl_int err = clSetKernelArg(k, 0, sizeof vol->info, &vol->info);
     if (err == CL_SUCCESS) err = clSetKernelArg(k, 1, sizeof(cl_mem), &vol->subcell_buf);
     if (err == CL_SUCCESS) err = clSetKernelArg(k, 2, sizeof(cl_mem), &vol->lit_volume_buf);
-    if (err == CL_SUCCESS && global) err = clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL);
+    if (err == CL_SUCCESS) err = lvcl_kernel_enqueue(dev, k, vol->info.slot_count);
     if (err == CL_SUCCESS) err = clFinish(dev->queue);
     clReleaseKernel(k);
     return cl_ok(err, "computing the lit volumes", st);
@@ -323,12 +320,11 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
         /* 32-bit counts per batch cannot overflow; the totals are 64-bit. */
         cl_uint counts[2] = {0, 0};
         cl_uint f = (cl_uint)first;
-        size_t local = LOCAL_SIZE, global = (count + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
         clSetKernelArg(k, (cl_uint)a + 7, sizeof f, &f);
         clSetKernelArg(k, (cl_uint)a + 8, sizeof count, &count);
         if ((e = cl_ok(clEnqueueWriteBuffer(dev->queue, counter, CL_FALSE, 0, sizeof counts, counts, 0, NULL, NULL),
                        "clearing the ray counters", st)) ||
-            (e = cl_ok(clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL),
+            (e = cl_ok(lvcl_kernel_enqueue(dev, k, count),
                        "launching the particle trace", st)) ||
             (e = cl_ok(clEnqueueReadBuffer(dev->queue, counter, CL_TRUE, 0, sizeof counts, counts, 0, NULL, NULL),
                        "running the particle trace", st)))

@@ -88,10 +88,11 @@ static lvcl_error build_log_error(const lvcl_device *dev, cl_program program, cl
 lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math,
                               lvcl_program *prog, lvcl_status *st)
 {
-    char defines[128];
-    snprintf(defines, sizeof defines, "%s%s%s", features & LVCL_FEATURE_GLASS ? " -DLV_FEATURE_GLASS" : "",
+    char defines[160];
+    snprintf(defines, sizeof defines, "%s%s%s%s", features & LVCL_FEATURE_GLASS ? " -DLV_FEATURE_GLASS" : "",
              features & LVCL_FEATURE_TEXTURES ? " -DLV_FEATURE_TEXTURES" : "",
-             features & LVCL_FEATURE_PUNCTUAL ? " -DLV_FEATURE_PUNCTUAL" : "");
+             features & LVCL_FEATURE_PUNCTUAL ? " -DLV_FEATURE_PUNCTUAL" : "",
+             features & LVCL_BUILD_EMULATED_INT64_ATOMICS ? " -DLV_EMULATE_INT64_ATOMICS" : "");
     return lvcl_program_build_source(dev, lvcl_kernel_source, lvcl_kernel_source_size, defines, fast_math, prog, st);
 }
 
@@ -152,4 +153,18 @@ lvcl_error lvcl_kernel_create(const lvcl_program *prog, const char *name, cl_ker
     *kernel = clCreateKernel(prog->program, name, &err);
     if (err != CL_SUCCESS) return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot create kernel %s: %s", name, lvcl_cl_error_name(err));
     return LVCL_OK;
+}
+
+cl_int lvcl_kernel_enqueue(const lvcl_device *dev, cl_kernel k, size_t count)
+{
+    size_t global = (count + LVCL_LOCAL_SIZE - 1) / LVCL_LOCAL_SIZE * LVCL_LOCAL_SIZE, local = LVCL_LOCAL_SIZE;
+    if (global == 0) return CL_SUCCESS;
+    /* A GPU driver may allow a register-hungry kernel fewer work-items per
+     * group; a power of two below 64 still divides the padded size. */
+    size_t allowed = 0;
+    if (clGetKernelWorkGroupInfo(k, dev->id, CL_KERNEL_WORK_GROUP_SIZE, sizeof allowed, &allowed, NULL) ==
+            CL_SUCCESS &&
+        allowed > 0)
+        while (local > allowed) local /= 2;
+    return clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL);
 }

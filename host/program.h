@@ -10,6 +10,9 @@
 #define LVCL_FEATURE_GLASS 1u     /* solid and thin dielectrics */
 #define LVCL_FEATURE_TEXTURES 2u  /* base-colour textures */
 #define LVCL_FEATURE_PUNCTUAL 4u  /* point and spot lights */
+/* Not a scene feature: 64-bit tallies from 32-bit atomics, as devices
+ * without cl_khr_int64_base_atomics build them anyway (tests use it). */
+#define LVCL_BUILD_EMULATED_INT64_ATOMICS 8u
 
 typedef struct {
     cl_program program;
@@ -32,5 +35,14 @@ void lvcl_program_release(lvcl_program *prog);
 
 /* Creates a kernel of the program by name. */
 lvcl_error lvcl_kernel_create(const lvcl_program *prog, const char *name, cl_kernel *kernel, lvcl_status *st);
+
+/* Work-items per work-group: 64, fastest on PoCL and a whole number of
+ * NVIDIA warps and AMD wavefronts. Kernels take a count and ignore the
+ * work-items past it, so every launch pads to this. */
+#define LVCL_LOCAL_SIZE 64
+
+/* Enqueues 1-D kernel k over `count` work-items (padded; nothing if 0) on
+ * dev's queue, with fewer per work-group where a driver allows k fewer. */
+cl_int lvcl_kernel_enqueue(const lvcl_device *dev, cl_kernel k, size_t count);
 
 #endif

@@ -63,9 +63,7 @@ void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *s)
 
 void harness_run(const lvcl_device *dev, cl_kernel k, size_t global)
 {
-    size_t local = 64;
-    global = (global + local - 1) / local * local;
-    harness_cl(clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL), "launching");
+    harness_cl(lvcl_kernel_enqueue(dev, k, global), "launching");
     harness_cl(clFinish(dev->queue), "running");
 }
 

@@ -29,7 +29,7 @@ lvcl_render_request harness_request(lvcl_mode mode, int size, int spp, int cells
 lvcl_error harness_render(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_render_request *req,
                           lvcl_render_result *out, lvcl_status *st);
 
-/* Runs a 1-D kernel over `global` items (padded to 64) and waits. */
+/* Runs a 1-D kernel over `global` items (padded to LVCL_LOCAL_SIZE) and waits. */
 void harness_run(const lvcl_device *dev, cl_kernel k, size_t global);
 
 /* Deterministic random numbers (splitmix64): seed s, then uniform in [0, 1). */

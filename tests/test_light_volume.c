@@ -18,9 +18,10 @@ typedef struct {
 } traced_volume;
 
 /* Opens a session on `scene` (consumed) and traces a volume into it, on a
- * device that acts as one of device_memory bytes (0: its own size). */
+ * device that acts as one of device_memory bytes (0: its own size), with
+ * the kernels built with build_flags (LVCL_BUILD_*) besides the scene's. */
 static int trace_sized(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_volume_settings *vs,
-                       uint64_t device_memory, traced_volume *tv)
+                       uint64_t device_memory, unsigned build_flags, traced_volume *tv)
 {
     lvcl_status st = {0};
     lvcl_session_config cfg = {device, seed, 64, 1, device_memory};
@@ -30,6 +31,13 @@ static int trace_sized(lvcl_scene *scene, const char *device, unsigned seed, con
         return 0;
     }
     lvcl_session_device *sd = &tv->session.devices[0];
+    if (build_flags) {
+        lvcl_program_release(&sd->program);
+        if (lvcl_program_build(&sd->device, tv->session.features | build_flags, 1, &sd->program, &st)) {
+            CHECK("light volume trace", 0, "%s", st.message);
+            return 0;
+        }
+    }
     if (lvcl_volume_create(&sd->device, &tv->session.packed, vs, &tv->volume, &st) ||
         lvcl_volume_trace(&sd->device, &sd->program, &sd->device_scene, vs, &tv->volume, &st) ||
         lvcl_volume_read(&sd->device, &tv->volume, &tv->tallies, &tv->masks, &st)) {
@@ -42,7 +50,7 @@ static int trace_sized(lvcl_scene *scene, const char *device, unsigned seed, con
 static int trace(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_volume_settings *vs,
                  traced_volume *tv)
 {
-    return trace_sized(scene, device, seed, vs, 0, tv);
+    return trace_sized(scene, device, seed, vs, 0, 0, tv);
 }
 
 static void release(traced_volume *tv)
@@ -298,12 +306,32 @@ static void test_determinism(void)
     /* A device too small to hold the tallies in one buffer splits them. */
     traced_volume split;
     uint64_t small = 4 * first.volume.tally_bytes / 3;
-    if (!lvcl_scene_load("cornell", &scene, &st) && trace_sized(&scene, "0", 9, &vs, small, &split)) {
+    if (!lvcl_scene_load("cornell", &scene, &st) && trace_sized(&scene, "0", 9, &vs, small, 0, &split)) {
         int same = first.volume.tally_bytes == split.volume.tally_bytes &&
                    memcmp(first.tallies, split.tallies, first.volume.tally_bytes) == 0;
         CHECK("light volume: tallies split over buffers are the same bit for bit", same && split.volume.tally_parts > 1,
               "%d buffers, tallies %s", split.volume.tally_parts, same ? "equal" : "differ");
         release(&split);
+    }
+    /* The tallies of a device without 64-bit atomics (two 32-bit adds with a
+     * carry) are the same too. Few particles in few cells make tallies past
+     * 2^32, so carries and high words happen. */
+    lvcl_volume_settings coarse = {.cells = 4, .dirs = 5, .subcells = 4, .particles = 2000};
+    traced_volume native, emulated;
+    if (!lvcl_scene_load("cornell", &scene, &st) && trace(&scene, "0", 9, &coarse, &native)) {
+        if (!lvcl_scene_load("cornell", &scene, &st) &&
+            trace_sized(&scene, "0", 9, &coarse, 0, LVCL_BUILD_EMULATED_INT64_ATOMICS, &emulated)) {
+            size_t n = native.volume.tally_bytes / sizeof(int64_t), wide = 0;
+            for (size_t i = 0; i < n; i++) wide += native.tallies[i] >> 32 != 0;
+            int same = emulated.volume.tally_bytes == native.volume.tally_bytes &&
+                       memcmp(native.tallies, emulated.tallies, native.volume.tally_bytes) == 0;
+            CHECK("light volume: 64-bit tallies from 32-bit atomics are the same bit for bit",
+                  same && wide > 0 && strstr(emulated.session.devices[0].program.options, "-DLV_EMULATE_INT64_ATOMICS"),
+                  "the tallies %s; %zu of %zu past 2^32; kernel options %s", same ? "equal" : "differ", wide, n,
+                  emulated.session.devices[0].program.options);
+            release(&emulated);
+        }
+        release(&native);
     }
     release(&first);
 }
