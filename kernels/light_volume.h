@@ -28,7 +28,8 @@ typedef struct {
 /* The three (RGB) tallies of one bin of a stored cell. */
 inline __global long *lv_tally_bin(const lv_grid *grid, uint slot, uint bin)
 {
-    uint part = slot / grid->g.slots_per_part;
+    /* Most grids fit one buffer: skip the division there. */
+    uint part = slot < grid->g.slots_per_part ? 0u : slot / grid->g.slots_per_part;
     uint local_slot = slot - part * grid->g.slots_per_part;
     return grid->tallies[part] + ((size_t)local_slot * grid->g.bins + bin) * 3;
 }
@@ -230,14 +231,24 @@ inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
     return 1u;
 }
 
-/* Radiance (W m^-2 sr^-1) of one bin of a stored cell whose lit volume is
- * `lit` cells, from its tallies (paper eq. 5). */
+/* What turns a bin's raw tally (fixed-point units) into radiance, in a
+ * stored cell whose lit volume is `lit` cells (paper eq. 5). */
+inline float lv_tally_to_radiance(const lv_grid *grid, float lit)
+{
+    float h = grid->g.cell_size;
+    return grid->g.total_power / (LV_TALLY_SCALE * h * h * lit * lv_bin_solid_angle(grid->g.dirs));
+}
+
+/* A bin's raw RGB tally, as floats. */
+inline float3 lv_bin_tally(__global const long *t)
+{
+    return (float3)((float)t[0], (float)t[1], (float)t[2]);
+}
+
+/* Radiance (W m^-2 sr^-1) of one bin of a stored cell. */
 inline float3 lv_bin_radiance(const lv_grid *grid, uint slot, uint bin, float lit)
 {
-    __global const long *t = lv_tally_bin(grid, slot, bin);
-    float3 tally = (float3)((float)t[0], (float)t[1], (float)t[2]) * (1.0f / LV_TALLY_SCALE);
-    float h = grid->g.cell_size;
-    return tally * (grid->g.total_power / (h * h * lit * lv_bin_solid_angle(grid->g.dirs)));
+    return lv_bin_tally(lv_tally_bin(grid, slot, bin)) * lv_tally_to_radiance(grid, lit);
 }
 
 /* Radiance of the light travelling along `dir` through the cell at p. */

@@ -71,9 +71,12 @@ inline float3 lv_gather_integrate(const lv_gather *g, const lv_bsdf *b, lv_frame
 {
     uint slot = lv_grid_slot_at(&g->grid, p);
     if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
+    /* A Lambertian surface's f cos is base / pi times cos: sum the tallies
+     * weighted by cos alone and apply the rest once (most gathers). */
+    int lambert = b->type == LV_BSDF_DIFFUSE;
+    if (lambert && wo.z <= 0.0f) return (float3)(0.0f);
     float3 sum = (float3)(0.0f);
-    uint n = g->grid.g.dirs;
-    float lit = g->grid.lit_volume[slot];
+    __global const long *tallies = lv_tally_bin(&g->grid, slot, 0u); /* a slot's bins are consecutive */
     for (uint bin = 0; bin < g->grid.g.bins; bin++) {
         /* Light arriving from wi travels along -wi. The gather runs on
          * reflecting surfaces only; a direction the shading normal allows
@@ -82,10 +85,11 @@ inline float3 lv_gather_integrate(const lv_gather *g, const lv_bsdf *b, lv_frame
         float3 wiw = -g->bin_directions[bin].xyz;
         float3 wi = lv_to_local(f, wiw);
         if (wi.z <= 0.0f || dot(wiw, ng_out) <= 0.0f) continue;
-        float3 fcos = lv_bsdf_eval(b, wo, wi, LV_RADIANCE);
-        if (lv_max3(fcos) > 0.0f) sum += fcos * lv_bin_radiance(&g->grid, slot, bin, lit);
+        float3 fcos = lambert ? (float3)(wi.z) : lv_bsdf_eval(b, wo, wi, LV_RADIANCE);
+        if (lv_max3(fcos) > 0.0f) sum += fcos * lv_bin_tally(tallies + 3 * bin);
     }
-    return sum * lv_bin_solid_angle(n);
+    if (lambert) sum *= b->base * LV_INV_PI;
+    return sum * (lv_tally_to_radiance(&g->grid, g->grid.lit_volume[slot]) * lv_bin_solid_angle(g->grid.g.dirs));
 }
 
 /* What the ray just traced owes the light volume once it lands. */
