@@ -37,9 +37,10 @@ TEST_BINS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SOURCES))
 all: $(BUILD)/lvcl $(BUILD)/lvcl-compare $(TEST_BINS)
 
 # ---- set-up ----
-deps: $(BUILD)/.deps-ok
-$(BUILD)/.deps-ok:
-	@missing=""; for p in $(DEBIAN_PACKAGES); do \
+# Installs whichever of the Debian packages $(1) are missing (apt-get, as
+# root or through sudo), or names them and stops.
+define install_debian_packages
+	@missing=""; for p in $(1); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'ok installed' || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
@@ -49,6 +50,11 @@ $(BUILD)/.deps-ok:
 	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing >/dev/null \
 	  || { echo "make: error: apt-get could not install:$$missing"; exit 1; }; \
 	fi
+endef
+
+deps: $(BUILD)/.deps-ok
+$(BUILD)/.deps-ok:
+	$(call install_debian_packages,$(DEBIAN_PACKAGES))
 	@mkdir -p $(BUILD) && touch $@
 
 # ---- build ----
@@ -114,7 +120,10 @@ test-asan: $(BUILD)/.deps-ok
 VENV := $(BUILD)/venv
 REFDIR := tests/reference
 .PHONY: venv scenes validate-converter
+# Mitsuba's LLVM variant needs libLLVM 16 or later (with PoCL's older one
+# alone it aborts); python3 -m venv needs python3-venv.
 $(VENV)/.stamp: $(REFDIR)/requirements.txt
+	$(call install_debian_packages,python3-venv libllvm19)
 	python3 -m venv $(VENV)
 	$(VENV)/bin/pip install -q -r $(REFDIR)/requirements.txt
 	touch $@
