@@ -408,7 +408,9 @@ lvcl_error lvcl_volume_merge(const lvcl_device *const *devs, lvcl_light_volume *
             uint32_t *a = &rec_sum[s * LV_SUBCELL_STRIDE], *b = &rec[s * LV_SUBCELL_STRIDE];
             a[0] |= b[0]; /* the masks */
             a[1] |= b[1];
-            for (size_t w = 2; w < LV_SUBCELL_STRIDE; w++) a[w] += b[w]; /* the ray counters */
+            for (size_t w = 2; w < LV_SUBCELL_LIT_POINT; w++) a[w] += b[w]; /* the ray counters */
+            for (size_t w = LV_SUBCELL_LIT_POINT; w < LV_SUBCELL_STRIDE; w++) /* the largest lit point, as on one device */
+                if (b[w] > a[w]) a[w] = b[w];
         }
         free(t);
         free(rec);

@@ -227,7 +227,12 @@ inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
     float3 q = lv_grid_origin(grid) + (cell + (sub + u) / (float)k) * grid->g.cell_size;
     __global uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
     atomic_inc(&rec[LV_SUBCELL_CAST + i]);
-    if (!lv_occluded(sc, q, from - q, 0.999f, LV_NO_HIT, LV_NO_HIT)) atomic_inc(&rec[LV_SUBCELL_OPEN + i]);
+    if (!lv_occluded(sc, q, from - q, 0.999f, LV_NO_HIT, LV_NO_HIT)) {
+        atomic_inc(&rec[LV_SUBCELL_OPEN + i]);
+        uint3 at = min(convert_uint3(u * 256.0f), (uint3)(255u));
+        uint priority = 1u + min((uint)(lv_rng_next(rng) * 255.0f), 254u);
+        atomic_max(&rec[LV_SUBCELL_LIT_POINT + i], priority << 24 | at.x << 16 | at.y << 8 | at.z);
+    }
     return 1u;
 }
 
@@ -266,15 +271,57 @@ inline float3 lv_volume_radiance(const lv_grid *grid, float3 p, float3 dir)
  * darken every surface by about half. n is that side's normal. Near a
  * corner the box also reaches behind the other wall; a point that no light
  * reached falls back to the subcell just in front of p. */
+/* The middle of the subcell-thick layer in front of p. */
+inline float3 lv_front_point(const lv_grid *grid, float3 p, float3 n)
+{
+    return p + n * (0.5f * grid->g.cell_size / (float)grid->g.subcells);
+}
+
 inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, float3 n, lv_rng *rng)
 {
     float h = grid->g.cell_size;
     float3 offset = ((float3)(lv_rng_next2(rng), lv_rng_next(rng)) - 0.5f) * h;
     float behind = dot(offset, n);
     if (behind < 0.0f) offset -= 2.0f * behind * n;
-    float3 q = p + offset;
-    if (grid->g.subcells == 0u || lv_point_reached(grid, q)) return q;
-    return p + n * (0.5f * h / (float)grid->g.subcells);
+    return p + offset;
+}
+
+/* Whether q lies in the lit part of its subcell. A subcell whose
+ * visibility rays were all unblocked is lit throughout; in one that a
+ * surface cuts, the lit part is the side of a point a ray got through
+ * from, and q must see that point (the subcell is convex, so only a
+ * surface through it can block the way). This stops a lookup on the dark
+ * face of a wall thinner than a subcell from reading the light on the
+ * other face. */
+inline int lv_in_lit_part(const lv_grid *grid, const lv_scene *sc, float3 q)
+{
+    if (grid->g.subcells == 0u) return 1;
+    uint slot = lv_grid_slot_at(grid, q);
+    if (slot == LV_EMPTY_CELL) return 1;
+    float3 cell, sub;
+    uint i = lv_subcell_at(grid, q, &cell, &sub);
+    __global const uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
+    uint cast = rec[LV_SUBCELL_CAST + i], word = rec[LV_SUBCELL_LIT_POINT + i];
+    if (cast == 0u) return 1;
+    if (word == 0u) return 0; /* rays were cast, none got through */
+    float3 at = ((float3)((float)(word >> 16 & 255u), (float)(word >> 8 & 255u), (float)(word & 255u)) + 0.5f) / 256.0f;
+    float3 lit = lv_grid_origin(grid) + (cell + (sub + at) / (float)grid->g.subcells) * grid->g.cell_size;
+    return !lv_occluded(sc, q, lit - q, 1.0f, LV_NO_HIT, LV_NO_HIT);
+}
+
+/* Where the gather at surface point p (front normal n) reads the volume:
+ * the jittered point, or where the light there cannot reach p, the layer
+ * in front of p. Returns 0 if neither holds light that reaches p. */
+inline int lv_lookup_point(const lv_grid *grid, const lv_scene *sc, float3 p, float3 n, lv_rng *rng, float3 *q)
+{
+    *q = lv_jitter_lookup(grid, p, n, rng);
+    if (grid->g.subcells == 0u) return 1;
+    float3 from = lv_offset_origin(p, n, sc->info.scene_scale);
+    if (lv_point_reached(grid, *q) && lv_in_lit_part(grid, sc, *q) &&
+        !lv_occluded(sc, from, *q - from, 1.0f, LV_NO_HIT, LV_NO_HIT))
+        return 1;
+    *q = lv_front_point(grid, p, n);
+    return lv_point_reached(grid, *q) && lv_in_lit_part(grid, sc, *q);
 }
 
 #endif

@@ -117,6 +117,7 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
     int all_light = g && (g->flags & LV_GATHER_ALL);
     int lookup = LV_LOOKUP_NONE;
     float3 lookup_point = (float3)(0.0f);
+    int lookup_lit = 0; /* the volume at lookup_point holds light that reaches the surface */
     for (uint depth = 1; depth <= max_depth; depth++) {
         lv_hit h = lv_trace(sc, r, 0);
         lv_surface s;
@@ -136,7 +137,7 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         }
         if (lookup != LV_LOOKUP_NONE) {
             /* Light arriving from r.dir travels along -r.dir. */
-            float3 volume = beta * lv_volume_radiance(&g->grid, lookup_point, -r.dir);
+            float3 volume = lookup_lit ? beta * lv_volume_radiance(&g->grid, lookup_point, -r.dir) : (float3)(0.0f);
             if (far) {
                 if (lookup == LV_LOOKUP_READ) radiance += volume;
                 break;
@@ -158,12 +159,12 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         float3 ng_out = dot(r.dir, s.ng) < 0.0f ? s.ng : -s.ng;
         int gather = g && lv_gather_here(&b);
         int integrate = gather && (g->flags & LV_GATHER_INTEGRATE);
-        if (gather) lookup_point = lv_jitter_lookup(&g->grid, s.p, ng_out, rng);
+        int lit_here = gather && lv_lookup_point(&g->grid, sc, s.p, ng_out, rng, &lookup_point);
 
         if (depth + 1 <= max_depth && lv_bsdf_has_smooth_lobe(&b) && !all_light)
             radiance += beta * lv_direct_light(sc, &s, h, &b, f, wo, ng_out, rng);
         if (integrate) {
-            radiance += beta * lv_gather_integrate(g, &b, f, wo, ng_out, lookup_point);
+            if (lit_here) radiance += beta * lv_gather_integrate(g, &b, f, wo, ng_out, lookup_point);
             if (all_light) break; /* no threshold: the volume answers for every direction */
         }
 
@@ -181,10 +182,11 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         if (!lv_finite3(beta) || lv_max3(beta) <= 0.0f) break;
         if (gather) {
             if (all_light) { /* no threshold: the volume answers at once */
-                radiance += beta * lv_volume_radiance(&g->grid, lookup_point, -wi);
+                if (lit_here) radiance += beta * lv_volume_radiance(&g->grid, lookup_point, -wi);
                 break;
             }
             lookup = integrate ? LV_LOOKUP_CORRECT : LV_LOOKUP_READ;
+            lookup_lit = lit_here;
         } else if (depth >= LV_RR_DEPTH) {
             float q = fmin(lv_max3(beta), 0.95f);
             if (lv_rng_next(rng) >= q) break;

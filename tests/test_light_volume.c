@@ -391,6 +391,38 @@ static void test_shading_normals(void)
           "lv-all / pt %.4f with turned normals, %.4f without", turned, flat);
 }
 
+/* (f) Two sealed rooms split by a wall thinner than a subcell, the lamp
+ * in one: the camera sees only the dark room, where the true radiance is 0
+ * (the path tracer's is exactly 0). The whole cell leaks the lit side's
+ * light through the cells the wall cuts; with subcells a lookup must lie in
+ * the lit part of its subcell and in sight of the surface, which stops it. */
+static void test_thin_wall(void)
+{
+    double mean[2];
+    for (int subcells = 0; subcells <= 4; subcells += 4) {
+        lvcl_scene scene;
+        lvcl_status st = {0};
+        lvcl_render_result r;
+        lvcl_render_request req = harness_request(LVCL_MODE_LV, 48, 4, 32, 200000);
+        req.volume.subcells = subcells;
+        if (lvcl_scene_load("scenes/thin-wall.gltf", &scene, &st) || harness_render(&scene, NULL, 3, &req, &r, &st)) {
+            CHECK("thin wall", 0, "%s", st.message);
+            return;
+        }
+        double sum = 0;
+        for (int i = 0; i < 3 * r.width * r.height; i++) sum += r.rgb[i];
+        mean[subcells / 4] = sum / (3.0 * r.width * r.height);
+        free(r.rgb);
+    }
+    printf("  thin wall: mean radiance in the dark room %.3g with the whole cell, %.3g with subcells\n", mean[0],
+           mean[1]);
+    /* A few lookups may still land in a cut subcell that no visibility ray
+     * was cast from, whose lit part is unknown. */
+    CHECK("thin wall: subcells keep the dark room at least 100 times darker than the whole cell's leak",
+          mean[1] < 0.01 * mean[0] && mean[0] > 1e-4, "mean %.3g with subcells, %.3g with the whole cell", mean[1],
+          mean[0]);
+}
+
 int main(int argc, char **argv)
 {
     (void)argc;
@@ -403,5 +435,6 @@ int main(int argc, char **argv)
     test_furnace();
     test_determinism();
     test_shading_normals();
+    test_thin_wall();
     CHECK_EXIT();
 }
