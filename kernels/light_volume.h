@@ -264,19 +264,17 @@ inline float3 lv_volume_radiance(const lv_grid *grid, float3 p, float3 dir)
     return lv_bin_radiance(grid, slot, lv_direction_bin(dir, grid->g.dirs), grid->lit_volume[slot]);
 }
 
-/* A uniform point in the cell-sized box around p (paper section 4.2: the
- * lookup then averages neighbouring cells, which hides the grid), folded to
- * the side of the surface that the light arrives on: the half of the box
- * behind the surface holds no light that can reach p, and reading it would
- * darken every surface by about half. n is that side's normal. Near a
- * corner the box also reaches behind the other wall; a point that no light
- * reached falls back to the subcell just in front of p. */
 /* The middle of the subcell-thick layer in front of p. */
 inline float3 lv_front_point(const lv_grid *grid, float3 p, float3 n)
 {
     return p + n * (0.5f * grid->g.cell_size / (float)grid->g.subcells);
 }
 
+/* A uniform point in the cell-sized box around p (paper section 4.2: the
+ * lookup then averages neighbouring cells, which hides the grid), folded to
+ * the side of the surface that the light arrives on: the half of the box
+ * behind the surface holds no light that can reach p, and reading it would
+ * darken every surface by about half. n is that side's normal. */
 inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, float3 n, lv_rng *rng)
 {
     float h = grid->g.cell_size;
@@ -286,32 +284,34 @@ inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, float3 n, lv_rng *
     return p + offset;
 }
 
-/* Whether q lies in the lit part of its subcell. A subcell whose
- * visibility rays were all unblocked is lit throughout; in one that a
- * surface cuts, the lit part is the side of a point a ray got through
- * from, and q must see that point (the subcell is convex, so only a
- * surface through it can block the way). This stops a lookup on the dark
- * face of a wall thinner than a subcell from reading the light on the
- * other face. */
+/* Whether q lies in the lit part of its subcell. Visibility rays start
+ * where particles hit surfaces, so a subcell none was cast from holds no
+ * surface and is lit throughout. In one that holds a surface, the lit part
+ * is the side of the point a ray got through from, and q must see that
+ * point (the subcell is convex, so only a surface through it can block the
+ * way); if no ray got through, none of it is lit. This keeps a lookup on
+ * the dark face of a wall thinner than a subcell from reading the light on
+ * the other face. */
 inline int lv_in_lit_part(const lv_grid *grid, const lv_scene *sc, float3 q)
 {
-    if (grid->g.subcells == 0u) return 1;
     uint slot = lv_grid_slot_at(grid, q);
-    if (slot == LV_EMPTY_CELL) return 1;
+    if (slot == LV_EMPTY_CELL) return 0;
     float3 cell, sub;
     uint i = lv_subcell_at(grid, q, &cell, &sub);
     __global const uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
     uint cast = rec[LV_SUBCELL_CAST + i], word = rec[LV_SUBCELL_LIT_POINT + i];
     if (cast == 0u) return 1;
-    if (word == 0u) return 0; /* rays were cast, none got through */
+    if (word == 0u) return 0;
     float3 at = ((float3)((float)(word >> 16 & 255u), (float)(word >> 8 & 255u), (float)(word & 255u)) + 0.5f) / 256.0f;
     float3 lit = lv_grid_origin(grid) + (cell + (sub + at) / (float)grid->g.subcells) * grid->g.cell_size;
     return !lv_occluded(sc, q, lit - q, 1.0f, LV_NO_HIT, LV_NO_HIT);
 }
 
-/* Where the gather at surface point p (front normal n) reads the volume:
- * the jittered point, or where the light there cannot reach p, the layer
- * in front of p. Returns 0 if neither holds light that reaches p. */
+/* Where the gather at surface point p (front normal n) reads the volume.
+ * With subcells: the jittered point if a tallied segment passed its
+ * subcell, it lies in the lit part and p sees it (near a corner the box
+ * reaches behind the other wall); else the layer in front of p if the
+ * first two hold there; else 0: no light the volume holds reaches p. */
 inline int lv_lookup_point(const lv_grid *grid, const lv_scene *sc, float3 p, float3 n, lv_rng *rng, float3 *q)
 {
     *q = lv_jitter_lookup(grid, p, n, rng);
