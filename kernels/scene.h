@@ -28,6 +28,11 @@ typedef struct {
     lv_scene_info info;
 } lv_scene;
 
+/* LV_SPLIT_AT and the parameter lists below spell out the four parts. */
+#if LV_SCENE_PARTS != 4
+#error "kernels/scene.h assumes LV_SCENE_PARTS is 4"
+#endif
+
 /* The address of element i (of `stride` values) of a table split over
  * parts of n elements. Unsigned wrap-around keeps i - k n exact. */
 #define LV_SPLIT_AT(parts, n, i, stride)                                                         \
