@@ -151,11 +151,14 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     size_t per_part = dev->max_alloc / slot_bytes;
     if (per_part > UINT32_MAX) per_part = UINT32_MAX;
     size_t parts = per_part ? ((size_t)g->slot_count + per_part - 1) / per_part : SIZE_MAX;
-    if (parts > LV_TALLY_PARTS || vol->tally_bytes + vol->cell_count * 4 > dev->global_mem) {
+    /* Beside the tallies: the cell index, and per slot a subcell record and a lit volume (one buffer each). */
+    size_t records = ((size_t)g->slot_count + 1) * (LV_SUBCELL_STRIDE + 1) * sizeof(uint32_t);
+    vol->device_bytes = vol->tally_bytes + vol->cell_count * sizeof(uint32_t) + records;
+    if (parts > LV_TALLY_PARTS || records > dev->max_alloc || vol->device_bytes > dev->global_mem) {
         lvcl_error e = lvcl_fail(st, LVCL_ERR_TOO_LARGE,
                                  "the light volume needs %.1f MiB (%u cells x %u bins) but %s allows %.1f MiB in one "
                                  "buffer (at most %d buffers) and %.1f MiB in all; use fewer --cells or --dirs",
-                                 vol->tally_bytes / 1048576.0, g->slot_count, g->bins, dev->name,
+                                 vol->device_bytes / 1048576.0, g->slot_count, g->bins, dev->name,
                                  dev->max_alloc / 1048576.0, LV_TALLY_PARTS, dev->global_mem / 1048576.0);
         lvcl_volume_release(vol);
         return e;

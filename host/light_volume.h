@@ -48,6 +48,7 @@ typedef struct {
     cl_mem subcell_buf;        /* LV_SUBCELL_STRIDE uints per slot */
     cl_mem lit_volume_buf;     /* float per slot, filled by lvcl_volume_trace */
     size_t tally_bytes;       /* all parts */
+    size_t device_bytes;      /* everything the volume holds on the device */
     double trace_seconds;
     uint64_t particles;
     uint64_t segments;        /* straight path pieces traced */

@@ -71,7 +71,7 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
                 "  \"particles_per_second\": %.1f,\n  \"segments\": %llu,\n  \"segments_per_second\": %.1f,\n"
                 "  \"subcells\": %u,\n  \"visibility_rays\": %llu,\n  \"light_volume_buffers\": %d",
                 g->dims[0], g->dims[1], g->dims[2], g->cell_size, g->dirs, g->slot_count,
-                v->tally_bytes + v->cell_count * sizeof(uint32_t), (unsigned long long)particles, trace_seconds,
+                v->device_bytes, (unsigned long long)particles, trace_seconds,
                 trace_seconds > 0 ? (double)particles / trace_seconds : 0.0, (unsigned long long)segments,
                 trace_seconds > 0 ? (double)segments / trace_seconds : 0.0, g->subcells,
                 (unsigned long long)visibility_rays, v->tally_parts);
