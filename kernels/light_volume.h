@@ -199,18 +199,6 @@ inline uint lv_subcell_at(const lv_grid *grid, float3 p, float3 *cell, float3 *s
     return (uint)sub->x + k * ((uint)sub->y + k * (uint)sub->z);
 }
 
-/* Whether light reached the point p: its cell is stored and, with subcells,
- * a tallied segment passed p's subcell. */
-inline int lv_point_reached(const lv_grid *grid, float3 p)
-{
-    uint slot = lv_grid_slot_at(grid, p);
-    if (slot == LV_EMPTY_CELL) return 0;
-    if (grid->g.subcells == 0u) return 1;
-    float3 cell, sub;
-    uint i = lv_subcell_at(grid, p, &cell, &sub);
-    return (grid->subcells[(size_t)slot * LV_SUBCELL_STRIDE + (i >> 5)] >> (i & 31u)) & 1u;
-}
-
 /* Visibility rays (paper 4.1): where a particle that came from `from` hit a
  * surface at p, one ray from a random point of p's subcell back to `from`;
  * whether it got through estimates how much of the subcell that light
@@ -284,21 +272,23 @@ inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, float3 n, lv_rng *
     return p + offset;
 }
 
-/* Whether q lies in the lit part of its subcell. Visibility rays start
- * where particles hit surfaces, so a subcell none was cast from holds no
- * surface and is lit throughout. In one that holds a surface, the lit part
- * is the side of the point a ray got through from, and q must see that
- * point (the subcell is convex, so only a surface through it can block the
- * way); if no ray got through, none of it is lit. This keeps a lookup on
- * the dark face of a wall thinner than a subcell from reading the light on
- * the other face. */
-inline int lv_in_lit_part(const lv_grid *grid, const lv_scene *sc, float3 q)
+/* Whether the light the volume holds reached q (with subcells). A tallied
+ * segment must have passed q's subcell, and q must lie in its lit part.
+ * Visibility rays start where particles hit surfaces, so a subcell none was
+ * cast from holds no surface and is lit throughout. In one that holds a
+ * surface, the lit part is the side of the point a ray got through from,
+ * and q must see that point (the subcell is convex, so only a surface
+ * through it can block the way); if no ray got through, none of it is lit.
+ * This keeps a lookup on the dark face of a wall thinner than a subcell
+ * from reading the light on the other face. */
+inline int lv_point_lit(const lv_grid *grid, const lv_scene *sc, float3 q)
 {
     uint slot = lv_grid_slot_at(grid, q);
     if (slot == LV_EMPTY_CELL) return 0;
     float3 cell, sub;
     uint i = lv_subcell_at(grid, q, &cell, &sub);
     __global const uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
+    if (!(rec[i >> 5] >> (i & 31u) & 1u)) return 0;
     uint cast = rec[LV_SUBCELL_CAST + i], word = rec[LV_SUBCELL_LIT_POINT + i];
     if (cast == 0u) return 1;
     if (word == 0u) return 0;
@@ -308,20 +298,17 @@ inline int lv_in_lit_part(const lv_grid *grid, const lv_scene *sc, float3 q)
 }
 
 /* Where the gather at surface point p (front normal n) reads the volume.
- * With subcells: the jittered point if a tallied segment passed its
- * subcell, it lies in the lit part and p sees it (near a corner the box
- * reaches behind the other wall); else the layer in front of p if the
- * first two hold there; else 0: no light the volume holds reaches p. */
+ * With subcells: the jittered point if light reached it and p sees it (near
+ * a corner the box reaches behind the other wall); else the layer in front
+ * of p if light reached that; else 0: no light the volume holds reaches p. */
 inline int lv_lookup_point(const lv_grid *grid, const lv_scene *sc, float3 p, float3 n, lv_rng *rng, float3 *q)
 {
     *q = lv_jitter_lookup(grid, p, n, rng);
     if (grid->g.subcells == 0u) return 1;
     float3 from = lv_offset_origin(p, n, sc->info.scene_scale);
-    if (lv_point_reached(grid, *q) && lv_in_lit_part(grid, sc, *q) &&
-        !lv_occluded(sc, from, *q - from, 1.0f, LV_NO_HIT, LV_NO_HIT))
-        return 1;
+    if (lv_point_lit(grid, sc, *q) && !lv_occluded(sc, from, *q - from, 1.0f, LV_NO_HIT, LV_NO_HIT)) return 1;
     *q = lv_front_point(grid, p, n);
-    return lv_point_reached(grid, *q) && lv_in_lit_part(grid, sc, *q);
+    return lv_point_lit(grid, sc, *q);
 }
 
 #endif
