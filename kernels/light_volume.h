@@ -215,13 +215,24 @@ inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
     float3 q = lv_grid_origin(grid) + (cell + (sub + u) / (float)k) * grid->g.cell_size;
     __global uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
     atomic_inc(&rec[LV_SUBCELL_CAST + i]);
-    if (!lv_occluded(sc, q, from - q, 0.999f, LV_NO_HIT, LV_NO_HIT)) {
-        atomic_inc(&rec[LV_SUBCELL_OPEN + i]);
-        uint3 at = min(convert_uint3(u * 256.0f), (uint3)(255u));
-        uint priority = 1u + min((uint)(lv_rng_next(rng) * 255.0f), 254u);
-        atomic_max(&rec[LV_SUBCELL_LIT_POINT + i], priority << 24 | at.x << 16 | at.y << 8 | at.z);
-    }
+    if (!lv_occluded(sc, q, from - q, 0.999f, LV_NO_HIT, LV_NO_HIT)) atomic_inc(&rec[LV_SUBCELL_OPEN + i]);
     return 1u;
+}
+
+/* Offers q, a point light reached, as its subcell's lit point. The word
+ * kept is the largest offered (a random priority, then the position), so
+ * it does not depend on the order particles ran in. */
+inline void lv_offer_lit_point(const lv_grid *grid, float3 q, lv_rng *rng)
+{
+    uint slot = lv_grid_slot_at(grid, q);
+    if (slot == LV_EMPTY_CELL) return;
+    float3 cell, sub;
+    uint i = lv_subcell_at(grid, q, &cell, &sub);
+    float3 u = (q - lv_grid_origin(grid)) / grid->g.cell_size - cell;
+    uint3 at = min(convert_uint3(clamp(u * (float)grid->g.subcells - sub, 0.0f, 1.0f) * 256.0f), (uint3)(255u));
+    uint priority = 1u + min((uint)(lv_rng_next(rng) * 255.0f), 254u);
+    atomic_max(&grid->subcells[(size_t)slot * LV_SUBCELL_STRIDE + LV_SUBCELL_LIT_POINT + i],
+               priority << 24 | at.x << 16 | at.y << 8 | at.z);
 }
 
 /* What turns a bin's raw tally (fixed-point units) into radiance, in a
@@ -273,12 +284,11 @@ inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, float3 n, lv_rng *
 }
 
 /* Whether the light the volume holds reached q (with subcells). A tallied
- * segment must have passed q's subcell, and q must lie in its lit part.
- * Visibility rays start where particles hit surfaces, so a subcell none was
- * cast from holds no surface and is lit throughout. In one that holds a
- * surface, the lit part is the side of the point a ray got through from,
- * and q must see that point (the subcell is convex, so only a surface
- * through it can block the way); if no ray got through, none of it is lit.
+ * segment must have passed q's subcell, and q must lie in its lit part. A
+ * subcell without a lit point had no particle hit a surface in it and is
+ * lit throughout. In one that holds a surface, the lit part is the side of
+ * its lit point (just short of a particle's hit), and q must see that point
+ * (the subcell is convex, so only a surface through it can block the way).
  * This keeps a lookup on the dark face of a wall thinner than a subcell
  * from reading the light on the other face. */
 inline int lv_point_lit(const lv_grid *grid, const lv_scene *sc, float3 q)
@@ -289,9 +299,8 @@ inline int lv_point_lit(const lv_grid *grid, const lv_scene *sc, float3 q)
     uint i = lv_subcell_at(grid, q, &cell, &sub);
     __global const uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
     if (!(rec[i >> 5] >> (i & 31u) & 1u)) return 0;
-    uint cast = rec[LV_SUBCELL_CAST + i], word = rec[LV_SUBCELL_LIT_POINT + i];
-    if (cast == 0u) return 1;
-    if (word == 0u) return 0;
+    uint word = rec[LV_SUBCELL_LIT_POINT + i];
+    if (word == 0u) return 1;
     float3 at = ((float3)((float)(word >> 16 & 255u), (float)(word >> 8 & 255u), (float)(word & 255u)) + 0.5f) / 256.0f;
     float3 lit = lv_grid_origin(grid) + (cell + (sub + at) / (float)grid->g.subcells) * grid->g.cell_size;
     return !lv_occluded(sc, q, lit - q, 1.0f, LV_NO_HIT, LV_NO_HIT);

@@ -65,8 +65,12 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
         if (tallied)
             lv_tally_segment(&grid, r.origin, r.dir, 0.0f, h.t, lv_direction_bin(r.dir, grid.g.dirs),
                              throughput * inv_total_particles, sigma);
-        if (tallied && grid.g.subcells && h.tri != LV_NO_HIT && lv_rng_next(&rng) < grid.g.visibility_rate)
-            visibility_rays += lv_sample_subcell_visibility(&grid, &sc, s.p, r.origin, &rng);
+        if (tallied && grid.g.subcells && h.tri != LV_NO_HIT) {
+            /* Just short of the hit, this particle's light reached. */
+            lv_offer_lit_point(&grid, s.p - r.dir * (1e-3f * grid.g.cell_size), &rng);
+            if (lv_rng_next(&rng) < grid.g.visibility_rate)
+                visibility_rays += lv_sample_subcell_visibility(&grid, &sc, s.p, r.origin, &rng);
+        }
         if (h.tri == LV_NO_HIT || depth == sc.info.max_depth) break;
         throughput *= exp(-sigma * h.t);
 

@@ -188,17 +188,13 @@ typedef struct {
 /* Subcell records, LV_SUBCELL_STRIDE 32-bit words per stored cell: a mask
  * of two words (bit x + k (y + k z) is switched on when a tallied segment
  * passes subcell (x, y, z); k^3 <= 64), then per subcell the visibility rays
- * cast from it, those that were not blocked, and one point they started
- * from (LV_LIT_POINT_*; 0 if none was unblocked). */
+ * cast from it, those that were not blocked, and a lit point: 8 bits of
+ * priority (1-255), then a position in the subcell that light reached, 8
+ * bits per axis; 0 if no particle hit a surface there. */
 #define LV_SUBCELL_MAX 64
 #define LV_SUBCELL_CAST 2
 #define LV_SUBCELL_OPEN (2 + LV_SUBCELL_MAX)
 #define LV_SUBCELL_LIT_POINT (2 + 2 * LV_SUBCELL_MAX)
 #define LV_SUBCELL_STRIDE (2 + 3 * LV_SUBCELL_MAX)
-/* A lit point word: 8 bits of priority (1-255, from the ray's random
- * numbers), then the point's position in its subcell, 8 bits per axis. Rays
- * keep the largest word, so the point kept does not depend on the order
- * they ran in. */
-#define LV_LIT_POINT_BITS 8
 
 #endif
