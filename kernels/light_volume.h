@@ -287,7 +287,7 @@ inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, float3 n, lv_rng *
  * segment must have passed q's subcell, and q must lie in its lit part. A
  * subcell without a lit point had no particle hit a surface in it and is
  * lit throughout. In one that holds a surface, the lit part is the side of
- * its lit point (just short of a particle's hit), and q must see that point
+ * its lit point (just off a particle's hit), and q must see that point
  * (the subcell is convex, so only a surface through it can block the way).
  * This keeps a lookup on the dark face of a wall thinner than a subcell
  * from reading the light on the other face. */

@@ -66,8 +66,12 @@ __kernel void lv_particle_trace(LV_SCENE_PARAMS, lv_grid_info grid_info, __globa
             lv_tally_segment(&grid, r.origin, r.dir, 0.0f, h.t, lv_direction_bin(r.dir, grid.g.dirs),
                              throughput * inv_total_particles, sigma);
         if (tallied && grid.g.subcells && h.tri != LV_NO_HIT) {
-            /* Just short of the hit, this particle's light reached. */
-            lv_offer_lit_point(&grid, s.p - r.dir * (1e-3f * grid.g.cell_size), &rng);
+            /* Just off the hit on the side the particle came from, its light
+             * reached: off along the normal, by more than a lit point's
+             * rounding (1/512 subcell per axis), so even a grazing hit's
+             * point stays on that side. */
+            float3 toward = dot(r.dir, s.ng) < 0.0f ? s.ng : -s.ng;
+            lv_offer_lit_point(&grid, s.p + toward * (0.02f * grid.g.cell_size / (float)grid.g.subcells), &rng);
             if (lv_rng_next(&rng) < grid.g.visibility_rate)
                 visibility_rays += lv_sample_subcell_visibility(&grid, &sc, s.p, r.origin, &rng);
         }
