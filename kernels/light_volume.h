@@ -199,6 +199,13 @@ inline uint lv_subcell_at(const lv_grid *grid, float3 p, float3 *cell, float3 *s
     return (uint)sub->x + k * ((uint)sub->y + k * (uint)sub->z);
 }
 
+/* The world-space point at u (each in [0, 1]) within subcell sub of cell
+ * `cell` (integer coordinates as lv_subcell_at gives them). */
+inline float3 lv_subcell_point(const lv_grid *grid, float3 cell, float3 sub, float3 u)
+{
+    return lv_grid_origin(grid) + (cell + (sub + u) / (float)grid->g.subcells) * grid->g.cell_size;
+}
+
 /* Visibility rays (paper 4.1): where a particle that came from `from` hit a
  * surface at p, one ray from a random point of p's subcell back to `from`;
  * whether it got through estimates how much of the subcell that light
@@ -208,11 +215,9 @@ inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
 {
     uint slot = lv_grid_slot_at(grid, p);
     if (slot == LV_EMPTY_CELL) return 0u;
-    uint k = grid->g.subcells;
     float3 cell, sub;
     uint i = lv_subcell_at(grid, p, &cell, &sub);
-    float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
-    float3 q = lv_grid_origin(grid) + (cell + (sub + u) / (float)k) * grid->g.cell_size;
+    float3 q = lv_subcell_point(grid, cell, sub, (float3)(lv_rng_next2(rng), lv_rng_next(rng)));
     __global uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
     atomic_inc(&rec[LV_SUBCELL_CAST + i]);
     if (!lv_occluded(sc, q, from - q, 0.999f, LV_NO_HIT, LV_NO_HIT)) atomic_inc(&rec[LV_SUBCELL_OPEN + i]);
@@ -302,7 +307,7 @@ inline int lv_point_lit(const lv_grid *grid, const lv_scene *sc, float3 q)
     uint word = rec[LV_SUBCELL_LIT_POINT + i];
     if (word == 0u) return 1;
     float3 at = ((float3)((float)(word >> 16 & 255u), (float)(word >> 8 & 255u), (float)(word & 255u)) + 0.5f) / 256.0f;
-    float3 lit = lv_grid_origin(grid) + (cell + (sub + at) / (float)grid->g.subcells) * grid->g.cell_size;
+    float3 lit = lv_subcell_point(grid, cell, sub, at);
     return !lv_occluded(sc, q, lit - q, 1.0f, LV_NO_HIT, LV_NO_HIT);
 }
 
