@@ -231,7 +231,8 @@ void lvcl_packed_scene_free(lvcl_packed_scene *p)
 }
 
 /* One table to upload: count elements of `size` bytes, in buffers of
- * per_part elements (UINT32_MAX: one buffer). */
+ * per_part elements (UINT32_MAX: one buffer; for a table of one buffer at
+ * most, found from its own size). */
 typedef struct {
     cl_mem *parts;    /* max_parts slots */
     int max_parts;    /* LV_SCENE_PARTS for the tables the kernels read split, else 1 */
@@ -293,20 +294,19 @@ lvcl_error lvcl_device_scene_upload(const lvcl_device *dev, const lvcl_scene *sc
     _Static_assert(sizeof(lv_triangle) <= 12 * sizeof(float), "triangle records split where their corners do");
     table list[] = {
         {ds->nodes, split, p->nodes, p->node_count, sizeof(lv_bvh_node), in->nodes_per_part, "BVH nodes"},
-        {&ds->instances, 1, p->instances, p->instance_count, sizeof(lv_instance), UINT32_MAX, "instances"},
+        {&ds->instances, 1, p->instances, p->instance_count, sizeof(lv_instance), 0, "instances"},
         {ds->tri_vertices, split, p->tri_vertices, p->triangle_count, 12 * sizeof(float), in->triangles_per_part,
          "triangle vertices"},
         {ds->triangles, split, p->triangles, p->triangle_count, sizeof(lv_triangle), in->triangles_per_part,
          "triangles"},
         {ds->normals, split, scene->normals, vertices, 3 * sizeof(float), in->vertices_per_part, "normals"},
         {ds->uvs, split, scene->uvs, vertices, 2 * sizeof(float), in->vertices_per_part, "texture coordinates"},
-        {&ds->materials, 1, p->materials, AT_LEAST_ONE(p->material_count), sizeof(lv_material), UINT32_MAX,
-         "materials"},
-        {&ds->textures, 1, p->textures, AT_LEAST_ONE(p->texture_count), sizeof(lv_texture), UINT32_MAX, "textures"},
-        {&ds->texels, 1, p->texels, AT_LEAST_ONE(p->texel_count), 4, UINT32_MAX, "texels"},
-        {&ds->lights, 1, p->lights, AT_LEAST_ONE(p->light_count), sizeof(lv_light), UINT32_MAX, "lights"},
-        {&ds->punctuals, 1, scene->punctuals, AT_LEAST_ONE(scene->punctual_count), sizeof(lv_punctual_light),
-         UINT32_MAX, "punctual lights"},
+        {&ds->materials, 1, p->materials, AT_LEAST_ONE(p->material_count), sizeof(lv_material), 0, "materials"},
+        {&ds->textures, 1, p->textures, AT_LEAST_ONE(p->texture_count), sizeof(lv_texture), 0, "textures"},
+        {&ds->texels, 1, p->texels, AT_LEAST_ONE(p->texel_count), 4, 0, "texels"},
+        {&ds->lights, 1, p->lights, AT_LEAST_ONE(p->light_count), sizeof(lv_light), 0, "lights"},
+        {&ds->punctuals, 1, scene->punctuals, AT_LEAST_ONE(scene->punctual_count), sizeof(lv_punctual_light), 0,
+         "punctual lights"},
     };
 #undef AT_LEAST_ONE
     size_t count = sizeof list / sizeof list[0];
@@ -314,7 +314,7 @@ lvcl_error lvcl_device_scene_upload(const lvcl_device *dev, const lvcl_scene *sc
     for (size_t i = 0; i < count; i++) {
         table *t = &list[i];
         size_t bytes = t->count * t->size;
-        if (t->max_parts == 1 && bytes > dev->max_alloc) t->per_part = 0; /* cannot split */
+        if (t->max_parts == 1) t->per_part = elements_per_part(t->count, t->size, dev->max_alloc);
         size_t parts = part_count(t);
         if (parts > (size_t)t->max_parts)
             return lvcl_fail(st, LVCL_ERR_TOO_LARGE,
