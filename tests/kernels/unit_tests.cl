@@ -111,13 +111,20 @@ inline lv_ray load_test_ray(__global const float *rays, uint i)
     return lv_ray_make((float3)(q[0], q[1], q[2]), (float3)(q[4], q[5], q[6]), q[3], LV_NO_HIT, LV_NO_HIT);
 }
 
+/* Test ray i (into *r) and its closest hit. */
+inline lv_hit trace_test_ray(const lv_scene *sc, __global const float *rays, uint i, lv_ray *r)
+{
+    *r = load_test_ray(rays, i);
+    return lv_trace(sc, *r, 0);
+}
+
 __kernel void t_trace(LV_SCENE_PARAMS, __global const float *rays, uint count, __global float *results)
 {
     LV_SCENE_OPEN(sc);
     uint i = get_global_id(0);
     if (i >= count) return;
-    lv_ray r = load_test_ray(rays, i);
-    lv_hit h = lv_trace(&sc, r, 0);
+    lv_ray r;
+    lv_hit h = trace_test_ray(&sc, rays, i, &r);
     results[4 * i + 0] = h.t;
     results[4 * i + 1] = h.tri == LV_NO_HIT ? -1.0f : (float)lv_triangle_record(&sc, h.tri).prim_id;
     results[4 * i + 2] = lv_trace(&sc, r, 1).tri == LV_NO_HIT ? 0.0f : 1.0f;
@@ -131,8 +138,8 @@ __kernel void t_surface(LV_SCENE_PARAMS, __global const float *rays, uint count,
     LV_SCENE_OPEN(sc);
     uint i = get_global_id(0);
     if (i >= count) return;
-    lv_ray r = load_test_ray(rays, i);
-    lv_hit h = lv_trace(&sc, r, 0);
+    lv_ray r;
+    lv_hit h = trace_test_ray(&sc, rays, i, &r);
     float4 o = (float4)(0.0f);
     if (h.tri != LV_NO_HIT) {
         lv_surface s = lv_surface_at(&sc, r, h);
@@ -175,8 +182,8 @@ __kernel void t_offset_rays(LV_SCENE_PARAMS, __global const float *rays, uint co
     uint i = get_global_id(0);
     if (i >= count) return;
     __global float *o = results + 4 * i;
-    lv_ray r = load_test_ray(rays, i);
-    lv_hit h = lv_trace(&sc, r, 0);
+    lv_ray r;
+    lv_hit h = trace_test_ray(&sc, rays, i, &r);
     o[0] = o[1] = -1.0f;
     o[2] = o[3] = 0.0f;
     if (h.tri == LV_NO_HIT) return;
