@@ -114,7 +114,7 @@ void lvcl_options_print_help(const char *program)
            "  --device cpu|gpu|N   OpenCL device (default: first GPU, else CPU); a list N,M,... or\n"
            "                       all renders on several at once\n"
            "  --list-devices       list OpenCL devices and exit\n"
-           "  --device-memory MIB  use at most MIB MiB of device memory (default: what the device has)\n"
+           "  --device-memory MIB  act as a device of MIB MiB, a quarter of it in one buffer (default: the device's own)\n"
            "  --mode pt|lv|lv-all  pt: path tracing; lv: light volume for indirect light, shadow rays\n"
            "                       for direct (default pt); lv-all: the light volume answers all light\n"
            "  --particles N        light volume: particles traced (default 1e6)\n"
