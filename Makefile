@@ -182,8 +182,13 @@ BENCH_FLAGS += -DLVCL_HAVE_EMBREE -fopenmp
 BENCH_LIBS += -lembree3
 endif
 
-$(BUILD)/lvcl-bench: $(BENCH_SOURCES) bench/rays.h host/*.h $(BUILD)/liblvcl.a
-	$(CC) $(ALL_CFLAGS) $(BENCH_FLAGS) -o $@ $(BENCH_SOURCES) $(BUILD)/liblvcl.a $(LIBS) $(BENCH_LIBS)
+$(BUILD)/gen/bench_kernel_source.c: bench/kernels/rays.cl $(KERNELS) $(BUILD)/embed
+	@mkdir -p $(@D)
+	$(BUILD)/embed source lvcl_bench_kernel_source $< > $@
+
+$(BUILD)/lvcl-bench: $(BENCH_SOURCES) bench/rays.h host/*.h $(BUILD)/gen/bench_kernel_source.c $(BUILD)/liblvcl.a
+	$(CC) $(ALL_CFLAGS) $(BENCH_FLAGS) -o $@ $(BENCH_SOURCES) $(BUILD)/gen/bench_kernel_source.c $(BUILD)/liblvcl.a \
+	  $(LIBS) $(BENCH_LIBS)
 
 # A ~1M-triangle scene made by the project's own generator (not checked in).
 BIG_SCENE := $(BUILD)/bench/big_room.glb

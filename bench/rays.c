@@ -23,6 +23,7 @@ typedef struct {
 typedef struct {
     options opt;
     lvcl_session s;
+    lvcl_program program; /* bench/kernels/rays.cl, built beside the session's */
     cl_kernel primary, closest, any, secondary;
     bench_embree *embree;
     double embree_build_seconds;
@@ -236,13 +237,22 @@ static lvcl_error run_workload(bench *b, const char *name, cl_mem rays, cl_mem h
     return LVCL_OK;
 }
 
+extern const unsigned char lvcl_bench_kernel_source[];
+extern const size_t lvcl_bench_kernel_source_size;
+
+/* The benchmark's own program, with the scene's features and fast math as
+ * the renderer builds its own, so the traversal measured is the one lvcl
+ * renders with. */
 static lvcl_error create_kernels(bench *b, lvcl_status *st)
 {
-    lvcl_error e;
-    if ((e = lvcl_kernel_create(&b->s.devices[0].program, "lv_rays_primary", &b->primary, st)) ||
-        (e = lvcl_kernel_create(&b->s.devices[0].program, "lv_rays_trace_closest", &b->closest, st)) ||
-        (e = lvcl_kernel_create(&b->s.devices[0].program, "lv_rays_trace_any", &b->any, st)) ||
-        (e = lvcl_kernel_create(&b->s.devices[0].program, "lv_rays_secondary", &b->secondary, st)))
+    char defines[160];
+    lvcl_program_feature_defines(b->s.features, defines, sizeof defines);
+    lvcl_error e = lvcl_program_build_source(&b->s.devices[0].device, lvcl_bench_kernel_source,
+                                             lvcl_bench_kernel_source_size, defines, 1, &b->program, st);
+    if (e || (e = lvcl_kernel_create(&b->program, "lv_rays_primary", &b->primary, st)) ||
+        (e = lvcl_kernel_create(&b->program, "lv_rays_trace_closest", &b->closest, st)) ||
+        (e = lvcl_kernel_create(&b->program, "lv_rays_trace_any", &b->any, st)) ||
+        (e = lvcl_kernel_create(&b->program, "lv_rays_secondary", &b->secondary, st)))
         return e;
     return LVCL_OK;
 }
@@ -304,7 +314,7 @@ static void print_setup(bench *b, int width, int height)
            "\"bvh_nodes\": %zu, \"bvh_build_seconds\": %.4f, \"kernel_build_seconds\": %.3f, "
            "\"kernel_from_cache\": %s, \"width\": %d, \"height\": %d, \"repeat\": %d",
            scene, b->device_json, b->s.scene.triangle_count, b->s.accel.triangle_count, b->s.accel.node_count,
-           b->s.bvh_build_seconds, b->s.devices[0].program.build_seconds, b->s.devices[0].program.from_cache ? "true" : "false", width,
+           b->s.bvh_build_seconds, b->program.build_seconds, b->program.from_cache ? "true" : "false", width,
            height, b->opt.repeat);
     if (b->embree)
         printf(", \"embree\": \"%s\", \"embree_build_seconds\": %.4f", bench_embree_method(),
@@ -391,6 +401,7 @@ int main(int argc, char **argv)
     if (e) fprintf(stderr, "lvcl-bench: error: %s\n", st.message);
     bench_embree_destroy(b.embree);
     release_kernels(&b);
+    lvcl_program_release(&b.program);
     lvcl_scene_free(&scene);
     lvcl_session_close(&b.s);
     return e ? 1 : 0;

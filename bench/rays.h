@@ -1,4 +1,4 @@
-/* Ray and hit records of the ray-throughput benchmark, as kernels/rays.cl
+/* Ray and hit records of the ray-throughput benchmark, as bench/kernels/rays.cl
  * writes them, and the small interface to the Embree comparison
  * (bench/embree_compare.c, built only where Embree 3 is installed). */
 #ifndef LVCL_BENCH_RAYS_H

@@ -85,14 +85,19 @@ static lvcl_error build_log_error(const lvcl_device *dev, cl_program program, cl
     return lvcl_fail(st, LVCL_ERR_DEVICE, "kernel build failed on %s: %s", dev->name, lvcl_cl_error_name(err));
 }
 
+void lvcl_program_feature_defines(unsigned features, char *defines, size_t size)
+{
+    snprintf(defines, size, "%s%s%s%s", features & LVCL_FEATURE_GLASS ? " -DLV_FEATURE_GLASS" : "",
+             features & LVCL_FEATURE_TEXTURES ? " -DLV_FEATURE_TEXTURES" : "",
+             features & LVCL_FEATURE_PUNCTUAL ? " -DLV_FEATURE_PUNCTUAL" : "",
+             features & LVCL_BUILD_EMULATED_INT64_ATOMICS ? " -DLV_EMULATE_INT64_ATOMICS" : "");
+}
+
 lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math,
                               lvcl_program *prog, lvcl_status *st)
 {
     char defines[160];
-    snprintf(defines, sizeof defines, "%s%s%s%s", features & LVCL_FEATURE_GLASS ? " -DLV_FEATURE_GLASS" : "",
-             features & LVCL_FEATURE_TEXTURES ? " -DLV_FEATURE_TEXTURES" : "",
-             features & LVCL_FEATURE_PUNCTUAL ? " -DLV_FEATURE_PUNCTUAL" : "",
-             features & LVCL_BUILD_EMULATED_INT64_ATOMICS ? " -DLV_EMULATE_INT64_ATOMICS" : "");
+    lvcl_program_feature_defines(features, defines, sizeof defines);
     return lvcl_program_build_source(dev, lvcl_kernel_source, lvcl_kernel_source_size, defines, fast_math, prog, st);
 }
 

@@ -26,7 +26,10 @@ typedef struct {
 lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math,
                               lvcl_program *prog, lvcl_status *st);
 
-/* The same for another program source (the tests' kernels), with `defines`
+/* The -D options that turn on the kernels' code for `features`. */
+void lvcl_program_feature_defines(unsigned features, char *defines, size_t size);
+
+/* The same for another program source (the tests' and the benchmarks' kernels), with `defines`
  * appended to the options. */
 lvcl_error lvcl_program_build_source(const lvcl_device *dev, const unsigned char *source, size_t size,
                                      const char *defines, int fast_math, lvcl_program *prog, lvcl_status *st);

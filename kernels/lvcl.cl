@@ -3,4 +3,3 @@
 #include "pt.cl"
 #include "particles.cl"
 #include "gather.cl"
-#include "rays.cl"

@@ -1,4 +1,4 @@
-/* Ray-throughput benchmark (bench/rays.c, workloads in bench/RAYS.md of the
+/* Ray-throughput benchmark kernels, built into lvcl-bench only (bench/rays.c, workloads in bench/RAYS.md of the
  * shared notes): rays are generated into buffers by one set of kernels and
  * traced by another, so tracing can be timed on its own and the same rays
  * handed to another tracer.
@@ -9,9 +9,9 @@
  *        miss prim_id and the leaf triangle are LV_NO_HIT and t is tmax.
  *        prim_id is the glTF-order index that checksums use; the leaf index
  *        lets the secondary-ray kernel find the triangle's vertices. */
-#include "camera.h"
-#include "rng.h"
-#include "sampling.h"
+#include "../../kernels/camera.h"
+#include "../../kernels/rng.h"
+#include "../../kernels/sampling.h"
 
 inline lv_ray lv_rays_load(__global const float4 *rays, uint i)
 {
