@@ -7,6 +7,10 @@ BUILD := build
 CFLAGS ?= -O2 -g
 CXXFLAGS ?= -O2 -g
 WARN := -Wall -Wextra -Wno-missing-field-initializers -Wno-format-truncation
+# CI builds with WERROR=1: a warning fails the build.
+ifneq ($(WERROR),)
+WARN += -Werror
+endif
 ALL_CFLAGS := -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) $(CFLAGS)
 ALL_CXXFLAGS := -std=c++17 $(WARN) $(CXXFLAGS)
 LIBS := -lOpenCL -lOpenImageIO -lOpenImageIO_Util -ltinygltf -lstdc++ -lm -lpthread
@@ -31,7 +35,7 @@ LIB_OBJS := $(call objects_in,$(BUILD))
 TEST_SOURCES := $(wildcard tests/test_*.c)
 TEST_BINS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SOURCES))
 
-.PHONY: all run test test-asan deps references clean
+.PHONY: all run test test-asan deps references clean format
 # Keep generated sources (kernel and scene arrays) between builds.
 .SECONDARY:
 all: $(BUILD)/lvcl $(BUILD)/lvcl-compare $(TEST_BINS)
@@ -104,8 +108,9 @@ $(BUILD)/tests/%: tests/%.c tests/check.h tests/harness.h $(TEST_SUPPORT) $(BUIL
 run: $(BUILD)/lvcl
 	$(BUILD)/lvcl cornell
 
+# make test T=NAME runs one test (tests/run.sh takes the same names).
 test: all
-	@tests/run.sh $(BUILD)
+	@tests/run.sh $(BUILD) $(T)
 
 # The bad-input and import tests under AddressSanitizer and UBSan, in a
 # build tree of their own.
@@ -165,6 +170,12 @@ validate-converter: $(VENV)/.stamp
 
 clean:
 	rm -rf $(BUILD) out
+
+# Applies .clang-format to every C, C++ and OpenCL C source.
+FORMATTED := $(shell find host kernels tests bench -name '*.[ch]' -o -name '*.cpp' -o -name '*.cl' | grep -v '^tests/data/')
+format:
+	$(call install_debian_packages,clang-format-15)
+	clang-format-15 -i --style=file $(FORMATTED)
 
 # ---- benchmarks ----
 # lvcl-bench rays: ray throughput on the workloads of bench/RAYS.md (shared

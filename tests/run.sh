@@ -1,9 +1,21 @@
 #!/bin/sh
 # Runs lvcl's tests: every test program in BUILD/tests (each prints PASS and
 # FAIL lines) and the command-line tests, then one line of totals.
-#   tests/run.sh BUILD [--asan]     --asan: only the tests that matter under sanitizers
+#   tests/run.sh BUILD [--asan] [NAME...]
+#   --asan: only the tests that matter under sanitizers
+#   NAME:   only these tests: a program's name with or without "test_"
+#           (golden, test_render, ...) or "cli" for the command-line tests
+#   make test T=NAME runs the same.
 build=${1:-build}
-asan=${2:-}
+[ $# -gt 0 ] && shift
+asan=
+names=
+for a in "$@"; do
+    case "$a" in
+    --asan) asan=1 ;;
+    *) names="$names ${a#test_}" ;;
+    esac
+done
 tests_dir=$(dirname "$0")
 log=$(mktemp)
 passed=0
@@ -23,21 +35,39 @@ count() { # $1: name of what ran, $2: its exit status; reads the log
     echo "-- $1: $p passed, $f failed"
 }
 
+# Whether test NAME ($1, without "test_") was asked for.
+wanted() {
+    [ -z "$names" ] && return 0
+    for n in $names; do [ "$n" = "$1" ] && return 0; done
+    return 1
+}
+
 if [ -n "$asan" ]; then
     programs="$build/tests/test_gltf_import"
 else
     programs=$(ls "$build"/tests/test_* 2>/dev/null)
 fi
+ran=0
 for t in $programs; do
+    name=$(basename "$t")
+    wanted "${name#test_}" || continue
+    ran=$((ran + 1))
     "$t" "$tests_dir" >"$log" 2>"$log.err"
     status=$?
     [ -s "$log.err" ] && [ "$status" -ne 0 ] && cat "$log.err" >>"$log"
-    count "$(basename "$t")" "$status"
+    count "$name" "$status"
 done
 
-"$tests_dir/cli_tests.sh" "$build" >"$log" 2>&1
-count cli_tests $?
+if wanted cli || wanted cli_tests; then
+    ran=$((ran + 1))
+    "$tests_dir/cli_tests.sh" "$build" >"$log" 2>&1
+    count cli_tests $?
+fi
 
 rm -f "$log" "$log.err"
+if [ "$ran" -eq 0 ]; then
+    echo "FAIL tests/run.sh: no test is named$names (tests: $(cd "$build/tests" 2>/dev/null && ls -d test_* | sed 's/^test_//' | tr '\n' ' ')cli)"
+    failed=1
+fi
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
