@@ -1,6 +1,8 @@
 /* Behaviour pins: exact hashes of small renders (pt, lv with either gather,
  * lv-all) of the Cornell box, the glass table and the kitchen at fixed
- * seeds. A refactoring must leave every pixel bit for bit as it was.
+ * seeds, and of a room holding every BSDF family and light kind
+ * (tests/data/golden/make_materials.py). A refactoring must leave every
+ * pixel bit for bit as it was.
  *
  * The hashes depend on the OpenCL device and driver (a different CPU may
  * round some built-ins differently), so tests/data/golden.txt keeps them per
@@ -26,6 +28,9 @@ static const golden_case cases[] = {
     {"../scenes/glass-table.gltf", "lv-sample"}, {"../scenes/glass-table.gltf", "lv-all"},
     {"kitchen", "pt"},          {"kitchen", "lv"},          {"kitchen", "lv-sample"},
     {"kitchen", "lv-all"},
+    /* every BSDF family, textures, shading normals, a mirrored instance, point and spot lights */
+    {"data/golden/materials.gltf", "pt"}, {"data/golden/materials.gltf", "lv"},
+    {"data/golden/materials.gltf", "lv-sample"}, {"data/golden/materials.gltf", "lv-all"},
 };
 #define CASE_COUNT (sizeof cases / sizeof cases[0])
 
