@@ -11,8 +11,8 @@
 #ifndef LV_BSDF_H
 #define LV_BSDF_H
 
-#include "geometry.h"
-#include "sampling.h"
+#include "util/geometry.h"
+#include "util/sampling.h"
 #include "shared_types.h"
 
 #define LV_RADIANCE 0

@@ -3,7 +3,8 @@
  * by Russian roulette; every straight segment adds power x track length to
  * the cells it crosses, in the bin of its direction (eq. 5). Tallies are
  * integer atomics, so the result does not depend on the order of work. */
-#include "light_volume.h"
+#include "volume/segment.h"
+#include "volume/subcells.h"
 #include "path.h"
 
 /* Different from every pixel stream of the camera passes. */

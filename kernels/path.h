@@ -6,10 +6,10 @@
 #ifndef LV_PATH_H
 #define LV_PATH_H
 
-#include "camera.h"
-#include "lights.h"
-#include "light_volume.h"
-#include "rng.h"
+#include "scene/camera.h"
+#include "light/lights.h"
+#include "volume/lookup.h"
+#include "util/rng.h"
 
 /* Paths longer than this many segments may end by Russian roulette. */
 #define LV_RR_DEPTH 5

@@ -3,8 +3,8 @@
 #ifndef LV_LIGHTS_H
 #define LV_LIGHTS_H
 
-#include "sampling.h"
-#include "surface.h"
+#include "../util/sampling.h"
+#include "../scene/surface.h"
 
 typedef struct {
     float3 wi;       /* unit direction from the shading point to the light */

@@ -2,8 +2,8 @@
 #ifndef LV_SURFACE_H
 #define LV_SURFACE_H
 
-#include "bsdf.h"
-#include "traverse.h"
+#include "../bsdf.h"
+#include "../bvh/traverse.h"
 
 typedef struct {
     float3 p;

@@ -2,8 +2,8 @@
 #ifndef LV_TRAVERSE_H
 #define LV_TRAVERSE_H
 
-#include "geometry.h"
-#include "scene.h"
+#include "../util/geometry.h"
+#include "../scene.h"
 
 /* The watertight test needs its edge functions evaluated exactly alike for
  * the two triangles sharing an edge; fusing a*b - c*d into an FMA breaks
