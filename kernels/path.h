@@ -24,7 +24,8 @@ inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, lv_hit h,
     float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
     if (!lv_sample_light(sc, s->p, u, &ls)) return (float3)(0.0f);
     float3 wi = lv_to_local(f, ls.wi);
-    float3 fcos = lv_bsdf_eval(b, wo, wi, LV_RADIANCE);
+    float pdf;
+    float3 fcos = lv_bsdf_eval(b, wo, wi, LV_RADIANCE, &pdf);
     if (lv_max3(fcos) <= 0.0f) return (float3)(0.0f);
     /* Leave from the side of the surface the light is on. */
     float3 n_side = dot(ls.wi, ng_out) >= 0.0f ? ng_out : -ng_out;
@@ -32,7 +33,7 @@ inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, lv_hit h,
     float3 origin = lv_offset_origin(s->p, n_side, sc->info.scene_scale);
     float3 d = ls.target - origin;
     if (lv_occluded(sc, origin, d, 0.9999f, h.inst, h.tri)) return (float3)(0.0f);
-    float w = ls.delta ? 1.0f : lv_power_heuristic(ls.pdf, lv_bsdf_pdf(b, wo, wi));
+    float w = ls.delta ? 1.0f : lv_power_heuristic(ls.pdf, pdf);
     return fcos * ls.li * (w / ls.pdf);
 }
 
@@ -47,21 +48,9 @@ typedef struct {
 #define LV_GATHER_ALL 1u       /* the volume holds all light, emitted too: no shadow rays */
 #define LV_GATHER_INTEGRATE 2u /* integrate the BSDF over every bin instead of sampling one */
 
-/* Rough enough that the light volume answers for the light it reflects;
- * smoother surfaces continue the path (paper section 5). */
-#define LV_GATHER_MIN_ALPHA 0.1f
-
-/* Delta lobes (a smooth dielectric coat) would be lost by the integrating
- * gather, so smooth coats continue the path too. */
-inline int lv_gather_here_type(uint type, float alpha)
-{
-    if (type == LV_BSDF_DIFFUSE) return 1;
-    return (type == LV_BSDF_PLASTIC || type == LV_BSDF_CONDUCTOR) && alpha >= LV_GATHER_MIN_ALPHA;
-}
-
 inline int lv_gather_here(const lv_bsdf *b)
 {
-    return lv_gather_here_type(b->type, b->alpha);
+    return lv_bsdf_gathers(b->type, b->alpha);
 }
 
 /* The BSDF-weighted sum of the volume's radiance over every bin of the cell
@@ -85,7 +74,7 @@ inline float3 lv_gather_integrate(const lv_gather *g, const lv_bsdf *b, lv_frame
         float3 wiw = -g->bin_directions[bin].xyz;
         float3 wi = lv_to_local(f, wiw);
         if (wi.z <= 0.0f || dot(wiw, ng_out) <= 0.0f) continue;
-        float3 fcos = lambert ? (float3)(wi.z) : lv_bsdf_eval(b, wo, wi, LV_RADIANCE);
+        float3 fcos = lambert ? (float3)(wi.z) : lv_bsdf_eval(b, wo, wi, LV_RADIANCE, 0);
         if (lv_max3(fcos) > 0.0f) sum += fcos * lv_bin_tally(tallies + 3 * bin);
     }
     if (lambert) sum *= b->base * LV_INV_PI;
@@ -128,7 +117,7 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         if (h.tri != LV_NO_HIT) {
             s = lv_surface_at(sc, r, h);
             m = &sc->materials[s.material];
-            far = lookup != LV_LOOKUP_NONE && (h.t > g->threshold || !lv_gather_here_type(m->bsdf, m->alpha));
+            far = lookup != LV_LOOKUP_NONE && (h.t > g->threshold || !lv_bsdf_gathers(m->bsdf, m->alpha));
             float3 le = LV_F3(m->emission);
             if (s.front && lv_max3(le) > 0.0f && !(all_light && !prev_delta)) {
                 float w = prev_delta ? 1.0f : lv_power_heuristic(prev_pdf, lv_light_pdf(sc, h, r.dir, s.ng));
@@ -161,7 +150,7 @@ inline float3 lv_path_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint m
         int integrate = gather && (g->flags & LV_GATHER_INTEGRATE);
         int lit_here = gather && lv_lookup_point(&g->grid, sc, s.p, ng_out, rng, &lookup_point);
 
-        if (depth + 1 <= max_depth && lv_bsdf_has_smooth_lobe(&b) && !all_light)
+        if (depth + 1 <= max_depth && lv_bsdf_has_lobe(&b) && !all_light)
             radiance += beta * lv_direct_light(sc, &s, h, &b, f, wo, ng_out, rng);
         if (integrate) {
             if (lit_here) radiance += beta * lv_gather_integrate(g, &b, f, wo, ng_out, lookup_point);

@@ -2,7 +2,7 @@
 #ifndef LV_SURFACE_H
 #define LV_SURFACE_H
 
-#include "../bsdf.h"
+#include "../closure/bsdf.h"
 #include "../bvh/traverse.h"
 
 typedef struct {
