@@ -19,8 +19,7 @@
 #ifndef LV_BSDF_H
 #define LV_BSDF_H
 
-#include "../util/geometry.h"
-#include "../shared_types.h"
+/* Uses util/geometry.h, shared_types.h (included before, by kernels/lvcl.h). */
 
 #define LV_RADIANCE 0
 #define LV_IMPORTANCE 1

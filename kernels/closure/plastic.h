@@ -5,7 +5,7 @@
 #ifndef LV_CLOSURE_PLASTIC_H
 #define LV_CLOSURE_PLASTIC_H
 
-#include "../util/sampling.h"
+/* Uses util/sampling.h (included before, by kernels/lvcl.h). */
 #include "fresnel.h"
 #include "microfacet.h"
 

@@ -7,8 +7,7 @@
 #ifndef LV_VOLUME_GRID_H
 #define LV_VOLUME_GRID_H
 
-#include "../util/geometry.h"
-#include "../shared_types.h"
+/* Uses util/geometry.h, shared_types.h (included before, by kernels/lvcl.h). */
 
 typedef struct {
     lv_grid_info g;

@@ -1,7 +1,6 @@
 /* Kernels that exercise lvcl's device code directly, for tests/test_kernels.c.
  * Built with every feature switch on, so all BSDFs are present. */
-#include "../../kernels/volume/direction_map.h"
-#include "../../kernels/path.h"
+#include "../../kernels/lvcl.h"
 
 inline float3 uniform_sphere(float2 u)
 {
