@@ -21,7 +21,7 @@ DEBIAN_PACKAGES := build-essential pocl-opencl-icd ocl-icd-opencl-dev opencl-c-h
 
 HOST_C := $(filter-out host/main.c,$(wildcard host/*.c))
 HOST_CXX := $(wildcard host/*.cpp)
-KERNELS := $(wildcard kernels/*.h kernels/*.cl)
+KERNELS := $(wildcard kernels/*.h kernels/*/*.h kernels/*.cl kernels/*/*.cl)
 GEN_C := $(BUILD)/gen/kernel_source.c $(BUILD)/gen/scene_cornell.c $(BUILD)/gen/scene_furnace.c \
          $(BUILD)/gen/scene_kitchen.c
 

@@ -1,7 +1,7 @@
-/* The final gather (paper section 5): camera rays, one sample per pixel of
- * the range [first_pixel, first_pixel + pixel_count) per launch, with the
- * light volume answering at rough surfaces. */
-#include "path.h"
+/* The final gather (paper section 5; integrator/gather.h): camera rays,
+ * one sample per pixel of the range [first_pixel, first_pixel + pixel_count)
+ * per launch, with the light volume answering at rough surfaces. */
+#include "lvcl.h"
 
 __kernel void lv_gather_pass(LV_SCENE_PARAMS, lv_grid_info grid_info, __global const uint *cell_slot,
                              __global long *tallies0, __global long *tallies1, __global long *tallies2,
@@ -28,6 +28,6 @@ __kernel void lv_gather_pass(LV_SCENE_PARAMS, lv_grid_info grid_info, __global c
     g.threshold = threshold;
     lv_rng rng = lv_rng_make(sc.info.seed, pixel, sample_index);
     lv_ray r = lv_camera_ray(camera, pixel % camera.width, pixel / camera.width, lv_rng_next2(&rng));
-    float3 l = lv_path_radiance(&sc, r, &rng, sc.info.max_depth, &g);
+    float3 l = lv_gather_radiance(&sc, r, &rng, sc.info.max_depth, &g);
     sum[pixel] += (float4)(l, 1.0f);
 }

@@ -2,7 +2,7 @@
  * first_pixel + pixel_count) (a tile, or the whole image), one sample per
  * launch, added to a running sum per pixel (no atomics: each pixel has one
  * owner). */
-#include "path.h"
+#include "lvcl.h"
 
 __kernel void lv_pt_pass(LV_SCENE_PARAMS, lv_camera camera, uint first_pixel, uint pixel_count, uint sample_index,
                          __global float4 *sum)
@@ -12,6 +12,6 @@ __kernel void lv_pt_pass(LV_SCENE_PARAMS, lv_camera camera, uint first_pixel, ui
     uint pixel = first_pixel + (uint)get_global_id(0);
     lv_rng rng = lv_rng_make(sc.info.seed, pixel, sample_index);
     lv_ray r = lv_camera_ray(camera, pixel % camera.width, pixel / camera.width, lv_rng_next2(&rng));
-    float3 l = lv_path_radiance(&sc, r, &rng, sc.info.max_depth, 0);
+    float3 l = lv_path_trace(&sc, r, &rng, sc.info.max_depth);
     sum[pixel] += (float4)(l, 1.0f);
 }

@@ -9,9 +9,13 @@
  *        miss prim_id and the leaf triangle are LV_NO_HIT and t is tmax.
  *        prim_id is the glTF-order index that checksums use; the leaf index
  *        lets the secondary-ray kernel find the triangle's vertices. */
-#include "../../kernels/camera.h"
-#include "../../kernels/rng.h"
-#include "../../kernels/sampling.h"
+/* The layers these kernels use, in kernels/lvcl.h's order. */
+#include "../../kernels/util/geometry.h"
+#include "../../kernels/util/rng.h"
+#include "../../kernels/util/sampling.h"
+#include "../../kernels/scene.h"
+#include "../../kernels/bvh/traverse.h"
+#include "../../kernels/scene/camera.h"
 
 inline lv_ray lv_rays_load(__global const float4 *rays, uint i)
 {

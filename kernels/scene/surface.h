@@ -2,8 +2,7 @@
 #ifndef LV_SURFACE_H
 #define LV_SURFACE_H
 
-#include "bsdf.h"
-#include "traverse.h"
+/* Uses closure/bsdf.h, bvh/traverse.h (included before, by kernels/lvcl.h). */
 
 typedef struct {
     float3 p;
@@ -113,6 +112,17 @@ inline lv_bsdf lv_surface_bsdf(const lv_scene *sc, const lv_surface *s)
     b.ior = m->ior;
     b.specular = m->specular;
     return b;
+}
+
+/* Whether the segment that ended at s ran inside a glass volume (it
+ * arrived at the back face), where Beer-Lambert absorption applies. */
+inline int lv_inside_glass(__global const lv_material *m, const lv_surface *s)
+{
+#ifdef LV_FEATURE_GLASS
+    return m->bsdf == LV_BSDF_GLASS && !s->front;
+#else
+    return 0;
+#endif
 }
 
 /* The shading frame at s for a ray arriving along dir, and whether the

@@ -2,7 +2,7 @@
 #ifndef LV_CAMERA_H
 #define LV_CAMERA_H
 
-#include "traverse.h"
+/* Uses bvh/traverse.h (included before, by kernels/lvcl.h). */
 
 /* The ray through image position (x + jitter.x, y + jitter.y) in pixels. */
 inline lv_ray lv_camera_ray(lv_camera c, uint x, uint y, float2 jitter)

@@ -2,13 +2,12 @@
 #ifndef LV_TRAVERSE_H
 #define LV_TRAVERSE_H
 
-#include "geometry.h"
-#include "scene.h"
+/* Uses util/geometry.h, scene.h (included before, by kernels/lvcl.h). */
 
-/* The watertight test needs its edge functions evaluated exactly alike for
- * the two triangles sharing an edge; fusing a*b - c*d into an FMA breaks
- * that symmetry and lets rays slip through shared edges. */
-#pragma OPENCL FP_CONTRACT OFF
+/* Floating-point contraction is off from the end of util/geometry.h on:
+ * the watertight test needs its edge functions evaluated exactly alike for
+ * the two triangles sharing an edge, and fusing a*b - c*d into an FMA
+ * breaks that symmetry and lets rays slip through shared edges. */
 
 /* The top-level tree and one mesh tree under it, each at most
  * LVCL_BVH_MAX_DEPTH deep (host/bvh.h), plus the marker between them. */

@@ -3,8 +3,7 @@
 #ifndef LV_LIGHTS_H
 #define LV_LIGHTS_H
 
-#include "sampling.h"
-#include "surface.h"
+/* Uses util/sampling.h, scene/surface.h (included before, by kernels/lvcl.h). */
 
 typedef struct {
     float3 wi;       /* unit direction from the shading point to the light */

@@ -1,11 +1,11 @@
-/* The light volume's directional bins (DESIGN.md section 1): each hemisphere
+/* The light volume's directional bins (docs/light-volume.md): each hemisphere
  * maps to an n x n square by an equal-area map (the concentric disk of
  * Shirley and Chiu, with z = 1 - r^2), so every one of the 2 n^2 bins spans
  * exactly 2 pi / n^2 steradians. Bins 0 .. n^2-1 hold z >= 0, the rest z < 0. */
 #ifndef LV_DIRECTION_MAP_H
 #define LV_DIRECTION_MAP_H
 
-#include "sampling.h"
+/* Uses util/sampling.h (included before, by kernels/lvcl.h). */
 
 /* Inverse of lv_square_to_disk: unit disk to [0,1]^2. */
 inline float2 lv_disk_to_square(float2 d)

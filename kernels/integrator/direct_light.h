@@ -1,0 +1,40 @@
+/* Next-event estimation with multiple importance sampling (power
+ * heuristic) for area lights, plain NEE for punctual lights: the light
+ * sampling half here, and the weight of the BSDF-sampling half that a path
+ * applies where it hits an emitter. */
+#ifndef LV_INTEGRATOR_DIRECT_LIGHT_H
+#define LV_INTEGRATOR_DIRECT_LIGHT_H
+
+/* Uses light/lights.h (included before, by kernels/lvcl.h). */
+#include "scatter.h"
+
+/* Direct light at surface s (hit h) from one light sample, MIS-weighted
+ * against BSDF sampling. Draws three numbers. */
+inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, lv_hit h, const lv_shading *sh, lv_rng *rng)
+{
+    lv_light_sample ls;
+    float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
+    if (!lv_sample_light(sc, s->p, u, &ls)) return (float3)(0.0f);
+    float3 wi = lv_to_local(sh->f, ls.wi);
+    float pdf;
+    float3 fcos = lv_bsdf_eval(&sh->b, sh->wo, wi, LV_RADIANCE, &pdf);
+    if (lv_max3(fcos) <= 0.0f) return (float3)(0.0f);
+    /* Leave from the side of the surface the light is on. */
+    float3 n_side = dot(ls.wi, sh->ng_out) >= 0.0f ? sh->ng_out : -sh->ng_out;
+    if (!lv_bsdf_transmits(sh->b.type) && dot(ls.wi, sh->ng_out) <= 0.0f) return (float3)(0.0f);
+    float3 origin = lv_offset_origin(s->p, n_side, sc->info.scene_scale);
+    float3 d = ls.target - origin;
+    if (lv_occluded(sc, origin, d, 0.9999f, h.inst, h.tri)) return (float3)(0.0f);
+    float w = ls.delta ? 1.0f : lv_power_heuristic(ls.pdf, pdf);
+    return fcos * ls.li * (w / ls.pdf);
+}
+
+/* The MIS weight of emission that a ray along dir found at h (front normal
+ * ng) after a BSDF sample of density prev_pdf; 1 after a delta lobe or
+ * from the camera, which light sampling could not have found. */
+inline float lv_emission_weight(const lv_scene *sc, lv_hit h, float3 dir, float3 ng, float prev_pdf, int prev_delta)
+{
+    return prev_delta ? 1.0f : lv_power_heuristic(prev_pdf, lv_light_pdf(sc, h, dir, ng));
+}
+
+#endif

@@ -1,0 +1,134 @@
+/* The final gather (paper section 5; docs/light-volume.md, "The final
+ * gather"): camera paths that let the light volume answer at the first
+ * rough surface. There shadow rays give direct light (unless the volume
+ * holds all light) and the volume, read at a jittered point around the
+ * surface, the rest. The paper's way (sampled) follows one BSDF ray: if it
+ * meets a rough surface closer than the threshold the path goes on,
+ * otherwise the volume's bin in its direction answers. The integrating way
+ * sums the BSDF over every bin and still follows one BSDF ray: where that
+ * ray hits close, the path's radiance replaces the volume's for its
+ * direction, so near geometry (corners, contact shadows), which a cell
+ * average cannot resolve, is path traced as in the paper while far light
+ * stays noise-free. */
+#ifndef LV_INTEGRATOR_GATHER_H
+#define LV_INTEGRATOR_GATHER_H
+
+/* Uses volume/lookup.h (included before, by kernels/lvcl.h). */
+#include "direct_light.h"
+
+/* How the final gather reads the light volume. */
+typedef struct {
+    lv_grid grid;
+    __global const float4 *bin_directions; /* central direction of each bin */
+    uint flags;      /* LV_GATHER_* */
+    float threshold; /* a BSDF ray hitting closer than this continues as a path */
+} lv_gather;
+
+#define LV_GATHER_ALL 1u       /* the volume holds all light, emitted too: no shadow rays */
+#define LV_GATHER_INTEGRATE 2u /* integrate the BSDF over every bin instead of sampling one */
+
+/* The BSDF-weighted sum of the volume's radiance over every bin of the cell
+ * at p (each bin read at its central direction). */
+inline float3 lv_gather_integrate(const lv_gather *g, const lv_shading *sh, float3 p)
+{
+    uint slot = lv_grid_slot_at(&g->grid, p);
+    if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
+    /* A Lambertian surface's f cos is base / pi times cos: sum the tallies
+     * weighted by cos alone and apply the rest once (most gathers). */
+    int lambert = sh->b.type == LV_BSDF_DIFFUSE;
+    if (lambert && sh->wo.z <= 0.0f) return (float3)(0.0f);
+    float3 sum = (float3)(0.0f);
+    __global const long *tallies = lv_tally_bin(&g->grid, slot, 0u); /* a slot's bins are consecutive */
+    for (uint bin = 0; bin < g->grid.g.bins; bin++) {
+        /* Light arriving from wi travels along -wi. The gather runs on
+         * reflecting surfaces only; a direction the shading normal allows
+         * but the true surface does not would read light leaving the
+         * surface itself. */
+        float3 wiw = -g->bin_directions[bin].xyz;
+        float3 wi = lv_to_local(sh->f, wiw);
+        if (wi.z <= 0.0f || dot(wiw, sh->ng_out) <= 0.0f) continue;
+        float3 fcos = lambert ? (float3)(wi.z) : lv_bsdf_eval(&sh->b, sh->wo, wi, LV_RADIANCE, 0);
+        if (lv_max3(fcos) > 0.0f) sum += fcos * lv_bin_tally(tallies + 3 * bin);
+    }
+    if (lambert) sum *= sh->b.base * LV_INV_PI;
+    return sum * (lv_tally_to_radiance(&g->grid, g->grid.lit_volume[slot]) * lv_bin_solid_angle(g->grid.g.dirs));
+}
+
+/* What the ray just traced owes the light volume once it lands. */
+#define LV_LOOKUP_NONE 0
+#define LV_LOOKUP_READ 1    /* a far hit reads the volume in the ray's direction */
+#define LV_LOOKUP_CORRECT 2 /* a near hit takes back the volume's share: the path answers instead */
+
+/* Radiance arriving along r at its origin. */
+inline float3 lv_gather_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint max_depth, const lv_gather *g)
+{
+    int all_light = (g->flags & LV_GATHER_ALL) != 0u;
+    float3 radiance = (float3)(0.0f);
+    float3 beta = (float3)(1.0f);
+    lv_bsdf_sample bs;
+    bs.pdf = 0.0f;
+    bs.delta = 1; /* the camera ray counts as a delta sample: no MIS */
+    int lookup = LV_LOOKUP_NONE;
+    float3 lookup_point = (float3)(0.0f);
+    int lookup_lit = 0; /* the volume at lookup_point holds light that reaches the surface */
+    for (uint depth = 1; depth <= max_depth; depth++) {
+        lv_hit h = lv_trace(sc, r, 0);
+        lv_surface s;
+        __global const lv_material *m = 0;
+        int far = h.tri == LV_NO_HIT;
+        if (h.tri != LV_NO_HIT) {
+            s = lv_surface_at(sc, r, h);
+            m = &sc->materials[s.material];
+            /* A near hit continues the path only on a rough surface: a
+             * specular one would lead on to caustics, which the volume
+             * holds already. */
+            far = lookup != LV_LOOKUP_NONE && (h.t > g->threshold || !lv_bsdf_gathers(m->bsdf, m->alpha));
+            /* With all light in the volume, emission found by a BSDF
+             * sample at a gather point is the volume's to answer for. */
+            float3 le = LV_F3(m->emission);
+            if (s.front && lv_max3(le) > 0.0f && !(all_light && !bs.delta))
+                radiance += beta * le * lv_emission_weight(sc, h, r.dir, s.ng, bs.pdf, bs.delta);
+        }
+        if (lookup != LV_LOOKUP_NONE) {
+            /* Light arriving from r.dir travels along -r.dir. */
+            float3 volume = lookup_lit ? beta * lv_volume_radiance(&g->grid, lookup_point, -r.dir) : (float3)(0.0f);
+            if (far) {
+                if (lookup == LV_LOOKUP_READ) radiance += volume;
+                break;
+            }
+            if (lookup == LV_LOOKUP_CORRECT) radiance -= volume;
+            lookup = LV_LOOKUP_NONE;
+        }
+        if (h.tri == LV_NO_HIT) break;
+        if (lv_inside_glass(m, &s)) beta *= exp(-LV_F3(m->attenuation) * h.t);
+        if (depth == max_depth) break;
+
+        lv_shading sh;
+        if (!lv_shading_at(sc, &s, r.dir, &sh)) break;
+        int gather = lv_bsdf_gathers(sh.b.type, sh.b.alpha);
+        int integrate = gather && (g->flags & LV_GATHER_INTEGRATE);
+        int lit_here = gather && lv_lookup_point(&g->grid, sc, s.p, sh.ng_out, rng, &lookup_point);
+
+        if (depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b) && !all_light)
+            radiance += beta * lv_direct_light(sc, &s, h, &sh, rng);
+        if (integrate) {
+            if (lit_here) radiance += beta * lv_gather_integrate(g, &sh, lookup_point);
+            if (all_light) break; /* no threshold: the volume answers for every direction */
+        }
+
+        /* The ray a gather point sends on only settles the lookup. */
+        lv_walk walk = {LV_RADIANCE, gather ? LV_ROULETTE_NONE : LV_ROULETTE_BETA, (float3)(1.0f)};
+        if (!lv_scatter(sc, &s, h, &sh, walk, depth, rng, &beta, &r, &bs)) break;
+        if (gather) {
+            if (all_light) { /* no threshold: the volume answers at once */
+                if (lit_here) radiance += beta * lv_volume_radiance(&g->grid, lookup_point, -r.dir);
+                break;
+            }
+            lookup = integrate ? LV_LOOKUP_CORRECT : LV_LOOKUP_READ;
+            lookup_lit = lit_here;
+        }
+    }
+    return lv_finite3(radiance) ? radiance : (float3)(0.0f);
+}
+
+#endif

@@ -1,0 +1,73 @@
+/* One particle's path (paper section 4.1): it leaves a light with an equal
+ * share of the emitted power, scatters by the surfaces' BSDFs and ends by
+ * Russian roulette; every straight segment adds power x track length to
+ * the cells it crosses, in the bin of its direction (eq. 5). */
+#ifndef LV_INTEGRATOR_PARTICLE_TRACE_H
+#define LV_INTEGRATOR_PARTICLE_TRACE_H
+
+/* Uses light/lights.h, volume/direction_map.h, volume/segment.h and
+ * volume/subcells.h (included before, by kernels/lvcl.h). */
+#include "scatter.h"
+
+/* Rays a particle cast, for the statistics. */
+typedef struct {
+    uint segments;
+    uint visibility_rays;
+} lv_particle_rays;
+
+/* Adds segment r, which carried `weight` (power over total power, over
+ * particle count) up to hit h (surface s, if any) through a medium of
+ * absorption sigma, to the volume; at a hit also offers a lit point and
+ * may cast a visibility ray. Returns the visibility rays cast. */
+inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray r, lv_hit h, const lv_surface *s,
+                                float3 weight, float3 sigma, lv_rng *rng)
+{
+    lv_tally_segment(grid, r.origin, r.dir, 0.0f, h.t, lv_direction_bin(r.dir, grid->g.dirs), weight, sigma);
+    if (!grid->g.subcells || h.tri == LV_NO_HIT) return 0u;
+    /* Just off the hit on the side the particle came from, its light
+     * reached: off along the normal, by more than a lit point's rounding
+     * (1/512 subcell per axis), so even a grazing hit's point stays on
+     * that side. */
+    float3 toward = dot(r.dir, s->ng) < 0.0f ? s->ng : -s->ng;
+    lv_offer_lit_point(grid, s->p + toward * (0.02f * grid->g.cell_size / (float)grid->g.subcells), rng);
+    if (lv_rng_next(rng) < grid->g.visibility_rate) return lv_sample_subcell_visibility(grid, sc, s->p, r.origin, rng);
+    return 0u;
+}
+
+/* Traces one particle, drawing from rng, into grid. store_emitted: tally
+ * the first segment (emitted light) too, which lv mode leaves to shadow
+ * rays. */
+inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *grid, lv_rng *rng, float inv_total_particles,
+                                          uint store_emitted)
+{
+    lv_particle_rays n = {0u, 0u};
+    lv_emission_sample es;
+    float2 ul = lv_rng_next2(rng), ud = lv_rng_next2(rng);
+    if (!lv_sample_emission(sc, ul, ud, lv_rng_next(rng), &es)) return n;
+    const lv_walk walk = {LV_IMPORTANCE, LV_ROULETTE_RELATIVE, es.weight};
+    float3 throughput = es.weight;
+    lv_ray r = lv_ray_make(es.origin, es.dir, LV_FAR, es.instance, es.triangle);
+    for (uint depth = 1; depth <= sc->info.max_depth; depth++) {
+        lv_hit h = lv_trace(sc, r, 0);
+        n.segments++;
+        lv_surface s;
+        float3 sigma = (float3)(0.0f);
+        if (h.tri != LV_NO_HIT) {
+            s = lv_surface_at(sc, r, h);
+            __global const lv_material *m = &sc->materials[s.material];
+            if (lv_inside_glass(m, &s)) sigma = LV_F3(m->attenuation);
+        }
+        if (depth > 1 || store_emitted)
+            n.visibility_rays += lv_particle_deposit(sc, grid, r, h, &s, throughput * inv_total_particles, sigma, rng);
+        if (h.tri == LV_NO_HIT || depth == sc->info.max_depth) break;
+        throughput *= exp(-sigma * h.t);
+
+        lv_shading sh;
+        if (!lv_shading_at(sc, &s, r.dir, &sh)) break;
+        lv_bsdf_sample bs;
+        if (!lv_scatter(sc, &s, h, &sh, walk, depth, rng, &throughput, &r, &bs)) break;
+    }
+    return n;
+}
+
+#endif

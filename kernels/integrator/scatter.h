@@ -1,0 +1,91 @@
+/* One scatter step, shared by the particle trace and both camera paths:
+ * the shading frame at a hit, a BSDF sample, the check against the
+ * geometric normal, the throughput update, the non-finite check, Russian
+ * roulette and the next ray. Where the walks differ (transport mode,
+ * roulette, the adjoint shading-normal factor) lv_walk says how. */
+#ifndef LV_INTEGRATOR_SCATTER_H
+#define LV_INTEGRATOR_SCATTER_H
+
+/* Uses scene/surface.h, util/rng.h (included before, by kernels/lvcl.h). */
+
+/* Walks longer than this many segments may end by Russian roulette. */
+#define LV_RR_DEPTH 5
+
+#define LV_ROULETTE_NONE 0     /* none: the gather path, where the light volume answers next */
+#define LV_ROULETTE_BETA 1     /* q = min(max(beta), 0.95), as Mitsuba does (camera paths) */
+#define LV_ROULETTE_RELATIVE 2 /* the same relative to the starting weight (particles) */
+
+/* How a walk scatters. */
+typedef struct {
+    int mode;     /* LV_RADIANCE (camera paths) or LV_IMPORTANCE (particles) */
+    int roulette; /* LV_ROULETTE_* */
+    float3 start; /* LV_ROULETTE_RELATIVE: the weight the walk started with */
+} lv_walk;
+
+/* What a walk needs to scatter at a surface it arrived at. */
+typedef struct {
+    lv_frame f;
+    lv_bsdf b;
+    float3 wo;     /* back along the arriving ray, in the shading frame */
+    float3 ng_out; /* the geometric normal on the side wo leaves from */
+} lv_shading;
+
+/* Sets up sh for a ray arriving along dir; 0 if the surface does not
+ * scatter light on that side. */
+inline int lv_shading_at(const lv_scene *sc, const lv_surface *s, float3 dir, lv_shading *sh)
+{
+    if (!lv_shading_frame(sc, s, dir, &sh->f)) return 0;
+    sh->b = lv_surface_bsdf(sc, s);
+    sh->wo = lv_to_local(sh->f, -dir);
+    sh->ng_out = dot(dir, s->ng) < 0.0f ? s->ng : -s->ng;
+    return 1;
+}
+
+/* Importance carried across a surface whose shading normal is not its
+ * geometric one picks up |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) (Veach 1997,
+ * section 5.3): without it particles would not carry the power that the
+ * shading-normal BSDF of radiance transport implies. 1 without normals. */
+inline float lv_shading_normal_adjoint(const lv_surface *s, float3 wo, float3 wi)
+{
+    if (all(s->ns == s->ng)) return 1.0f;
+    float num = fabs(dot(wo, s->ns)) * fabs(dot(wi, s->ng));
+    float den = fabs(dot(wo, s->ng)) * fabs(dot(wi, s->ns));
+    return den > 0.0f ? num / den : 0.0f;
+}
+
+/* Scatters the walk that arrived along r at hit h (surface s, shading sh)
+ * of its segment number `depth`: on success *beta carries the BSDF weight
+ * (and roulette's), *bs holds the sample and *r the next ray, leaving from
+ * the side of the surface it goes to. Returns 0 where the walk ends. Draws
+ * three numbers, and one more for roulette. Always inlined: each walk's
+ * constant lv_walk then folds away, and out of line (fast-math) the
+ * particle trace's arithmetic rounds differently from the images that
+ * tests/data/golden.txt pins. */
+__attribute__((always_inline)) inline int lv_scatter(const lv_scene *sc, const lv_surface *s, lv_hit h, const lv_shading *sh, lv_walk w,
+                      uint depth, lv_rng *rng, float3 *beta, lv_ray *r, lv_bsdf_sample *bs)
+{
+    float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
+    if (!lv_bsdf_sample_dir(&sh->b, sh->wo, u, w.mode, bs)) return 0;
+    float3 wi = lv_to_world(sh->f, bs->wi);
+    /* Reject directions that the shading normal allows but the true
+     * surface does not (reflection into it, transmission out of it). */
+    int reflected = dot(wi, sh->ng_out) > 0.0f;
+    if (reflected != (bs->wi.z * sh->wo.z > 0.0f)) return 0;
+    if (w.mode == LV_IMPORTANCE) *beta *= bs->weight * lv_shading_normal_adjoint(s, -r->dir, wi);
+    else *beta *= bs->weight;
+    if (!lv_finite3(*beta) || lv_max3(*beta) <= 0.0f) return 0;
+    if (w.roulette != LV_ROULETTE_NONE && depth >= LV_RR_DEPTH) {
+        /* Particles' roulette is relative to their starting power, so that
+         * bright lights' particles are not culled for being bright. */
+        float lead = lv_max3(*beta);
+        if (w.roulette == LV_ROULETTE_RELATIVE) lead /= lv_max3(w.start);
+        float q = fmin(lead, 0.95f);
+        if (lv_rng_next(rng) >= q) return 0;
+        *beta /= q;
+    }
+    *r = lv_ray_make(lv_offset_origin(s->p, reflected ? sh->ng_out : -sh->ng_out, sc->info.scene_scale), wi, LV_FAR,
+                     h.inst, h.tri);
+    return 1;
+}
+
+#endif

@@ -1,0 +1,33 @@
+/* The device code the passes share, layer by layer: each layer uses only
+ * those above it. Headers include the ones of their own folder; across
+ * folders they rely on this order, because host/embed inlines an include
+ * by its path as written (it does not resolve "../"), so chains of
+ * relative includes would each name the same file anew.
+ *
+ * util/geometry.h comes first: it switches floating-point contraction off
+ * for everything after it. */
+#ifndef LV_LVCL_H
+#define LV_LVCL_H
+
+#include "util/geometry.h"
+#include "util/rng.h"
+#include "util/sampling.h"
+#include "scene.h"
+#include "bvh/traverse.h"
+#include "closure/bsdf.h"
+#include "scene/surface.h"
+#include "scene/camera.h"
+#include "light/lights.h"
+#include "volume/direction_map.h"
+#include "volume/grid.h"
+#include "volume/tally.h"
+#include "volume/segment.h"
+#include "volume/subcells.h"
+#include "volume/lookup.h"
+#include "integrator/scatter.h"
+#include "integrator/direct_light.h"
+#include "integrator/path_tracer.h"
+#include "integrator/gather.h"
+#include "integrator/particle_trace.h"
+
+#endif

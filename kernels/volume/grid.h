@@ -1,0 +1,44 @@
+/* The light volume's grid: which stored slot holds a point, and where a
+ * slot's tallies live. See lv_grid_info in shared_types.h for the layout:
+ * cell_slot maps a cell (x + dims.x (y + dims.y z)) to its slot or
+ * LV_EMPTY_CELL; slot s, bin b, channel c is, with q = slots_per_part,
+ * tallies[s / q][((s % q) * bins + b) * 3 + c]. docs/light-volume.md
+ * describes the estimator the tallies feed. */
+#ifndef LV_VOLUME_GRID_H
+#define LV_VOLUME_GRID_H
+
+/* Uses util/geometry.h, shared_types.h (included before, by kernels/lvcl.h). */
+
+typedef struct {
+    lv_grid_info g;
+    __global const uint *cell_slot;
+    __global uint *subcells; /* LV_SUBCELL_STRIDE words per slot (shared_types.h) */
+    __global const float *lit_volume; /* per slot, lv_cell_lit_volume after the trace (lookups only) */
+    __global long *tallies[LV_TALLY_PARTS];
+} lv_grid;
+
+/* The three (RGB) tallies of one bin of a stored cell. */
+inline __global long *lv_tally_bin(const lv_grid *grid, uint slot, uint bin)
+{
+    /* Most grids fit one buffer: skip the division there. */
+    uint part = slot < grid->g.slots_per_part ? 0u : slot / grid->g.slots_per_part;
+    uint local_slot = slot - part * grid->g.slots_per_part;
+    return grid->tallies[part] + ((size_t)local_slot * grid->g.bins + bin) * 3;
+}
+
+inline float3 lv_grid_origin(const lv_grid *grid)
+{
+    return LV_F3(grid->g.origin);
+}
+
+/* The slot of the cell holding point p, or LV_EMPTY_CELL. */
+inline uint lv_grid_slot_at(const lv_grid *grid, float3 p)
+{
+    float3 c = (p - lv_grid_origin(grid)) / grid->g.cell_size;
+    if (c.x < 0.0f || c.y < 0.0f || c.z < 0.0f) return LV_EMPTY_CELL;
+    uint x = (uint)c.x, y = (uint)c.y, z = (uint)c.z;
+    if (x >= grid->g.dims[0] || y >= grid->g.dims[1] || z >= grid->g.dims[2]) return LV_EMPTY_CELL;
+    return grid->cell_slot[x + grid->g.dims[0] * (y + grid->g.dims[1] * z)];
+}
+
+#endif

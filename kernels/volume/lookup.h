@@ -1,0 +1,71 @@
+/* Reading radiance back from the light volume (paper eq. 5), and where a
+ * gather at a surface reads it (paper section 4.2). */
+#ifndef LV_VOLUME_LOOKUP_H
+#define LV_VOLUME_LOOKUP_H
+
+#include "direction_map.h"
+#include "subcells.h"
+
+/* What turns a bin's raw tally (fixed-point units) into radiance, in a
+ * stored cell whose lit volume is `lit` cells (paper eq. 5). */
+inline float lv_tally_to_radiance(const lv_grid *grid, float lit)
+{
+    float h = grid->g.cell_size;
+    return grid->g.total_power / (LV_TALLY_SCALE * h * h * lit * lv_bin_solid_angle(grid->g.dirs));
+}
+
+/* A bin's raw RGB tally, as floats. */
+inline float3 lv_bin_tally(__global const long *t)
+{
+    return (float3)((float)t[0], (float)t[1], (float)t[2]);
+}
+
+/* Radiance (W m^-2 sr^-1) of one bin of a stored cell. */
+inline float3 lv_bin_radiance(const lv_grid *grid, uint slot, uint bin, float lit)
+{
+    return lv_bin_tally(lv_tally_bin(grid, slot, bin)) * lv_tally_to_radiance(grid, lit);
+}
+
+/* Radiance of the light travelling along `dir` through the cell at p. */
+inline float3 lv_volume_radiance(const lv_grid *grid, float3 p, float3 dir)
+{
+    uint slot = lv_grid_slot_at(grid, p);
+    if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
+    return lv_bin_radiance(grid, slot, lv_direction_bin(dir, grid->g.dirs), grid->lit_volume[slot]);
+}
+
+/* The middle of the subcell-thick layer in front of p. */
+inline float3 lv_front_point(const lv_grid *grid, float3 p, float3 n)
+{
+    return p + n * (0.5f * grid->g.cell_size / (float)grid->g.subcells);
+}
+
+/* A uniform point in the cell-sized box around p (paper section 4.2: the
+ * lookup then averages neighbouring cells, which hides the grid), folded to
+ * the side of the surface that the light arrives on: the half of the box
+ * behind the surface holds no light that can reach p, and reading it would
+ * darken every surface by about half. n is that side's normal. */
+inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, float3 n, lv_rng *rng)
+{
+    float h = grid->g.cell_size;
+    float3 offset = ((float3)(lv_rng_next2(rng), lv_rng_next(rng)) - 0.5f) * h;
+    float behind = dot(offset, n);
+    if (behind < 0.0f) offset -= 2.0f * behind * n;
+    return p + offset;
+}
+
+/* Where the gather at surface point p (front normal n) reads the volume.
+ * With subcells: the jittered point if light reached it and p sees it (near
+ * a corner the box reaches behind the other wall); else the layer in front
+ * of p if light reached that; else 0: no light the volume holds reaches p. */
+inline int lv_lookup_point(const lv_grid *grid, const lv_scene *sc, float3 p, float3 n, lv_rng *rng, float3 *q)
+{
+    *q = lv_jitter_lookup(grid, p, n, rng);
+    if (grid->g.subcells == 0u) return 1;
+    float3 from = lv_offset_origin(p, n, sc->info.scene_scale);
+    if (lv_point_lit(grid, sc, *q) && !lv_occluded(sc, from, *q - from, 1.0f, LV_NO_HIT, LV_NO_HIT)) return 1;
+    *q = lv_front_point(grid, p, n);
+    return lv_point_lit(grid, sc, *q);
+}
+
+#endif

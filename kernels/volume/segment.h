@@ -1,0 +1,97 @@
+/* Tallying one straight particle segment into every stored cell it
+ * crosses, and marking the subcells it passes. */
+#ifndef LV_VOLUME_SEGMENT_H
+#define LV_VOLUME_SEGMENT_H
+
+/* Uses bvh/traverse.h (included before, by kernels/lvcl.h). */
+#include "tally.h"
+
+/* Switches on the subcells that a piece of segment passes in one cell:
+ * from `entry` (in cell units, relative to the cell's corner) along dir for
+ * `length` cell units. Points every 1/(2k) of the piece stand in for an
+ * exact walk: a piece that only clips a subcell's corner may miss it. */
+inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float3 dir, float length)
+{
+    uint k = grid->g.subcells;
+    __global uint *mask = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
+    /* Most cells fill up after a few particles; a plain read of a stale
+     * value only costs the walk below, never a lost bit. */
+    uint full = k == 4u ? 0xffffffffu : (1u << (k * k * k)) - 1u;
+    if (mask[0] == full && (k < 4u || mask[1] == full)) return;
+    uint m = 2u * k;
+    uint bits[2] = {0u, 0u};
+    for (uint j = 0; j < m; j++) {
+        float3 p = entry + dir * (length * ((float)j + 0.5f) / (float)m);
+        uint3 c = min(convert_uint3(clamp(p, 0.0f, 1.0f) * (float)k), (uint3)(k - 1u));
+        uint bit = c.x + k * (c.y + k * c.z);
+        bits[bit >> 5] |= 1u << (bit & 31u);
+    }
+    for (int w = 0; w < 2; w++)
+        if (bits[w] && (mask[w] & bits[w]) != bits[w]) atomic_or(&mask[w], bits[w]);
+}
+
+/* Pieces shorter than this (in cell units) switch no subcell on. */
+#define LV_MARK_MIN_PIECE 1e-3f
+
+/* Adds the segment origin + t dir, t in [t0, t1] (dir unit, t in metres),
+ * carrying `weight` (power over total power, over particle count) at t0, to
+ * every stored cell it crosses, in bin `bin`. sigma > 0 absorbs along the
+ * segment (inside glass). A 3-D DDA (Amanatides and Woo) walks the cells. */
+inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, float t0,
+                             float t1, uint bin, float3 weight, float3 sigma)
+{
+    const float h = grid->g.cell_size;
+    float3 dims = (float3)((float)grid->g.dims[0], (float)grid->g.dims[1], (float)grid->g.dims[2]);
+    /* In cell units, relative to the grid's corner. */
+    float3 o = (origin - lv_grid_origin(grid)) / h;
+    float3 inv = lv_safe_inverse(dir);
+    float3 lo = (0.0f - o) * inv, hi = (dims - o) * inv;
+    float3 tn = fmin(lo, hi), tf = fmax(lo, hi);
+    float s0 = fmax(t0 / h, fmax(tn.x, fmax(tn.y, tn.z)));
+    float s1 = fmin(t1 / h, fmin(tf.x, fmin(tf.y, tf.z)));
+    if (!(s0 < s1)) return;
+
+    float3 p = o + dir * (0.5f * (s0 + fmin(s1, s0 + 1e-3f)));
+    int3 cell = clamp(convert_int3(floor(p)), (int3)(0), convert_int3(dims) - 1);
+    int3 step = (int3)(dir.x >= 0.0f ? 1 : -1, dir.y >= 0.0f ? 1 : -1, dir.z >= 0.0f ? 1 : -1);
+    float3 next_boundary = convert_float3(cell) + select((float3)(0.0f), (float3)(1.0f), step > 0);
+    /* Axes the segment runs parallel to are never crossed. */
+    float3 s_next = select((next_boundary - o) * inv, (float3)(LV_FAR), fabs(dir) < 1e-30f);
+    float3 s_delta = fabs(inv);
+    float s = s0;
+    int3 idims = convert_int3(dims);
+    while (s < s1) {
+        float s_exit = fmin(s1, fmin(s_next.x, fmin(s_next.y, s_next.z)));
+        uint slot = grid->cell_slot[cell.x + idims.x * (cell.y + idims.y * cell.z)];
+        if (slot != LV_EMPTY_CELL && s_exit > s) {
+            /* A segment ending on a wall that lies on a cell boundary pokes
+             * a rounding error's length into the cell behind it; marking
+             * that would call the space behind the wall lit. */
+            if (grid->g.subcells && s_exit - s > LV_MARK_MIN_PIECE)
+                lv_mark_subcells(grid, slot, o + dir * s - convert_float3(cell), dir, s_exit - s);
+            /* Track length in cell units, with the absorption integrated over it. */
+            float3 amount;
+            if (sigma.x > 0.0f || sigma.y > 0.0f || sigma.z > 0.0f) {
+                float3 a = exp(-sigma * (s * h - t0)), b = exp(-sigma * (s_exit * h - t0));
+                amount = select((a - b) / (sigma * h), (float3)(s_exit - s), sigma <= 0.0f);
+            } else {
+                amount = (float3)(s_exit - s);
+            }
+            lv_tally_add(grid, slot, bin, weight * amount);
+        }
+        s = s_exit;
+        if (s_next.x <= s_next.y && s_next.x <= s_next.z) {
+            cell.x += step.x;
+            s_next.x += s_delta.x;
+        } else if (s_next.y <= s_next.z) {
+            cell.y += step.y;
+            s_next.y += s_delta.y;
+        } else {
+            cell.z += step.z;
+            s_next.z += s_delta.z;
+        }
+        if (any(cell < 0) || any(cell >= idims)) break;
+    }
+}
+
+#endif

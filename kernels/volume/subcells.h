@@ -1,0 +1,105 @@
+/* Subcells (paper 4.1): which part of a cell the light that a cell holds
+ * actually reached. Segments mark the subcells they pass (segment.h);
+ * visibility rays estimate how much of a subcell holding a surface is lit,
+ * and a lit point per subcell tells the lit side of that surface. */
+#ifndef LV_VOLUME_SUBCELLS_H
+#define LV_VOLUME_SUBCELLS_H
+
+/* Uses bvh/traverse.h, util/rng.h (included before, by kernels/lvcl.h). */
+#include "grid.h"
+
+/* The lit volume of a stored cell, in cell units (1 = the whole cell), by
+ * paper 4.1: the subcells that tallied segments passed, each weighted by the
+ * fraction of its visibility rays that reached their particle's origin (1 if
+ * no particle hit a surface in it); the whole cell without subcells. */
+inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
+{
+    uint k = grid->g.subcells;
+    if (k == 0u) return 1.0f;
+    __global const uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
+    float lit = 0.0f;
+    for (uint i = 0; i < k * k * k; i++) {
+        if (!(rec[i >> 5] & (1u << (i & 31u)))) continue;
+        uint cast = rec[LV_SUBCELL_CAST + i];
+        lit += cast ? (float)rec[LV_SUBCELL_OPEN + i] / (float)cast : 1.0f;
+    }
+    /* Never below one subcell: some light passed, or the tallies are 0. */
+    return fmax(lit, 1.0f) / (float)(k * k * k);
+}
+
+/* The index of the subcell holding p within its cell; also the cell's and
+ * the subcell's integer coordinates (as floats). */
+inline uint lv_subcell_at(const lv_grid *grid, float3 p, float3 *cell, float3 *sub)
+{
+    uint k = grid->g.subcells;
+    float3 c = (p - lv_grid_origin(grid)) / grid->g.cell_size;
+    *cell = floor(c);
+    *sub = clamp(floor((c - *cell) * (float)k), 0.0f, (float)(k - 1u));
+    return (uint)sub->x + k * ((uint)sub->y + k * (uint)sub->z);
+}
+
+/* The world-space point at u (each in [0, 1]) within subcell sub of cell
+ * `cell` (integer coordinates as lv_subcell_at gives them). */
+inline float3 lv_subcell_point(const lv_grid *grid, float3 cell, float3 sub, float3 u)
+{
+    return lv_grid_origin(grid) + (cell + (sub + u) / (float)grid->g.subcells) * grid->g.cell_size;
+}
+
+/* Visibility rays (paper 4.1): where a particle that came from `from` hit a
+ * surface at p, one ray from a random point of p's subcell back to `from`;
+ * whether it got through estimates how much of the subcell that light
+ * reaches (a wall through the subcell blocks the points behind it).
+ * Returns the number of rays cast. */
+inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc, float3 p, float3 from, lv_rng *rng)
+{
+    uint slot = lv_grid_slot_at(grid, p);
+    if (slot == LV_EMPTY_CELL) return 0u;
+    float3 cell, sub;
+    uint i = lv_subcell_at(grid, p, &cell, &sub);
+    float3 q = lv_subcell_point(grid, cell, sub, (float3)(lv_rng_next2(rng), lv_rng_next(rng)));
+    __global uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
+    atomic_inc(&rec[LV_SUBCELL_CAST + i]);
+    if (!lv_occluded(sc, q, from - q, 0.999f, LV_NO_HIT, LV_NO_HIT)) atomic_inc(&rec[LV_SUBCELL_OPEN + i]);
+    return 1u;
+}
+
+/* Offers q, a point light reached, as its subcell's lit point. The word
+ * kept is the largest offered (a random priority, then the position), so
+ * it does not depend on the order particles ran in. */
+inline void lv_offer_lit_point(const lv_grid *grid, float3 q, lv_rng *rng)
+{
+    uint slot = lv_grid_slot_at(grid, q);
+    if (slot == LV_EMPTY_CELL) return;
+    float3 cell, sub;
+    uint i = lv_subcell_at(grid, q, &cell, &sub);
+    float3 u = (q - lv_grid_origin(grid)) / grid->g.cell_size - cell;
+    uint3 at = min(convert_uint3(clamp(u * (float)grid->g.subcells - sub, 0.0f, 1.0f) * 256.0f), (uint3)(255u));
+    uint priority = 1u + min((uint)(lv_rng_next(rng) * 255.0f), 254u);
+    atomic_max(&grid->subcells[(size_t)slot * LV_SUBCELL_STRIDE + LV_SUBCELL_LIT_POINT + i],
+               priority << 24 | at.x << 16 | at.y << 8 | at.z);
+}
+
+/* Whether the light the volume holds reached q (with subcells). A tallied
+ * segment must have passed q's subcell, and q must lie in its lit part. A
+ * subcell without a lit point had no particle hit a surface in it and is
+ * lit throughout. In one that holds a surface, the lit part is the side of
+ * its lit point (just off a particle's hit), and q must see that point
+ * (the subcell is convex, so only a surface through it can block the way).
+ * This keeps a lookup on the dark face of a wall thinner than a subcell
+ * from reading the light on the other face. */
+inline int lv_point_lit(const lv_grid *grid, const lv_scene *sc, float3 q)
+{
+    uint slot = lv_grid_slot_at(grid, q);
+    if (slot == LV_EMPTY_CELL) return 0;
+    float3 cell, sub;
+    uint i = lv_subcell_at(grid, q, &cell, &sub);
+    __global const uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
+    if (!(rec[i >> 5] >> (i & 31u) & 1u)) return 0;
+    uint word = rec[LV_SUBCELL_LIT_POINT + i];
+    if (word == 0u) return 1;
+    float3 at = ((float3)((float)(word >> 16 & 255u), (float)(word >> 8 & 255u), (float)(word & 255u)) + 0.5f) / 256.0f;
+    float3 lit = lv_subcell_point(grid, cell, sub, at);
+    return !lv_occluded(sc, q, lit - q, 1.0f, LV_NO_HIT, LV_NO_HIT);
+}
+
+#endif
