@@ -1,8 +1,8 @@
 /* The device code the passes share, layer by layer: each layer uses only
- * those above it. Headers include the ones of their own folder; across
- * folders they rely on this order, because host/embed inlines an include
- * by its path as written (it does not resolve "../"), so chains of
- * relative includes would each name the same file anew.
+ * those above it. Every header includes what it uses, so it can be read
+ * (and included by a test) on its own; this list fixes the order in which
+ * the program's source holds them, since a reordering can change how the
+ * fast-math build rounds (tests/data/golden.txt pins the images).
  *
  * util/geometry.h comes first: it switches floating-point contraction off
  * for everything after it. */

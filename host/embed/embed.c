@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_FILES 64
+#define MAX_FILES 256
 
 static char seen[MAX_FILES][1024];
 static int seen_count;
@@ -26,6 +26,19 @@ static void emit_byte(int c)
 static void emit_text(const char *s)
 {
     for (; *s; s++) emit_byte(*s);
+}
+
+/* Folds "dir/../" out of a path, so that a file reached through
+ * different relative includes is recognised as the same file. */
+static void normalize(char *path)
+{
+    char *up;
+    while ((up = strstr(path, "/../"))) {
+        char *start = up;
+        while (start > path && start[-1] != '/') start--;
+        if (start == up || !strncmp(start, "../", 3)) break; /* nothing to fold: a leading ".." */
+        memmove(start, up + 4, strlen(up + 4) + 1);
+    }
 }
 
 static int already_seen(const char *path)
@@ -60,6 +73,7 @@ static void emit_source(const char *path)
         if (sscanf(line, " #include \"%511[^\"]\"", name) == 1) {
             char inc[1024 + 512];
             snprintf(inc, sizeof inc, "%s%s", dir, name);
+            normalize(inc);
             emit_source(inc);
         } else {
             emit_text(line);

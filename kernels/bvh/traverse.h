@@ -2,7 +2,8 @@
 #ifndef LV_TRAVERSE_H
 #define LV_TRAVERSE_H
 
-/* Uses util/geometry.h, scene.h (included before, by kernels/lvcl.h). */
+#include "../util/geometry.h"
+#include "../scene.h"
 
 /* Floating-point contraction is off from the end of util/geometry.h on:
  * the watertight test needs its edge functions evaluated exactly alike for

@@ -19,7 +19,8 @@
 #ifndef LV_BSDF_H
 #define LV_BSDF_H
 
-/* Uses util/geometry.h, shared_types.h (included before, by kernels/lvcl.h). */
+#include "../util/geometry.h"
+#include "../shared_types.h"
 
 #define LV_RADIANCE 0
 #define LV_IMPORTANCE 1

@@ -2,7 +2,7 @@
 #ifndef LV_CLOSURE_DIFFUSE_H
 #define LV_CLOSURE_DIFFUSE_H
 
-/* Uses util/sampling.h (included before, by kernels/lvcl.h). */
+#include "../util/sampling.h"
 
 inline float3 lv_diffuse_eval(const lv_bsdf *b, float3 wo, float3 wi, float *pdf)
 {

@@ -4,7 +4,7 @@
 #ifndef LV_CLOSURE_FRESNEL_H
 #define LV_CLOSURE_FRESNEL_H
 
-/* Uses util/geometry.h (included before, by kernels/lvcl.h). */
+#include "../util/geometry.h"
 
 inline float3 lv_schlick3(float3 f0, float cos_theta)
 {

@@ -4,7 +4,7 @@
 #ifndef LV_CLOSURE_MICROFACET_H
 #define LV_CLOSURE_MICROFACET_H
 
-/* Uses util/geometry.h (included before, by kernels/lvcl.h). */
+#include "../util/geometry.h"
 
 inline float lv_ggx_d(float3 m, float alpha)
 {

@@ -5,7 +5,7 @@
 #ifndef LV_CLOSURE_PLASTIC_H
 #define LV_CLOSURE_PLASTIC_H
 
-/* Uses util/sampling.h (included before, by kernels/lvcl.h). */
+#include "../util/sampling.h"
 #include "fresnel.h"
 #include "microfacet.h"
 

@@ -5,7 +5,7 @@
 #ifndef LV_INTEGRATOR_DIRECT_LIGHT_H
 #define LV_INTEGRATOR_DIRECT_LIGHT_H
 
-/* Uses light/lights.h (included before, by kernels/lvcl.h). */
+#include "../light/lights.h"
 #include "scatter.h"
 
 /* Direct light at surface s (hit h) from one light sample, MIS-weighted

@@ -13,7 +13,7 @@
 #ifndef LV_INTEGRATOR_GATHER_H
 #define LV_INTEGRATOR_GATHER_H
 
-/* Uses volume/lookup.h (included before, by kernels/lvcl.h). */
+#include "../volume/lookup.h"
 #include "direct_light.h"
 
 /* How the final gather reads the light volume. */

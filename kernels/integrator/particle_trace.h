@@ -5,8 +5,10 @@
 #ifndef LV_INTEGRATOR_PARTICLE_TRACE_H
 #define LV_INTEGRATOR_PARTICLE_TRACE_H
 
-/* Uses light/lights.h, volume/direction_map.h, volume/segment.h and
- * volume/subcells.h (included before, by kernels/lvcl.h). */
+#include "../light/lights.h"
+#include "../volume/direction_map.h"
+#include "../volume/segment.h"
+#include "../volume/subcells.h"
 #include "scatter.h"
 
 /* Rays a particle cast, for the statistics. */

@@ -6,7 +6,8 @@
 #ifndef LV_INTEGRATOR_SCATTER_H
 #define LV_INTEGRATOR_SCATTER_H
 
-/* Uses scene/surface.h, util/rng.h (included before, by kernels/lvcl.h). */
+#include "../scene/surface.h"
+#include "../util/rng.h"
 
 /* Walks longer than this many segments may end by Russian roulette. */
 #define LV_RR_DEPTH 5

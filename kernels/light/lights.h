@@ -3,7 +3,8 @@
 #ifndef LV_LIGHTS_H
 #define LV_LIGHTS_H
 
-/* Uses util/sampling.h, scene/surface.h (included before, by kernels/lvcl.h). */
+#include "../util/sampling.h"
+#include "../scene/surface.h"
 
 typedef struct {
     float3 wi;       /* unit direction from the shading point to the light */

@@ -2,7 +2,7 @@
 #ifndef LV_CAMERA_H
 #define LV_CAMERA_H
 
-/* Uses bvh/traverse.h (included before, by kernels/lvcl.h). */
+#include "../bvh/traverse.h"
 
 /* The ray through image position (x + jitter.x, y + jitter.y) in pixels. */
 inline lv_ray lv_camera_ray(lv_camera c, uint x, uint y, float2 jitter)

@@ -2,7 +2,8 @@
 #ifndef LV_SURFACE_H
 #define LV_SURFACE_H
 
-/* Uses closure/bsdf.h, bvh/traverse.h (included before, by kernels/lvcl.h). */
+#include "../closure/bsdf.h"
+#include "../bvh/traverse.h"
 
 typedef struct {
     float3 p;

@@ -68,7 +68,7 @@ inline float3 lv_offset_origin(float3 p, float3 n, float scene_scale)
 }
 
 /* No floating-point contraction in everything that follows, which is
- * every other kernel header (kernels/lvcl.h includes this one first).
+ * every other kernel header (each includes this one, kernels/lvcl.h first).
  * Fused multiply-adds would evaluate the edge functions of two triangles
  * sharing an edge differently (bvh/traverse.h) and let rays slip through.
  * The helpers above were always compiled before the switch; moving it

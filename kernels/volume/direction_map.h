@@ -5,7 +5,7 @@
 #ifndef LV_DIRECTION_MAP_H
 #define LV_DIRECTION_MAP_H
 
-/* Uses util/sampling.h (included before, by kernels/lvcl.h). */
+#include "../util/sampling.h"
 
 /* Inverse of lv_square_to_disk: unit disk to [0,1]^2. */
 inline float2 lv_disk_to_square(float2 d)

@@ -7,7 +7,8 @@
 #ifndef LV_VOLUME_GRID_H
 #define LV_VOLUME_GRID_H
 
-/* Uses util/geometry.h, shared_types.h (included before, by kernels/lvcl.h). */
+#include "../util/geometry.h"
+#include "../shared_types.h"
 
 typedef struct {
     lv_grid_info g;

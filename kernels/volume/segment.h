@@ -3,7 +3,7 @@
 #ifndef LV_VOLUME_SEGMENT_H
 #define LV_VOLUME_SEGMENT_H
 
-/* Uses bvh/traverse.h (included before, by kernels/lvcl.h). */
+#include "../bvh/traverse.h"
 #include "tally.h"
 
 /* Switches on the subcells that a piece of segment passes in one cell:

@@ -5,7 +5,8 @@
 #ifndef LV_VOLUME_SUBCELLS_H
 #define LV_VOLUME_SUBCELLS_H
 
-/* Uses bvh/traverse.h, util/rng.h (included before, by kernels/lvcl.h). */
+#include "../bvh/traverse.h"
+#include "../util/rng.h"
 #include "grid.h"
 
 /* The lit volume of a stored cell, in cell units (1 = the whole cell), by
