@@ -7,8 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../host/session.h"
-#include "../host/timer.h"
+#include "../host/render/session.h"
+#include "../host/util/timer.h"
 #include "rays.h"
 
 
@@ -265,7 +265,7 @@ static lvcl_error generate_primary(bench *b, const lv_camera *cam, cl_mem rays, 
     return launch(b, b->primary, (size_t)cam->width * cam->height, "generating primary rays", st);
 }
 
-/* Emissive triangles lead the light table (host/device_scene.c). */
+/* Emissive triangles lead the light table (host/device/device_scene.c). */
 static cl_uint emissive_count(const lvcl_packed_scene *p)
 {
     cl_uint n = 0;

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../host/materials.h"
+#include "../host/scene/materials.h"
 
 extern const unsigned char lvcl_test_kernel_source[];
 extern const size_t lvcl_test_kernel_source_size;

@@ -3,7 +3,7 @@
 #ifndef LVCL_TEST_HARNESS_H
 #define LVCL_TEST_HARNESS_H
 
-#include "../host/session.h"
+#include "../host/render/session.h"
 
 /* Opens device `spec` (NULL: $LVCL_TEST_DEVICE or the default) and builds
  * the test program on it. Exits the test program with a message on failure. */

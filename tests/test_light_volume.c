@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../host/metrics.h"
+#include "../host/io/metrics.h"
 #include "check.h"
 #include "harness.h"
 

@@ -121,7 +121,7 @@ static quad horizontal_quad(double x, double y, double z, double half, int facin
     return q;
 }
 
-/* Lambertian in lvcl's mapping (host/materials.c): specular 0 selects the
+/* Lambertian in lvcl's mapping (host/scene/materials.c): specular 0 selects the
  * pure diffuse BSDF instead of the plastic layer. */
 static lvcl_material_desc lambertian(float albedo)
 {
@@ -161,7 +161,7 @@ static lv_punctual_light point_light(double x, double y, double z, const double 
     return l;
 }
 
-/* ---- the camera, as kernels/camera.h and host/camera.c make it ---- */
+/* ---- the camera, as kernels/camera.h and host/scene/camera.c make it ---- */
 
 typedef struct {
     lvcl_camera_desc cam;

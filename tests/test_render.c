@@ -7,8 +7,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "../host/image_io.h"
-#include "../host/metrics.h"
+#include "../host/io/image_io.h"
+#include "../host/io/metrics.h"
 #include "check.h"
 #include "harness.h"
 

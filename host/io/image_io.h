@@ -3,7 +3,7 @@
 #ifndef LVCL_IMAGE_IO_H
 #define LVCL_IMAGE_IO_H
 
-#include "status.h"
+#include "../util/status.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -5,7 +5,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "timer.h"
+#include "../util/timer.h"
 
 /* Generated at build time from kernels/lvcl.cl (host/embed). */
 extern const unsigned char lvcl_kernel_source[];

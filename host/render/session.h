@@ -4,13 +4,13 @@
 #ifndef LVCL_SESSION_H
 #define LVCL_SESSION_H
 
-#include "accel.h"
-#include "camera.h"
-#include "device_scene.h"
-#include "program.h"
+#include "../accel/accel.h"
+#include "../scene/camera.h"
+#include "../device/device_scene.h"
+#include "../device/program.h"
 #include "image_pass.h"
 #include "light_volume.h"
-#include "scene.h"
+#include "../scene/scene.h"
 
 typedef struct {
     const char *device;  /* --device value: cpu, gpu, an index, a list "0,2" or "all"; NULL for the default */

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "materials.h"
+#include "../scene/materials.h"
 
 static float luminance(const float c[3])
 {

@@ -5,8 +5,8 @@
 #ifndef LVCL_IMAGE_PASS_H
 #define LVCL_IMAGE_PASS_H
 
-#include "device.h"
-#include "../kernels/shared_types.h"
+#include "../device/device.h"
+#include "../../kernels/shared_types.h"
 
 typedef struct {
     int spp;

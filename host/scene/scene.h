@@ -8,8 +8,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "status.h"
-#include "../kernels/shared_types.h"
+#include "../util/status.h"
+#include "../../kernels/shared_types.h"
 
 #ifdef __cplusplus
 extern "C" {

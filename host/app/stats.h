@@ -3,7 +3,7 @@
 #define LVCL_STATS_H
 
 #include "options.h"
-#include "session.h"
+#include "../render/session.h"
 
 typedef struct {
     const lvcl_options *options;

@@ -9,7 +9,7 @@
  * than lvcl renders, naming the approximation. */
 void lvcl_material_from_desc(const lvcl_material_desc *desc, size_t index, lv_material *out);
 
-/* LVCL_FEATURE_* bits the scene needs (host/program.h). */
+/* LVCL_FEATURE_* bits the scene needs (host/device/program.h). */
 unsigned lvcl_scene_features(const lvcl_scene *scene);
 
 #endif

@@ -5,11 +5,11 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "image_io.h"
+#include "../io/image_io.h"
 #include "options.h"
-#include "session.h"
+#include "../render/session.h"
 #include "stats.h"
-#include "timer.h"
+#include "../util/timer.h"
 
 #define LVCL_VERSION "0.1.0"
 

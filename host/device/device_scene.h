@@ -4,9 +4,9 @@
 #ifndef LVCL_DEVICE_SCENE_H
 #define LVCL_DEVICE_SCENE_H
 
-#include "accel.h"
+#include "../accel/accel.h"
 #include "device.h"
-#include "scene.h"
+#include "../scene/scene.h"
 
 /* The kernels' arrays, packed on the host (also used by host-side checks). */
 typedef struct {

@@ -6,10 +6,10 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "embedded_scenes.h"
-#include "materials.h"
-#include "parallel.h"
-#include "timer.h"
+#include "../scene/embedded_scenes.h"
+#include "../scene/materials.h"
+#include "../util/parallel.h"
+#include "../util/timer.h"
 
 lvcl_error lvcl_scene_load(const char *name, lvcl_scene *scene, lvcl_status *st)
 {

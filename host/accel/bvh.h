@@ -7,8 +7,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "status.h"
-#include "../kernels/shared_types.h"
+#include "../util/status.h"
+#include "../../kernels/shared_types.h"
 
 /* Deepest path from the root the builder makes; the kernels' traversal stack
  * (LV_TRAVERSAL_STACK in kernels/traverse.h) must be at least this deep. */

@@ -5,7 +5,7 @@
 #define LVCL_ACCEL_H
 
 #include "bvh.h"
-#include "scene.h"
+#include "../scene/scene.h"
 
 typedef struct {
     lvcl_mesh *meshes;          /* the scene's meshes, or the one implicit mesh of a flat scene */

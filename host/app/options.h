@@ -2,7 +2,7 @@
 #ifndef LVCL_OPTIONS_H
 #define LVCL_OPTIONS_H
 
-#include "status.h"
+#include "../util/status.h"
 
 typedef struct {
     const char *scene;      /* file path or embedded scene name */

@@ -4,10 +4,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "parallel.h"
-#include "program.h"
-#include "progress.h"
-#include "timer.h"
+#include "../util/parallel.h"
+#include "../device/program.h"
+#include "../util/progress.h"
+#include "../util/timer.h"
 
 /* Bands per device: enough for a device that runs ahead to take more. */
 #define BANDS_PER_DEVICE 8

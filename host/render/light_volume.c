@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "progress.h"
-#include "timer.h"
+#include "../util/progress.h"
+#include "../util/timer.h"
 
 /* Particles per launch: big enough to keep a device busy, small enough for
  * progress and for --time-limit to be checked often. */

@@ -7,8 +7,8 @@
 #include <pthread.h>
 #include <stdint.h>
 
-#include "device_scene.h"
-#include "program.h"
+#include "../device/device_scene.h"
+#include "../device/program.h"
 
 /* Hands out batches of particle indices to the devices tracing one volume
  * together, so that a faster device traces more (lvcl_particle_source_init). */

@@ -7,7 +7,7 @@
 #include <CL/cl.h>
 #include <stdio.h>
 
-#include "status.h"
+#include "../util/status.h"
 
 typedef struct {
     cl_platform_id platform;
