@@ -75,11 +75,6 @@ static void json_string(char *out, size_t size, const char *s)
     out[n] = '\0';
 }
 
-static lvcl_error cl_check(cl_int err, const char *what, lvcl_status *st)
-{
-    return err == CL_SUCCESS ? LVCL_OK : lvcl_fail(st, LVCL_ERR_DEVICE, "%s failed: %s", what, lvcl_cl_error_name(err));
-}
-
 static cl_mem device_buffer(bench *b, size_t bytes, const void *data, lvcl_status *st)
 {
     cl_int err;
@@ -94,13 +89,13 @@ static cl_mem device_buffer(bench *b, size_t bytes, const void *data, lvcl_statu
 
 static lvcl_error launch(bench *b, cl_kernel k, size_t count, const char *what, lvcl_status *st)
 {
-    lvcl_error e = cl_check(lvcl_kernel_enqueue(&b->s.devices[0].device, k, count), what, st);
-    return e ? e : cl_check(clFinish(b->s.devices[0].device.queue), what, st);
+    lvcl_error e = lvcl_kernel_enqueue(&b->s.devices[0].device, k, count, what, st);
+    return e ? e : lvcl_cl_check(clFinish(b->s.devices[0].device.queue), what, st);
 }
 
 static lvcl_error read_back(bench *b, cl_mem m, size_t bytes, void *out, lvcl_status *st)
 {
-    return cl_check(clEnqueueReadBuffer(b->s.devices[0].device.queue, m, CL_TRUE, 0, bytes, out, 0, NULL, NULL), "reading back",
+    return lvcl_cl_check(clEnqueueReadBuffer(b->s.devices[0].device.queue, m, CL_TRUE, 0, bytes, out, 0, NULL, NULL), "reading back",
                     st);
 }
 
@@ -123,13 +118,12 @@ static lvcl_error time_lvcl(bench *b, cl_mem rays, cl_mem hits, size_t count, in
                             lvcl_status *st)
 {
     cl_kernel k = any_hit ? b->any : b->closest;
-    int arg = lvcl_device_scene_set_args(&b->s.devices[0].device_scene, k, 0);
-    cl_uint n = (cl_uint)count;
-    if (arg < 0 || clSetKernelArg(k, (cl_uint)arg, sizeof rays, &rays) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)arg + 1, sizeof n, &n) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)arg + 2, sizeof hits, &hits) != CL_SUCCESS)
-        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the trace kernel's arguments");
-    lvcl_error e = launch(b, k, count, "tracing", st);
+    cl_uint n = (cl_uint)count, a = LV_SCENE_ARG_COUNT; /* the arguments after the scene block, in order */
+    lvcl_error e = lvcl_device_scene_bind(&b->s.devices[0].device_scene, k, 0, st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof rays, &rays, "the rays", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof n, &n, "the ray count", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof hits, &hits, "the hits", st);
+    if (!e) e = launch(b, k, count, "tracing", st);
     for (int r = 0; r < b->opt.repeat && !e; r++) {
         double start = lvcl_seconds();
         e = launch(b, k, count, "tracing", st);
@@ -259,13 +253,13 @@ static lvcl_error create_kernels(bench *b, lvcl_status *st)
 
 static lvcl_error generate_primary(bench *b, const lv_camera *cam, cl_mem rays, lvcl_status *st)
 {
-    if (clSetKernelArg(b->primary, 0, sizeof *cam, cam) != CL_SUCCESS ||
-        clSetKernelArg(b->primary, 1, sizeof rays, &rays) != CL_SUCCESS)
-        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the primary-ray kernel's arguments");
-    return launch(b, b->primary, (size_t)cam->width * cam->height, "generating primary rays", st);
+    /* lv_rays_primary(lv_camera camera, __global float4 *rays) */
+    lvcl_error e = lvcl_kernel_arg(b->primary, 0, sizeof *cam, cam, "the camera", st);
+    if (!e) e = lvcl_kernel_arg(b->primary, 1, sizeof rays, &rays, "the rays", st);
+    return e ? e : launch(b, b->primary, (size_t)cam->width * cam->height, "generating primary rays", st);
 }
 
-/* Emissive triangles lead the light table (host/device/device_scene.c). */
+/* Emissive triangles lead the light table (host/device/packed_scene.c). */
 static cl_uint emissive_count(const lvcl_packed_scene *p)
 {
     cl_uint n = 0;
@@ -282,17 +276,17 @@ static lvcl_error generate_secondary(bench *b, cl_mem primary, cl_mem primary_hi
     float offset = 1e-5f * diag;
     cl_uint n = (cl_uint)count;
     cl_kernel k = b->secondary;
-    int a = lvcl_device_scene_set_args(&b->s.devices[0].device_scene, k, 0);
-    if (a < 0 || clSetKernelArg(k, (cl_uint)a, sizeof primary, &primary) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)a + 1, sizeof primary_hits, &primary_hits) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)a + 2, sizeof hit_pixels, &hit_pixels) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)a + 3, sizeof n, &n) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)a + 4, sizeof offset, &offset) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)a + 5, sizeof emitters, &emitters) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)a + 6, sizeof diffuse, &diffuse) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)a + 7, sizeof shadow, &shadow) != CL_SUCCESS)
-        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the secondary-ray kernel's arguments");
-    return launch(b, k, count, "generating secondary rays", st);
+    cl_uint a = LV_SCENE_ARG_COUNT; /* the arguments after the scene block, in order */
+    lvcl_error e = lvcl_device_scene_bind(&b->s.devices[0].device_scene, k, 0, st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof primary, &primary, "the primary rays", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof primary_hits, &primary_hits, "the primary hits", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof hit_pixels, &hit_pixels, "the hit pixels", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof n, &n, "the ray count", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof offset, &offset, "the offset", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof emitters, &emitters, "the emitter count", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof diffuse, &diffuse, "the diffuse rays", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof shadow, &shadow, "the shadow rays", st);
+    return e ? e : launch(b, k, count, "generating secondary rays", st);
 }
 
 /* The pixels whose primary ray hit, in pixel order: the secondary rays'

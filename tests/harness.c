@@ -63,7 +63,8 @@ void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *s)
 
 void harness_run(const lvcl_device *dev, cl_kernel k, size_t global)
 {
-    harness_cl(lvcl_kernel_enqueue(dev, k, global), "launching");
+    lvcl_status st = {0};
+    if (lvcl_kernel_enqueue(dev, k, global, "launching", &st)) die("launching", st.message);
     harness_cl(clFinish(dev->queue), "running");
 }
 
@@ -84,12 +85,11 @@ void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_
     harness_cl(err, "allocating rays");
     cl_mem obuf = clCreateBuffer(dev->context, CL_MEM_WRITE_ONLY, count * 4 * sizeof(float), NULL, &err);
     harness_cl(err, "allocating results");
-    int a = lvcl_device_scene_set_args(&ds, k, 0);
     cl_uint n = (cl_uint)count;
-    if (a < 0) die("setting arguments", "scene");
-    harness_cl(clSetKernelArg(k, (cl_uint)a, sizeof rbuf, &rbuf), "arg");
-    harness_cl(clSetKernelArg(k, (cl_uint)a + 1, sizeof n, &n), "arg");
-    harness_cl(clSetKernelArg(k, (cl_uint)a + 2, sizeof obuf, &obuf), "arg");
+    if (lvcl_device_scene_bind(&ds, k, 0, &st)) die("setting arguments", st.message);
+    harness_cl(clSetKernelArg(k, T_TRACE_ARG_RAYS, sizeof rbuf, &rbuf), "arg");
+    harness_cl(clSetKernelArg(k, T_TRACE_ARG_COUNT, sizeof n, &n), "arg");
+    harness_cl(clSetKernelArg(k, T_TRACE_ARG_RESULTS, sizeof obuf, &obuf), "arg");
     harness_run(dev, k, count);
     harness_cl(clEnqueueReadBuffer(dev->queue, obuf, CL_TRUE, 0, count * 4 * sizeof(float), results, 0, NULL, NULL),
                "reading results");

@@ -14,6 +14,12 @@ void harness_close(lvcl_device *dev, lvcl_program *prog);
  * material; the scene owns copies. */
 void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *scene);
 
+/* The arguments of the test program's tracing kernels (t_trace, t_surface,
+ * t_trace_brute_force, tests/kernels/unit_tests.cl): the scene block, then
+ * these; t_offset_rays takes its re-shoot records before the results. */
+enum { T_TRACE_ARG_RAYS = LV_SCENE_ARG_COUNT, T_TRACE_ARG_COUNT, T_TRACE_ARG_RESULTS };
+enum { T_OFFSET_ARG_RESHOOT = T_TRACE_ARG_RESULTS, T_OFFSET_ARG_RESULTS };
+
 /* Traces rays (8 floats each, the layout of t_trace) through the scene with
  * kernel `kernel_name`; results get 4 floats per ray. */
 void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_scene *scene,

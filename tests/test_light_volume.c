@@ -63,12 +63,12 @@ static void release(traced_volume *tv)
 
 static int64_t tally(const traced_volume *tv, uint32_t slot, uint32_t bin, int c)
 {
-    return tv->tallies[((size_t)slot * tv->volume.info.bins + bin) * 3 + c];
+    return tv->tallies[((size_t)slot * tv->volume.buf.info.bins + bin) * 3 + c];
 }
 
 static uint32_t slot_of(const traced_volume *tv, int x, int y, int z)
 {
-    const lv_grid_info *g = &tv->volume.info;
+    const lv_grid_info *g = &tv->volume.buf.info;
     return tv->volume.cell_slot[(size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z)];
 }
 
@@ -117,7 +117,7 @@ static void test_emitting_plane(void)
     lvcl_volume_settings vs = {.cell_size = 1.0, .dirs = 6, .particles = 8000000, .store_emitted = 1};
     traced_volume tv;
     if (!trace(&scene, NULL, 1, &vs, &tv)) return;
-    const lv_grid_info *g = &tv.volume.info;
+    const lv_grid_info *g = &tv.volume.buf.info;
     /* Cell (x, y) over the plane's centre, z in [0, 1) m. */
     int cx = (int)((0.5f - g->origin[0]) / g->cell_size), cz = (int)((0.5f - g->origin[2]) / g->cell_size);
     uint32_t slot = slot_of(&tv, cx, cx, cz);
@@ -172,7 +172,7 @@ static void test_cut_cell(void)
     lvcl_volume_settings vs = {.cell_size = 1.0, .dirs = 6, .subcells = 4, .particles = 4000000, .store_emitted = 1};
     traced_volume tv;
     if (!trace(&scene, NULL, 3, &vs, &tv)) return;
-    const lv_grid_info *g = &tv.volume.info;
+    const lv_grid_info *g = &tv.volume.buf.info;
     int cx = (int)((0.5f - g->origin[0]) / g->cell_size), cz = (int)((0.0f - g->origin[2]) / g->cell_size);
     uint32_t slot = slot_of(&tv, cx, cx, cz);
     if (slot == LV_EMPTY_CELL) {
@@ -225,7 +225,7 @@ static void test_visibility(void)
     lvcl_volume_settings vs = {.cell_size = 1.0, .dirs = 4, .subcells = 4, .particles = 2000000, .store_emitted = 1};
     traced_volume tv;
     if (!trace(&scene, NULL, 4, &vs, &tv)) return;
-    const lv_grid_info *g = &tv.volume.info;
+    const lv_grid_info *g = &tv.volume.buf.info;
     int cx = (int)((0.5f - g->origin[0]) / g->cell_size), cz = (int)((z - g->origin[2]) / g->cell_size);
     uint32_t slot = slot_of(&tv, cx, cx, cz);
     double lit = slot == LV_EMPTY_CELL ? 0.0 : lvcl_volume_lit_fraction(g, &tv.masks[(size_t)slot * LV_SUBCELL_STRIDE]);
@@ -251,7 +251,7 @@ static void test_furnace(void)
     lvcl_volume_settings vs = {.cells = 4, .dirs = 6, .particles = 2000000, .store_emitted = 1};
     traced_volume tv;
     if (!trace(&scene, NULL, 2, &vs, &tv)) return;
-    const lv_grid_info *g = &tv.volume.info;
+    const lv_grid_info *g = &tv.volume.buf.info;
     double worst = 0.0, total = 0.0;
     int cells = 0;
     for (int z = 1; z <= 4; z++)
@@ -298,7 +298,7 @@ static void test_determinism(void)
         int same = first.volume.tally_bytes == again.volume.tally_bytes &&
                    memcmp(first.tallies, again.tallies, first.volume.tally_bytes) == 0;
         /* The subcell records: masks, ray counts and lit points. */
-        size_t record_bytes = ((size_t)first.volume.info.slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(uint32_t);
+        size_t record_bytes = ((size_t)first.volume.buf.info.slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(uint32_t);
         int same_records = same && memcmp(first.masks, again.masks, record_bytes) == 0;
         CHECK(run == 0 ? "light volume: same seed, same tallies and subcell records bit for bit"
                        : "light volume: device 1 gives device 0's tallies and subcell records bit for bit",

@@ -64,7 +64,7 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
     }
     trace_seconds += ss->merge_seconds;
     if (particles) {
-        const lv_grid_info *g = &v->info;
+        const lv_grid_info *g = &v->buf.info;
         fprintf(f,
                 ",\n  \"grid\": [%u, %u, %u],\n  \"cell_size\": %g,\n  \"dirs\": %u,\n  \"cells_allocated\": %u,\n"
                 "  \"light_volume_bytes\": %zu,\n  \"particles\": %llu,\n  \"particle_trace_seconds\": %.4f,\n"

@@ -160,10 +160,10 @@ lvcl_error lvcl_kernel_create(const lvcl_program *prog, const char *name, cl_ker
     return LVCL_OK;
 }
 
-cl_int lvcl_kernel_enqueue(const lvcl_device *dev, cl_kernel k, size_t count)
+lvcl_error lvcl_kernel_enqueue(const lvcl_device *dev, cl_kernel k, size_t count, const char *what, lvcl_status *st)
 {
     size_t global = (count + LVCL_LOCAL_SIZE - 1) / LVCL_LOCAL_SIZE * LVCL_LOCAL_SIZE, local = LVCL_LOCAL_SIZE;
-    if (global == 0) return CL_SUCCESS;
+    if (global == 0) return LVCL_OK;
     /* A GPU driver may allow a register-hungry kernel fewer work-items per
      * group; a power of two below 64 still divides the padded size. */
     size_t allowed = 0;
@@ -171,5 +171,5 @@ cl_int lvcl_kernel_enqueue(const lvcl_device *dev, cl_kernel k, size_t count)
             CL_SUCCESS &&
         allowed > 0)
         while (local > allowed) local /= 2;
-    return clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL);
+    return lvcl_cl_check(clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL), what, st);
 }

@@ -4,7 +4,7 @@
 #ifndef LVCL_PROGRAM_H
 #define LVCL_PROGRAM_H
 
-#include "device.h"
+#include "kernel_args.h"
 
 /* Feature switches: code a scene does not use is left out of the build. */
 #define LVCL_FEATURE_GLASS 1u     /* solid and thin dielectrics */
@@ -45,7 +45,8 @@ lvcl_error lvcl_kernel_create(const lvcl_program *prog, const char *name, cl_ker
 #define LVCL_LOCAL_SIZE 64
 
 /* Enqueues 1-D kernel k over `count` work-items (padded; nothing if 0) on
- * dev's queue, with fewer per work-group where a driver allows k fewer. */
-cl_int lvcl_kernel_enqueue(const lvcl_device *dev, cl_kernel k, size_t count);
+ * dev's queue, with fewer per work-group where a driver allows k fewer.
+ * On failure st says "<what> failed: ...". */
+lvcl_error lvcl_kernel_enqueue(const lvcl_device *dev, cl_kernel k, size_t count, const char *what, lvcl_status *st);
 
 #endif

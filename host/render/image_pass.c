@@ -12,11 +12,6 @@
 /* Bands per device: enough for a device that runs ahead to take more. */
 #define BANDS_PER_DEVICE 8
 
-static lvcl_error cl_check(cl_int err, const char *what, lvcl_status *st)
-{
-    return err == CL_SUCCESS ? LVCL_OK : lvcl_fail(st, LVCL_ERR_DEVICE, "%s failed: %s", what, lvcl_cl_error_name(err));
-}
-
 /* What the devices' threads share. */
 typedef struct {
     pthread_mutex_t lock;
@@ -42,18 +37,26 @@ typedef struct {
     lvcl_status st;
 } worker;
 
+/* A device failed: the others stop at their next band. */
+static void *fail_pass(pass_state *ps)
+{
+    pthread_mutex_lock(&ps->lock);
+    ps->failed = 1;
+    pthread_mutex_unlock(&ps->lock);
+    return NULL;
+}
+
 /* Renders bands until none is left: all samples of one band per turn. */
 static void *render_bands(void *arg)
 {
     worker *w = arg;
     pass_state *ps = w->ps;
     const lvcl_device *dev = w->pd->device;
-    cl_uint a = w->pd->camera_arg;
-    if (clSetKernelArg(w->pd->kernel, a, sizeof *ps->camera, ps->camera) != CL_SUCCESS ||
-        clSetKernelArg(w->pd->kernel, a + 4, sizeof(cl_mem), &w->sum) != CL_SUCCESS) {
-        w->e = lvcl_fail(&w->st, LVCL_ERR_DEVICE, "cannot set the camera pass's arguments on %s", dev->name);
-        return NULL;
-    }
+    cl_kernel k = w->pd->kernel;
+    const lvcl_pixel_arg_indices *a = &w->pd->pixel_args;
+    if ((w->e = lvcl_kernel_arg(k, a->camera, sizeof *ps->camera, ps->camera, "the camera", &w->st)) ||
+        (w->e = lvcl_kernel_arg(k, a->sum, sizeof(cl_mem), &w->sum, "the image sum", &w->st)))
+        return fail_pass(ps);
     for (;;) {
         pthread_mutex_lock(&ps->lock);
         int band = ps->failed ? ps->bands : ps->next_band++;
@@ -62,20 +65,16 @@ static void *render_bands(void *arg)
         double band_start = lvcl_seconds();
         cl_uint first = (cl_uint)((size_t)band * ps->band_pixels);
         cl_uint count = (cl_uint)(ps->pixels - first < ps->band_pixels ? ps->pixels - first : ps->band_pixels);
-        clSetKernelArg(w->pd->kernel, a + 1, sizeof first, &first);
-        clSetKernelArg(w->pd->kernel, a + 2, sizeof count, &count);
+        if ((w->e = lvcl_kernel_arg(k, a->first_pixel, sizeof first, &first, "the band's first pixel", &w->st)) ||
+            (w->e = lvcl_kernel_arg(k, a->pixel_count, sizeof count, &count, "the band's pixel count", &w->st)))
+            return fail_pass(ps);
         int s = 0;
         while (s < ps->settings->spp) {
             cl_uint index = (cl_uint)s;
-            clSetKernelArg(w->pd->kernel, a + 3, sizeof index, &index);
-            if ((w->e = cl_check(lvcl_kernel_enqueue(dev, w->pd->kernel, count),
-                                 "launching the camera pass", &w->st)) ||
-                (w->e = cl_check(clFinish(dev->queue), "running the camera pass", &w->st))) {
-                pthread_mutex_lock(&ps->lock);
-                ps->failed = 1;
-                pthread_mutex_unlock(&ps->lock);
-                return NULL;
-            }
+            if ((w->e = lvcl_kernel_arg(k, a->sample_index, sizeof index, &index, "the sample index", &w->st)) ||
+                (w->e = lvcl_kernel_enqueue(dev, k, count, "launching the camera pass", &w->st)) ||
+                (w->e = lvcl_cl_check(clFinish(dev->queue), "running the camera pass", &w->st)))
+                return fail_pass(ps);
             s++;
             pthread_mutex_lock(&ps->lock);
             double elapsed = lvcl_seconds() - ps->start;
@@ -108,7 +107,7 @@ static lvcl_error gather_image(worker *workers, int n, const pass_state *ps, lvc
     }
     lvcl_error e = LVCL_OK;
     for (int d = 0; d < n && !e; d++) {
-        e = cl_check(clEnqueueReadBuffer(workers[d].pd->device->queue, workers[d].sum, CL_TRUE, 0,
+        e = lvcl_cl_check(clEnqueueReadBuffer(workers[d].pd->device->queue, workers[d].sum, CL_TRUE, 0,
                                          ps->pixels * 4 * sizeof(float), acc, 0, NULL, NULL),
                      "reading the image", st);
         for (int b = 0; !e && b < ps->bands; b++) {
@@ -158,8 +157,8 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
         devices[d].busy_seconds = 0;
         workers[d].sum = clCreateBuffer(devices[d].device->context, CL_MEM_READ_WRITE, ps.pixels * 4 * sizeof(float),
                                         NULL, &err);
-        if (!(e = cl_check(err, "allocating the image", st)))
-            e = cl_check(clEnqueueFillBuffer(devices[d].device->queue, workers[d].sum, &zero, sizeof zero, 0,
+        if (!(e = lvcl_cl_check(err, "allocating the image", st)))
+            e = lvcl_cl_check(clEnqueueFillBuffer(devices[d].device->queue, workers[d].sum, &zero, sizeof zero, 0,
                                              ps.pixels * 4 * sizeof(float), 0, NULL, NULL),
                          "clearing the image", st);
     }

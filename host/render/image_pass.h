@@ -5,7 +5,7 @@
 #ifndef LVCL_IMAGE_PASS_H
 #define LVCL_IMAGE_PASS_H
 
-#include "../device/device.h"
+#include "../device/kernel_args.h"
 #include "../../kernels/shared_types.h"
 
 typedef struct {
@@ -22,14 +22,14 @@ typedef struct {
     double render_seconds;
 } lvcl_render_result;
 
-/* One device's share of a pass. The kernel's last five arguments, from
- * index camera_arg, are (lv_camera, uint first pixel, uint pixel count,
- * uint sample index, __global float4 *sum); the caller has set the others.
+/* One device's share of a pass. The caller has bound the kernel's
+ * arguments but its pixel arguments (LV_PIXEL_ARGS: camera, pixel range,
+ * sample index, sum), which the pass binds at the indices pixel_args names.
  * The pass fills in the work the device did. */
 typedef struct {
     const lvcl_device *device;
     cl_kernel kernel;
-    cl_uint camera_arg;
+    lvcl_pixel_arg_indices pixel_args;
     int bands;           /* bands rendered */
     size_t pixels;       /* pixels rendered */
     double busy_seconds; /* time spent rendering them */

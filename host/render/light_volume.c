@@ -1,6 +1,7 @@
 #include "light_volume.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -105,7 +106,7 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     if (s->dirs < 1 || s->dirs > 64) return lvcl_fail(st, LVCL_ERR_USAGE, "--dirs must be from 1 to 64");
     if (s->subcells < 0 || s->subcells > 4) return lvcl_fail(st, LVCL_ERR_USAGE, "--subcells must be from 0 to 4");
     if (s->offset < 0 || s->offset >= 1) return lvcl_fail(st, LVCL_ERR_USAGE, "--grid-offset must be in [0, 1)");
-    lv_grid_info *g = &vol->info;
+    lv_grid_info *g = &vol->buf.info;
     float extent[3], longest = 0.0f;
     for (int k = 0; k < 3; k++) {
         extent[k] = p->bounds_max[k] - p->bounds_min[k];
@@ -166,49 +167,35 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     vol->tally_parts = parts ? (int)parts : 1;
     g->slots_per_part = (lv_u32)(parts > 1 ? per_part : (g->slot_count ? g->slot_count : 1));
     cl_int err;
-    vol->cell_slot_buf = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+    vol->buf.cell_slot = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                         vol->cell_count * sizeof(uint32_t), vol->cell_slot, &err);
     for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS; i++)
-        vol->tallies_buf[i] = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, lvcl_volume_part_bytes(vol, i), NULL, &err);
+        vol->buf.tallies[i] = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, lvcl_volume_part_bytes(vol, i), NULL, &err);
     if (err == CL_SUCCESS)
-        vol->subcell_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
+        vol->buf.subcells = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
                                           ((size_t)g->slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(cl_uint), NULL, &err);
     if (err == CL_SUCCESS)
-        vol->lit_volume_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, ((size_t)g->slot_count + 1) * sizeof(float),
+        vol->buf.lit_volume = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, ((size_t)g->slot_count + 1) * sizeof(float),
                                              NULL, &err);
     if (err == CL_SUCCESS)
         vol->bin_directions_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, g->bins * 4 * sizeof(float), NULL,
                                                  &err);
     if (err != CL_SUCCESS) {
+        char what[300];
+        snprintf(what, sizeof what, "allocating the light volume on %s", dev->name);
         lvcl_volume_release(vol);
-        return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "cannot allocate the light volume on %s: %s", dev->name,
-                         lvcl_cl_error_name(err));
+        return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "%s failed: %s", what, lvcl_cl_error_name(err));
     }
     return LVCL_OK;
 }
 
 size_t lvcl_volume_part_bytes(const lvcl_light_volume *vol, int part)
 {
-    size_t slot_bytes = (size_t)vol->info.bins * 3 * sizeof(int64_t);
-    size_t first = (size_t)part * vol->info.slots_per_part;
-    size_t slots = vol->info.slot_count > first ? vol->info.slot_count - first : 0;
-    if (slots > vol->info.slots_per_part) slots = vol->info.slots_per_part;
+    size_t slot_bytes = (size_t)vol->buf.info.bins * 3 * sizeof(int64_t);
+    size_t first = (size_t)part * vol->buf.info.slots_per_part;
+    size_t slots = vol->buf.info.slot_count > first ? vol->buf.info.slot_count - first : 0;
+    if (slots > vol->buf.info.slots_per_part) slots = vol->buf.info.slots_per_part;
     return slots ? slots * slot_bytes : 8; /* OpenCL refuses empty buffers */
-}
-
-int lvcl_volume_set_tally_args(const lvcl_light_volume *vol, cl_kernel k, cl_uint first)
-{
-    for (int i = 0; i < LV_TALLY_PARTS; i++) {
-        /* Parts the grid does not need are never read: any buffer will do. */
-        const cl_mem *b = vol->tallies_buf[i] ? &vol->tallies_buf[i] : &vol->tallies_buf[0];
-        if (clSetKernelArg(k, first + (cl_uint)i, sizeof(cl_mem), b) != CL_SUCCESS) return -1;
-    }
-    return 0;
-}
-
-static lvcl_error cl_ok(cl_int err, const char *what, lvcl_status *st)
-{
-    return err == CL_SUCCESS ? LVCL_OK : lvcl_fail(st, LVCL_ERR_DEVICE, "%s failed: %s", what, lvcl_cl_error_name(err));
 }
 
 /* Runs lv_bin_directions: the table of the bins' central directions. */
@@ -218,12 +205,11 @@ static lvcl_error fill_bin_directions(const lvcl_device *dev, const lvcl_program
     cl_kernel k;
     lvcl_error e = lvcl_kernel_create(prog, "lv_bin_directions", &k, st);
     if (e) return e;
-    cl_uint n = vol->info.dirs;
-    cl_int err = clSetKernelArg(k, 0, sizeof n, &n);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, 1, sizeof(cl_mem), &vol->bin_directions_buf);
-    if (err == CL_SUCCESS) err = lvcl_kernel_enqueue(dev, k, vol->info.bins);
+    lvcl_bin_directions_args args = {.n = vol->buf.info.dirs, .directions = vol->bin_directions_buf};
+    if (!(e = lvcl_bind_lv_bin_directions(k, &args, st)))
+        e = lvcl_kernel_enqueue(dev, k, vol->buf.info.bins, "computing the bin directions", st);
     clReleaseKernel(k);
-    return cl_ok(err, "computing the bin directions", st);
+    return e;
 }
 
 lvcl_error lvcl_volume_finish(const lvcl_device *dev, const lvcl_program *prog, lvcl_light_volume *vol,
@@ -232,13 +218,12 @@ lvcl_error lvcl_volume_finish(const lvcl_device *dev, const lvcl_program *prog, 
     cl_kernel k;
     lvcl_error e = lvcl_kernel_create(prog, "lv_lit_volumes", &k, st);
     if (e) return e;
-    cl_int err = clSetKernelArg(k, 0, sizeof vol->info, &vol->info);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, 1, sizeof(cl_mem), &vol->subcell_buf);
-    if (err == CL_SUCCESS) err = clSetKernelArg(k, 2, sizeof(cl_mem), &vol->lit_volume_buf);
-    if (err == CL_SUCCESS) err = lvcl_kernel_enqueue(dev, k, vol->info.slot_count);
-    if (err == CL_SUCCESS) err = clFinish(dev->queue);
+    lvcl_lit_volumes_args args = {.volume = &vol->buf};
+    if (!(e = lvcl_bind_lv_lit_volumes(k, &args, st)) &&
+        !(e = lvcl_kernel_enqueue(dev, k, vol->buf.info.slot_count, "computing the lit volumes", st)))
+        e = lvcl_cl_check(clFinish(dev->queue), "computing the lit volumes", st);
     clReleaseKernel(k);
-    return cl_ok(err, "computing the lit volumes", st);
+    return e;
 }
 
 void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t particles)
@@ -279,39 +264,35 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
         return lvcl_fail(st, LVCL_ERR_USAGE, "--particles must be from 1 to %u", UINT32_MAX);
     cl_long zero = 0;
     for (int i = 0; i < vol->tally_parts; i++)
-        if ((e = cl_ok(clEnqueueFillBuffer(dev->queue, vol->tallies_buf[i], &zero, sizeof zero, 0,
+        if ((e = lvcl_cl_check(clEnqueueFillBuffer(dev->queue, vol->buf.tallies[i], &zero, sizeof zero, 0,
                                            lvcl_volume_part_bytes(vol, i), 0, NULL, NULL),
                        "clearing the light volume", st)))
             return e;
     cl_uint none = 0;
-    if ((e = cl_ok(clEnqueueFillBuffer(dev->queue, vol->subcell_buf, &none, sizeof none, 0,
-                                       ((size_t)vol->info.slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(cl_uint), 0, NULL,
+    if ((e = lvcl_cl_check(clEnqueueFillBuffer(dev->queue, vol->buf.subcells, &none, sizeof none, 0,
+                                       ((size_t)vol->buf.info.slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(cl_uint), 0, NULL,
                                        NULL),
                    "clearing the subcells", st)))
         return e;
-    vol->info.particles = (float)s->particles;
+    vol->buf.info.particles = (float)s->particles;
     cl_int err;
     /* Per batch: segments traced, visibility rays cast. */
     cl_mem counter = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint), NULL, &err);
-    if ((e = cl_ok(err, "allocating the ray counters", st))) return e;
+    if ((e = lvcl_cl_check(err, "allocating the ray counters", st))) return e;
     cl_kernel k;
     if ((e = lvcl_kernel_create(prog, "lv_particle_trace", &k, st))) {
         clReleaseMemObject(counter);
         return e;
     }
-    int a = lvcl_device_scene_set_args(ds, k, 0);
-    float inv_n = (float)(1.0 / (double)s->particles);
-    cl_uint store = s->store_emitted ? 1 : 0;
-    if (a < 0 || clSetKernelArg(k, (cl_uint)a, sizeof vol->info, &vol->info) ||
-        clSetKernelArg(k, (cl_uint)a + 1, sizeof(cl_mem), &vol->cell_slot_buf) ||
-        lvcl_volume_set_tally_args(vol, k, (cl_uint)a + 2) ||
-        clSetKernelArg(k, (cl_uint)a + 6, sizeof(cl_mem), &vol->subcell_buf) ||
-        clSetKernelArg(k, (cl_uint)a + 9, sizeof inv_n, &inv_n) ||
-        clSetKernelArg(k, (cl_uint)a + 10, sizeof store, &store) ||
-        clSetKernelArg(k, (cl_uint)a + 11, sizeof counter, &counter)) {
+    lvcl_particle_trace_args args = {.scene = &ds->buffers,
+                                     .volume = &vol->buf,
+                                     .inv_total_particles = (float)(1.0 / (double)s->particles),
+                                     .store_emitted = s->store_emitted ? 1u : 0u,
+                                     .ray_counts = counter};
+    if ((e = lvcl_bind_lv_particle_trace(k, &args, st))) {
         clReleaseKernel(k);
         clReleaseMemObject(counter);
-        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the particle tracer's arguments");
+        return e;
     }
     lvcl_progress bar;
     lvcl_progress_start(&bar, "particles", s->progress);
@@ -323,13 +304,12 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
         /* 32-bit counts per batch cannot overflow; the totals are 64-bit. */
         cl_uint counts[2] = {0, 0};
         cl_uint f = (cl_uint)first;
-        clSetKernelArg(k, (cl_uint)a + 7, sizeof f, &f);
-        clSetKernelArg(k, (cl_uint)a + 8, sizeof count, &count);
-        if ((e = cl_ok(clEnqueueWriteBuffer(dev->queue, counter, CL_FALSE, 0, sizeof counts, counts, 0, NULL, NULL),
+        if ((e = lvcl_kernel_arg(k, LV_ARG(lv_particle_trace, first), sizeof f, &f, "the batch's first particle", st)) ||
+            (e = lvcl_kernel_arg(k, LV_ARG(lv_particle_trace, count), sizeof count, &count, "the batch's size", st)) ||
+            (e = lvcl_cl_check(clEnqueueWriteBuffer(dev->queue, counter, CL_FALSE, 0, sizeof counts, counts, 0, NULL, NULL),
                        "clearing the ray counters", st)) ||
-            (e = cl_ok(lvcl_kernel_enqueue(dev, k, count),
-                       "launching the particle trace", st)) ||
-            (e = cl_ok(clEnqueueReadBuffer(dev->queue, counter, CL_TRUE, 0, sizeof counts, counts, 0, NULL, NULL),
+            (e = lvcl_kernel_enqueue(dev, k, count, "launching the particle trace", st)) ||
+            (e = lvcl_cl_check(clEnqueueReadBuffer(dev->queue, counter, CL_TRUE, 0, sizeof counts, counts, 0, NULL, NULL),
                        "running the particle trace", st)))
             break;
         vol->segments += counts[0];
@@ -347,7 +327,7 @@ lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, c
 lvcl_error lvcl_volume_read(const lvcl_device *dev, const lvcl_light_volume *vol, int64_t **tallies,
                             uint32_t **masks, lvcl_status *st)
 {
-    size_t mask_bytes = ((size_t)vol->info.slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(uint32_t);
+    size_t mask_bytes = ((size_t)vol->buf.info.slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(uint32_t);
     *tallies = malloc(vol->tally_bytes ? vol->tally_bytes : 8);
     if (masks) *masks = malloc(mask_bytes);
     if (!*tallies || (masks && !*masks)) {
@@ -358,13 +338,13 @@ lvcl_error lvcl_volume_read(const lvcl_device *dev, const lvcl_light_volume *vol
     cl_int err = CL_SUCCESS;
     size_t offset = 0;
     for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS && vol->tally_bytes; i++) {
-        err = clEnqueueReadBuffer(dev->queue, vol->tallies_buf[i], CL_TRUE, 0, lvcl_volume_part_bytes(vol, i),
+        err = clEnqueueReadBuffer(dev->queue, vol->buf.tallies[i], CL_TRUE, 0, lvcl_volume_part_bytes(vol, i),
                                   (char *)*tallies + offset, 0, NULL, NULL);
         offset += lvcl_volume_part_bytes(vol, i);
     }
     if (err == CL_SUCCESS && masks)
-        err = clEnqueueReadBuffer(dev->queue, vol->subcell_buf, CL_TRUE, 0, mask_bytes, *masks, 0, NULL, NULL);
-    lvcl_error e = cl_ok(err, "reading the light volume", st);
+        err = clEnqueueReadBuffer(dev->queue, vol->buf.subcells, CL_TRUE, 0, mask_bytes, *masks, 0, NULL, NULL);
+    lvcl_error e = lvcl_cl_check(err, "reading the light volume", st);
     if (e) {
         free(*tallies);
         *tallies = NULL;
@@ -401,7 +381,7 @@ lvcl_error lvcl_volume_merge(const lvcl_device *const *devs, lvcl_light_volume *
 {
     int64_t *sum = NULL, *t = NULL;
     uint32_t *rec_sum = NULL, *rec = NULL;
-    const lv_grid_info *g = &vols[0]->info;
+    const lv_grid_info *g = &vols[0]->buf.info;
     size_t words = ((size_t)g->slot_count + 1) * LV_SUBCELL_STRIDE, tally_count = vols[0]->tally_bytes / sizeof(int64_t);
     lvcl_error e = lvcl_volume_read(devs[0], vols[0], &sum, &rec_sum, st);
     for (int d = 1; d < count && !e; d++) {
@@ -424,14 +404,14 @@ lvcl_error lvcl_volume_merge(const lvcl_device *const *devs, lvcl_light_volume *
         cl_int err = CL_SUCCESS;
         size_t offset = 0;
         for (int i = 0; i < vols[d]->tally_parts && err == CL_SUCCESS && vols[d]->tally_bytes; i++) {
-            err = clEnqueueWriteBuffer(devs[d]->queue, vols[d]->tallies_buf[i], CL_TRUE, 0,
+            err = clEnqueueWriteBuffer(devs[d]->queue, vols[d]->buf.tallies[i], CL_TRUE, 0,
                                        lvcl_volume_part_bytes(vols[d], i), (char *)sum + offset, 0, NULL, NULL);
             offset += lvcl_volume_part_bytes(vols[d], i);
         }
         if (err == CL_SUCCESS)
-            err = clEnqueueWriteBuffer(devs[d]->queue, vols[d]->subcell_buf, CL_TRUE, 0, words * sizeof(uint32_t),
+            err = clEnqueueWriteBuffer(devs[d]->queue, vols[d]->buf.subcells, CL_TRUE, 0, words * sizeof(uint32_t),
                                        rec_sum, 0, NULL, NULL);
-        e = cl_ok(err, "storing the merged light volume", st);
+        e = lvcl_cl_check(err, "storing the merged light volume", st);
     }
     free(sum);
     free(rec_sum);
@@ -440,12 +420,8 @@ lvcl_error lvcl_volume_merge(const lvcl_device *const *devs, lvcl_light_volume *
 
 void lvcl_volume_release(lvcl_light_volume *vol)
 {
-    if (vol->cell_slot_buf) clReleaseMemObject(vol->cell_slot_buf);
-    for (int i = 0; i < LV_TALLY_PARTS; i++)
-        if (vol->tallies_buf[i]) clReleaseMemObject(vol->tallies_buf[i]);
+    lvcl_volume_buffers_release(&vol->buf);
     if (vol->bin_directions_buf) clReleaseMemObject(vol->bin_directions_buf);
-    if (vol->lit_volume_buf) clReleaseMemObject(vol->lit_volume_buf);
-    if (vol->subcell_buf) clReleaseMemObject(vol->subcell_buf);
     free(vol->cell_slot);
     memset(vol, 0, sizeof *vol);
 }

@@ -38,15 +38,12 @@ typedef struct {
 } lvcl_volume_settings;
 
 typedef struct {
-    lv_grid_info info;
+    lvcl_volume_buffers buf;  /* the grid and the buffers the kernels take (tallies: info.slots_per_part
+                                 slots each, unused parts NULL) */
     uint32_t *cell_slot;      /* host copy of the index grid */
     size_t cell_count;        /* dims[0] * dims[1] * dims[2] */
-    cl_mem cell_slot_buf;
-    cl_mem tallies_buf[LV_TALLY_PARTS]; /* info.slots_per_part slots each; unused parts NULL */
     int tally_parts;
     cl_mem bin_directions_buf; /* float4 per bin, filled by lvcl_volume_trace */
-    cl_mem subcell_buf;        /* LV_SUBCELL_STRIDE uints per slot */
-    cl_mem lit_volume_buf;     /* float per slot, filled by lvcl_volume_trace */
     size_t tally_bytes;       /* all parts */
     size_t device_bytes;      /* everything the volume holds on the device */
     double trace_seconds;
@@ -84,10 +81,6 @@ lvcl_error lvcl_volume_read(const lvcl_device *dev, const lvcl_light_volume *vol
 
 /* Bytes of tally buffer `part` (a buffer holds info.slots_per_part slots). */
 size_t lvcl_volume_part_bytes(const lvcl_light_volume *vol, int part);
-
-/* Sets the LV_TALLY_PARTS tally buffer arguments of kernel k from index
- * `first`; returns 0, or -1 on error. */
-int lvcl_volume_set_tally_args(const lvcl_light_volume *vol, cl_kernel k, cl_uint first);
 
 /* The lit fraction of a cell from its subcell record, as the kernels take
  * it (kernels/light_volume.h, lv_cell_lit_volume). */

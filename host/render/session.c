@@ -100,23 +100,28 @@ fail:
     return e;
 }
 
-/* Sets a camera pass kernel's scene arguments (and the light volume's, for
- * the gather); returns the index of its camera argument, or -1. */
-static int set_pass_args(lvcl_session_device *sd, cl_kernel k, const lvcl_render_request *req)
+/* Binds a camera pass kernel's arguments: the scene's (and the light
+ * volume's, for the gather) and the camera; the pass binds the pixel range,
+ * the sample and the sum (pd->pixel_args says where). */
+static lvcl_error bind_pass_args(lvcl_session_device *sd, lvcl_pass_device *pd, const lvcl_render_request *req,
+                                 const lv_camera *camera, lvcl_status *st)
 {
-    int a = lvcl_device_scene_set_args(&sd->device_scene, k, 0);
-    if (a < 0 || req->mode == LVCL_MODE_PT) return a;
+    if (req->mode == LVCL_MODE_PT) {
+        pd->pixel_args = LVCL_PIXEL_ARG_INDICES(lv_pt_pass);
+        lvcl_pt_pass_args a = {.scene = &sd->device_scene.buffers, .camera = *camera};
+        return lvcl_bind_lv_pt_pass(pd->kernel, &a, st);
+    }
     const lvcl_light_volume *v = &sd->volume;
-    cl_uint i = (cl_uint)a;
-    cl_uint flags = (req->mode == LVCL_MODE_LV_ALL ? 1u : 0u) | (req->integrate ? 2u : 0u);
-    float threshold = (float)(req->threshold > 0 ? req->threshold : sqrt(3.0) * v->info.cell_size);
-    if (clSetKernelArg(k, i, sizeof v->info, &v->info) || clSetKernelArg(k, i + 1, sizeof(cl_mem), &v->cell_slot_buf) ||
-        lvcl_volume_set_tally_args(v, k, i + 2) || clSetKernelArg(k, i + 6, sizeof(cl_mem), &v->subcell_buf) ||
-        clSetKernelArg(k, i + 7, sizeof(cl_mem), &v->lit_volume_buf) ||
-        clSetKernelArg(k, i + 8, sizeof(cl_mem), &v->bin_directions_buf) ||
-        clSetKernelArg(k, i + 9, sizeof flags, &flags) || clSetKernelArg(k, i + 10, sizeof threshold, &threshold))
-        return -1;
-    return (int)i + 11;
+    pd->pixel_args = LVCL_PIXEL_ARG_INDICES(lv_gather_pass);
+    lvcl_gather_pass_args a = {
+        .scene = &sd->device_scene.buffers,
+        .volume = &v->buf,
+        .bin_directions = v->bin_directions_buf,
+        .flags = (req->mode == LVCL_MODE_LV_ALL ? LV_GATHER_ALL : 0u) | (req->integrate ? LV_GATHER_INTEGRATE : 0u),
+        .threshold = (float)(req->threshold > 0 ? req->threshold : sqrt(3.0) * v->buf.info.cell_size),
+        .camera = *camera,
+    };
+    return lvcl_bind_lv_gather_pass(pd->kernel, &a, st);
 }
 
 typedef struct {
@@ -199,9 +204,7 @@ lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, 
         if ((e = lvcl_kernel_create(&sd->program, req->mode == LVCL_MODE_PT ? "lv_pt_pass" : "lv_gather_pass",
                                     &passes[d].kernel, st)))
             break;
-        int camera_arg = set_pass_args(sd, passes[d].kernel, req);
-        if (camera_arg < 0) e = lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the camera pass's arguments");
-        passes[d].camera_arg = (cl_uint)camera_arg;
+        e = bind_pass_args(sd, &passes[d], req, &cam, st);
     }
     if (!e) e = lvcl_image_pass(passes, s->device_count, &cam, &req->pass, out, st);
     for (int d = 0; d < s->device_count; d++) {
