@@ -10,6 +10,9 @@
 void harness_open(const char *spec, lvcl_device *dev, lvcl_program *prog);
 void harness_close(lvcl_device *dev, lvcl_program *prog);
 
+/* Builds the test program on an open device (a session's, say). */
+void harness_build(const lvcl_device *dev, lvcl_program *prog);
+
 /* A scene of `count` triangles given as 9 floats each, all one diffuse
  * material; the scene owns copies. */
 void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *scene);

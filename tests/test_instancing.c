@@ -309,13 +309,13 @@ static void test_memory_budget(void)
     harness_triangle_scene(tris, COUNT, &scene);
     free(tris);
     lvcl_status st = {0};
-    lvcl_session s;
-    lvcl_session_config cfg = {NULL, 0, 8, 1, 4u << 20};
-    lvcl_error e = lvcl_session_open(&s, &scene, &cfg, &st);
+    lvcl_session *s;
+    lvcl_session_config cfg = {.max_depth = 8, .fast_math = 1, .device_memory = 4u << 20};
+    lvcl_error e = lvcl_session_open(&scene, &cfg, &s, &st);
     CHECK("a scene over the device memory budget fails, naming the sizes",
           e == LVCL_ERR_TOO_LARGE && strstr(st.message, "MiB") && !strchr(st.message, '\n'), "error %d: %s", e,
           st.message);
-    if (!e) lvcl_session_close(&s);
+    lvcl_session_close(s);
 }
 
 int main(int argc, char **argv)

@@ -248,17 +248,17 @@ static void pixel_stats(const view *v, int x, int y, ground_radiance f, const vo
 static float *render(const char *what, lvcl_scene *scene, unsigned seed, int max_depth, const view *v, int spp)
 {
     lvcl_status st = {0};
-    lvcl_session s;
-    lvcl_session_config cfg = {getenv("LVCL_TEST_DEVICE"), seed, max_depth, 1};
+    lvcl_session *s = NULL;
+    lvcl_session_config cfg = {.device = getenv("LVCL_TEST_DEVICE"), .seed = seed, .max_depth = max_depth, .fast_math = 1};
     lvcl_render_result r = {0};
-    lvcl_pass_settings ps = {spp, 0.0, 0};
+    lvcl_pass_settings ps = {.spp = spp};
     scene->camera = v->cam;
-    if (lvcl_session_open(&s, scene, &cfg, &st) || lvcl_session_render_pt(&s, v->width, v->height, &ps, &r, &st)) {
+    if (lvcl_session_open(scene, &cfg, &s, &st) || lvcl_session_render_pt(s, v->width, v->height, &ps, &r, &st)) {
         CHECK(what, 0, "render failed: %s", st.message);
-        lvcl_session_close(&s);
+        lvcl_session_close(s);
         return NULL;
     }
-    lvcl_session_close(&s);
+    lvcl_session_close(s);
     return r.rgb;
 }
 

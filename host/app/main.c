@@ -41,7 +41,7 @@ static lvcl_error write_outputs(const lvcl_options *o, const lvcl_render_result 
     return LVCL_OK;
 }
 
-static lvcl_error run(const lvcl_options *o, lvcl_session *s, lvcl_render_result *res, lvcl_stats *stats,
+static lvcl_error run(const lvcl_options *o, lvcl_session **s, lvcl_render_result *res, lvcl_stats *stats,
                       lvcl_status *st)
 {
     lvcl_error e;
@@ -50,28 +50,32 @@ static lvcl_error run(const lvcl_options *o, lvcl_session *s, lvcl_render_result
     if ((e = lvcl_scene_load(o->scene, &scene, st))) return e;
     stats->scene_load_seconds = lvcl_seconds() - t;
 
-    lvcl_session_config cfg = {o->device, o->seed, o->max_depth, o->fast_math,
-                               (uint64_t)(o->device_memory_mib * 1048576.0)};
-    if ((e = lvcl_session_open(s, &scene, &cfg, st))) return e;
-    stats->session = s;
+    lvcl_session_config cfg = {.device = o->device,
+                               .seed = o->seed,
+                               .max_depth = o->max_depth,
+                               .fast_math = o->fast_math,
+                               .device_memory = (uint64_t)(o->device_memory_mib * 1048576.0)};
+    if ((e = lvcl_session_open(&scene, &cfg, s, st))) return e;
+    stats->session = *s;
 
-    lvcl_render_request req = {0};
-    req.mode = !strcmp(o->mode, "lv") ? LVCL_MODE_LV : !strcmp(o->mode, "lv-all") ? LVCL_MODE_LV_ALL : LVCL_MODE_PT;
-    req.width = o->width;
-    req.height = o->height;
-    req.pass = (lvcl_pass_settings){o->spp, o->time_limit, !o->quiet};
-    req.volume = (lvcl_volume_settings){.cells = o->cells,
-                                        .cell_size = o->cell_size,
-                                        .offset = o->grid_offset,
-                                        .dirs = o->dirs,
-                                        .subcells = o->subcells,
-                                        .visibility_rate = o->visibility_rate,
-                                        .particles = (uint64_t)o->particles,
-                                        .progress = !o->quiet};
-    req.integrate = !strcmp(o->gather, "integrate");
-    req.threshold = o->threshold;
+    lvcl_render_request req = {
+        .mode = !strcmp(o->mode, "lv") ? LVCL_MODE_LV : !strcmp(o->mode, "lv-all") ? LVCL_MODE_LV_ALL : LVCL_MODE_PT,
+        .width = o->width,
+        .height = o->height,
+        .pass = {.spp = o->spp, .time_limit = o->time_limit, .progress = !o->quiet},
+        .volume = {.cells = o->cells,
+                   .cell_size = o->cell_size,
+                   .offset = o->grid_offset,
+                   .dirs = o->dirs,
+                   .subcells = o->subcells,
+                   .visibility_rate = o->visibility_rate,
+                   .particles = (uint64_t)o->particles,
+                   .progress = !o->quiet},
+        .integrate = !strcmp(o->gather, "integrate"),
+        .threshold = o->threshold,
+    };
     stats->startup_seconds = lvcl_seconds() - stats->process_start;
-    if ((e = lvcl_session_render(s, &req, res, st))) return e;
+    if ((e = lvcl_session_render(*s, &req, res, st))) return e;
     stats->result = res;
     if (res->samples < o->spp && !o->quiet)
         fprintf(stderr, "lvcl: time limit reached after %d of %d samples per pixel\n", res->samples, o->spp);
@@ -105,13 +109,13 @@ int main(int argc, char **argv)
         return 0;
     }
 
-    lvcl_session session = {0};
+    lvcl_session *session = NULL;
     lvcl_render_result result = {0};
     stats.options = &o;
     lvcl_error e = run(&o, &session, &result, &stats, &st);
     if (!e && o.stats) e = lvcl_stats_write(o.stats, &stats, &st);
     if (e) fprintf(stderr, "lvcl: error: %s\n", st.message);
     free(result.rgb);
-    lvcl_session_close(&session);
+    lvcl_session_close(session);
     return e == LVCL_ERR_USAGE ? 2 : e ? 1 : 0;
 }

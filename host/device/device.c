@@ -162,6 +162,12 @@ lvcl_error lvcl_device_open(const char *spec, lvcl_device *dev, lvcl_status *st)
     return LVCL_OK;
 }
 
+void lvcl_device_limit_memory(lvcl_device *dev, uint64_t bytes)
+{
+    if (dev->global_mem > bytes) dev->global_mem = bytes;
+    if (dev->max_alloc > bytes / 4) dev->max_alloc = bytes / 4;
+}
+
 void lvcl_device_close(lvcl_device *dev)
 {
     if (dev->queue) clReleaseCommandQueue(dev->queue);

@@ -5,6 +5,7 @@
 
 #define CL_TARGET_OPENCL_VERSION 120
 #include <CL/cl.h>
+#include <stdint.h>
 #include <stdio.h>
 
 #include "../util/status.h"
@@ -41,6 +42,11 @@ int lvcl_device_count(void);
 /* Opens the device that `spec` names: "cpu", "gpu", a list index, or NULL
  * for the default (first GPU, else first CPU, else the first device). */
 lvcl_error lvcl_device_open(const char *spec, lvcl_device *dev, lvcl_status *st);
+
+/* Makes dev act as a device of `bytes` bytes (--device-memory): no more
+ * memory than that, and a quarter of it in one buffer, as OpenCL promises
+ * and GPUs often allow no more. */
+void lvcl_device_limit_memory(lvcl_device *dev, uint64_t bytes);
 
 void lvcl_device_close(lvcl_device *dev);
 

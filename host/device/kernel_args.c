@@ -79,23 +79,8 @@ void lvcl_volume_buffers_release(lvcl_volume_buffers *b)
     memset(b, 0, sizeof *b);
 }
 
-/* The binders: every argument of the list at its LV_ARG index. */
-#define BIND_ARG(kernel, kind, type, name) \
-    if (!e) e = BIND_ARG_##kind(k, LV_ARG(kernel, name), a->name, #kernel " " #name, st);
-#define BIND_ARG_SCENE(k, index, v, what, st) lvcl_scene_buffers_bind(v, k, index, st)
-#define BIND_ARG_VOLUME(k, index, v, what, st) lvcl_volume_buffers_bind(v, k, index, st)
-#define BIND_ARG_VALUE(k, index, v, what, st) lvcl_kernel_arg(k, index, sizeof(v), &(v), what, st)
-#define BIND_ARG_BUFFER(k, index, v, what, st) lvcl_kernel_arg(k, index, sizeof(cl_mem), &(v), what, st)
-#define DEFINE_BINDER(kernel, LIST, args_type)                                                 \
-    lvcl_error lvcl_bind_##kernel(cl_kernel k, const args_type *a, lvcl_status *st)            \
-    {                                                                                          \
-        lvcl_error e = LVCL_OK;                                                                \
-        LIST(BIND_ARG, LV_SEP_NONE)                                                            \
-        return e;                                                                              \
-    }
-
-DEFINE_BINDER(lv_pt_pass, LV_PT_PASS_ARGS, lvcl_pt_pass_args)
-DEFINE_BINDER(lv_gather_pass, LV_GATHER_PASS_ARGS, lvcl_gather_pass_args)
-DEFINE_BINDER(lv_particle_trace, LV_PARTICLE_TRACE_ARGS, lvcl_particle_trace_args)
-DEFINE_BINDER(lv_lit_volumes, LV_LIT_VOLUMES_ARGS, lvcl_lit_volumes_args)
-DEFINE_BINDER(lv_bin_directions, LV_BIN_DIRECTIONS_ARGS, lvcl_bin_directions_args)
+LVCL_DEFINE_BINDER(lv_pt_pass, LV_PT_PASS_ARGS, lvcl_pt_pass_args)
+LVCL_DEFINE_BINDER(lv_gather_pass, LV_GATHER_PASS_ARGS, lvcl_gather_pass_args)
+LVCL_DEFINE_BINDER(lv_particle_trace, LV_PARTICLE_TRACE_ARGS, lvcl_particle_trace_args)
+LVCL_DEFINE_BINDER(lv_lit_volumes, LV_LIT_VOLUMES_ARGS, lvcl_lit_volumes_args)
+LVCL_DEFINE_BINDER(lv_bin_directions, LV_BIN_DIRECTIONS_ARGS, lvcl_bin_directions_args)

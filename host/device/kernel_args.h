@@ -64,6 +64,24 @@ lvcl_error lvcl_bind_lv_particle_trace(cl_kernel k, const lvcl_particle_trace_ar
 lvcl_error lvcl_bind_lv_lit_volumes(cl_kernel k, const lvcl_lit_volumes_args *a, lvcl_status *st);
 lvcl_error lvcl_bind_lv_bin_directions(cl_kernel k, const lvcl_bin_directions_args *a, lvcl_status *st);
 
+/* Defines lvcl_error lvcl_bind_<kernel>(cl_kernel, const args_type *, lvcl_status *),
+ * which binds every argument of LIST at its LV_ARG index (the production
+ * kernels' binders are declared above; tests define their own). */
+#define LVCL_BIND_ARG(kernel, kind, type, name) \
+    if (!e) e = LVCL_BIND_ARG_##kind(k, LV_ARG(kernel, name), a->name, #kernel " " #name, st);
+#define LVCL_BIND_ARG_SCENE(k, index, v, what, st) lvcl_scene_buffers_bind(v, k, index, st)
+#define LVCL_BIND_ARG_VOLUME(k, index, v, what, st) lvcl_volume_buffers_bind(v, k, index, st)
+#define LVCL_BIND_ARG_VALUE(k, index, v, what, st) lvcl_kernel_arg(k, index, sizeof(v), &(v), what, st)
+#define LVCL_BIND_ARG_BUFFER(k, index, v, what, st) lvcl_kernel_arg(k, index, sizeof(cl_mem), &(v), what, st)
+#define LVCL_DEFINE_BINDER(kernel, LIST, args_type)                                                 \
+    lvcl_error lvcl_bind_##kernel(cl_kernel k, const args_type *a, lvcl_status *st)            \
+    {                                                                                          \
+        lvcl_error e = LVCL_OK;                                                                \
+        LIST(LVCL_BIND_ARG, LV_SEP_NONE)                                                          \
+        return e;                                                                              \
+    }
+
+
 /* The indices of the camera passes' pixel arguments (LV_PIXEL_ARGS) in
  * `kernel`: LVCL_PIXEL_ARG_INDICES(lv_pt_pass). */
 #define LVCL_INDEX_FIELD(kernel, kind, type, name) cl_uint name;

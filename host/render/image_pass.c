@@ -165,7 +165,8 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
     if (!e) {
         lvcl_progress_start(&ps.bar, "render", settings->progress);
         ps.start = lvcl_seconds();
-        int threads_failed = lvcl_run_parallel(render_bands, workers, sizeof workers[0], n);
+        lvcl_status thread_st = {0};
+        lvcl_error threads_failed = lvcl_run_parallel(render_bands, workers, sizeof workers[0], n, &thread_st);
         lvcl_progress_finish(&ps.bar);
         out->render_seconds = lvcl_seconds() - ps.start;
         out->first_launch_seconds = ps.first_launch_seconds;
@@ -175,7 +176,10 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
                 *st = workers[d].st;
                 e = workers[d].e;
             }
-        if (!e && threads_failed) e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "cannot start a thread per device");
+        if (!e && threads_failed) {
+            *st = thread_st;
+            e = threads_failed;
+        }
         if (!e) e = gather_image(workers, n, &ps, out, st);
     }
     if (!e) {

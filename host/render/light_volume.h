@@ -1,6 +1,8 @@
-/* The light volume on the host: choosing the grid, allocating cells only
- * where geometry is (and where a jittered lookup can land), and running the
- * particle trace into it on the device. */
+/* The light volume on the host (paper section 4): a grid chosen over the
+ * scene, cells stored only where geometry is (and where a jittered lookup
+ * can land), the particle trace run into it on a device, and what the
+ * lookups need computed after it. An opaque handle: the buffers stay with
+ * the volume; tests and stats read it through the accessors below. */
 #ifndef LVCL_LIGHT_VOLUME_H
 #define LVCL_LIGHT_VOLUME_H
 
@@ -9,6 +11,8 @@
 
 #include "../device/device_scene.h"
 #include "../device/program.h"
+
+typedef struct lvcl_light_volume lvcl_light_volume;
 
 /* Hands out batches of particle indices to the devices tracing one volume
  * together, so that a faster device traces more (lvcl_particle_source_init). */
@@ -37,58 +41,59 @@ typedef struct {
     int progress;
 } lvcl_volume_settings;
 
+/* What a volume holds and what its trace did (this device's share). */
 typedef struct {
-    lvcl_volume_buffers buf;  /* the grid and the buffers the kernels take (tallies: info.slots_per_part
-                                 slots each, unused parts NULL) */
-    uint32_t *cell_slot;      /* host copy of the index grid */
-    size_t cell_count;        /* dims[0] * dims[1] * dims[2] */
-    int tally_parts;
-    cl_mem bin_directions_buf; /* float4 per bin, filled by lvcl_volume_trace */
-    size_t tally_bytes;       /* all parts */
+    size_t tally_bytes;       /* all tally buffers */
     size_t device_bytes;      /* everything the volume holds on the device */
-    double trace_seconds;
-    uint64_t particles;
+    int tally_buffers;        /* buffers the tallies are split over */
+    uint64_t particles;       /* traced here */
     uint64_t segments;        /* straight path pieces traced */
     uint64_t visibility_rays; /* subcell visibility rays cast (paper 4.1) */
-} lvcl_light_volume;
+    double trace_seconds;
+} lvcl_volume_stats;
 
-/* Chooses the grid over the packed scene's bounds and allocates the cells
- * that triangles touch, grown by one cell in every direction. */
+/* Chooses the grid over the packed scene's bounds and allocates, on dev
+ * (which must outlive the volume), the cells that triangles touch, grown by
+ * one cell in every direction. */
 lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *packed,
-                              const lvcl_volume_settings *settings, lvcl_light_volume *vol, lvcl_status *st);
+                              const lvcl_volume_settings *settings, lvcl_light_volume **vol, lvcl_status *st);
 
 /* Traces settings->particles particles (or the batches it takes from
  * settings->source) into the (cleared) volume. Particle i draws its random
  * numbers from i alone, so batches traced apart and added make the volume
  * traced at once. */
-lvcl_error lvcl_volume_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_device_scene *ds,
-                             const lvcl_volume_settings *settings, lvcl_light_volume *vol, lvcl_status *st);
+lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, const lvcl_device_scene *ds,
+                             const lvcl_volume_settings *settings, lvcl_status *st);
 
-/* After the trace: the per-cell lit volumes the lookups read. */
-lvcl_error lvcl_volume_finish(const lvcl_device *dev, const lvcl_program *prog, lvcl_light_volume *vol,
-                              lvcl_status *st);
+/* After the trace: the per-cell lit volumes the lookups read (lv_lit_volumes). */
+lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st);
 
 /* Adds the tallies and subcell records of every volume (the same grid on
  * several devices, each with its own particles) and stores the sum in each.
  * Integer tallies and counters make the sum exact and order-free. */
-lvcl_error lvcl_volume_merge(const lvcl_device *const *devs, lvcl_light_volume *const *vols, int count,
-                             lvcl_status *st);
+lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_status *st);
 
 /* Reads the tallies back (slot_count x bins x 3 int64, malloc'ed) and, if
  * masks is not NULL, the subcell records (LV_SUBCELL_STRIDE words per slot). */
-lvcl_error lvcl_volume_read(const lvcl_device *dev, const lvcl_light_volume *vol, int64_t **tallies,
-                            uint32_t **masks, lvcl_status *st);
+lvcl_error lvcl_volume_read(const lvcl_light_volume *vol, int64_t **tallies, uint32_t **masks, lvcl_status *st);
 
-/* Bytes of tally buffer `part` (a buffer holds info.slots_per_part slots). */
-size_t lvcl_volume_part_bytes(const lvcl_light_volume *vol, int part);
+/* Reads back the lit volume of every slot as lv_lit_volumes computed it
+ * (cell units, malloc'ed; valid after lvcl_volume_finish). */
+lvcl_error lvcl_volume_read_lit(const lvcl_light_volume *vol, float **lit, lvcl_status *st);
 
-/* The lit fraction of a cell from its subcell record, as the kernels take
- * it (kernels/light_volume.h, lv_cell_lit_volume). */
-double lvcl_volume_lit_fraction(const lv_grid_info *g, const uint32_t *record);
+const lv_grid_info *lvcl_volume_grid(const lvcl_light_volume *vol);
 
-/* Radiance of tally value t (one channel) in a cell of lit volume fraction v. */
-double lvcl_volume_radiance(const lv_grid_info *g, int64_t tally, double lit_fraction);
+/* The slot of cell (x, y, z), or LV_EMPTY_CELL. */
+uint32_t lvcl_volume_slot(const lvcl_light_volume *vol, uint32_t x, uint32_t y, uint32_t z);
 
+lvcl_volume_stats lvcl_volume_stats_of(const lvcl_light_volume *vol);
+
+/* The buffers the kernels take (the volume block of the contract) and the
+ * bins' central directions, for binding kernels that read the volume. */
+const lvcl_volume_buffers *lvcl_volume_kernel_buffers(const lvcl_light_volume *vol);
+cl_mem lvcl_volume_bin_directions(const lvcl_light_volume *vol);
+
+/* Releases everything; NULL is allowed. */
 void lvcl_volume_release(lvcl_light_volume *vol);
 
 #endif

@@ -5,9 +5,12 @@
 
 #include <stddef.h>
 
+#include "status.h"
+
 /* Runs fn on each of the n jobs (job i at (char *)jobs + i * job_size), on
- * a thread each when n > 1, and waits for all. Returns 0, or -1 if a thread
- * could not be started (the jobs that did start have finished). */
-int lvcl_run_parallel(void *(*fn)(void *), void *jobs, size_t job_size, int n);
+ * a thread each when n > 1, and waits for all. Fails with
+ * LVCL_ERR_OUT_OF_MEMORY if a thread could not be started (the jobs that
+ * did start have finished). */
+lvcl_error lvcl_run_parallel(void *(*fn)(void *), void *jobs, size_t job_size, int n, lvcl_status *st);
 
 #endif
