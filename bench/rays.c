@@ -80,10 +80,9 @@ static cl_mem device_buffer(bench *b, size_t bytes, const void *data, lvcl_statu
     cl_int err;
     cl_mem m = clCreateBuffer(lvcl_session_device(b->s, 0)->context, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0),
                               bytes ? bytes : 16, (void *)data, &err);
-    if (err != CL_SUCCESS) {
-        lvcl_fail(st, LVCL_ERR_DEVICE, "allocating %.1f MiB failed: %s", bytes / 1048576.0, lvcl_cl_error_name(err));
-        return NULL;
-    }
+    char what[64];
+    snprintf(what, sizeof what, "allocating %.1f MiB", bytes / 1048576.0);
+    if (lvcl_cl_check(err, what, st)) return NULL;
     return m;
 }
 

@@ -47,11 +47,7 @@ static int render_request(const char *what, lvcl_scene *scene, const char *devic
 static int render(const char *what, lvcl_scene *scene, const char *device, unsigned seed, int width, int height,
                   int spp, image *im)
 {
-    lvcl_render_request req = {0};
-    req.mode = LVCL_MODE_PT;
-    req.width = width;
-    req.height = height;
-    req.pass.spp = spp;
+    lvcl_render_request req = {.mode = LVCL_MODE_PT, .width = width, .height = height, .pass = {.spp = spp}};
     return render_request(what, scene, device, seed, &req, im);
 }
 

@@ -84,19 +84,38 @@ int lvcl_device_count(void)
     return enumerate(refs, MAX_DEVICES);
 }
 
-static void describe(device_ref r, int index, lvcl_device *dev)
+static lvcl_error describe(device_ref r, int index, lvcl_device *dev, lvcl_status *st)
 {
     memset(dev, 0, sizeof *dev);
     dev->platform = r.platform;
     dev->id = r.device;
     dev->index = index;
-    clGetDeviceInfo(r.device, CL_DEVICE_NAME, sizeof dev->name - 1, dev->name, NULL);
-    clGetDeviceInfo(r.device, CL_DRIVER_VERSION, sizeof dev->driver_version - 1, dev->driver_version, NULL);
-    clGetPlatformInfo(r.platform, CL_PLATFORM_NAME, sizeof dev->platform_name - 1, dev->platform_name, NULL);
-    clGetDeviceInfo(r.device, CL_DEVICE_TYPE, sizeof dev->type, &dev->type, NULL);
-    clGetDeviceInfo(r.device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof dev->global_mem, &dev->global_mem, NULL);
-    clGetDeviceInfo(r.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof dev->max_alloc, &dev->max_alloc, NULL);
-    clGetDeviceInfo(r.device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof dev->compute_units, &dev->compute_units, NULL);
+    lvcl_error e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_NAME, sizeof dev->name - 1, dev->name, NULL),
+                                 "asking a device's name", st);
+    if (!e)
+        e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DRIVER_VERSION, sizeof dev->driver_version - 1,
+                                          dev->driver_version, NULL),
+                          "asking a device's driver version", st);
+    if (!e)
+        e = lvcl_cl_check(clGetPlatformInfo(r.platform, CL_PLATFORM_NAME, sizeof dev->platform_name - 1,
+                                            dev->platform_name, NULL),
+                          "asking a platform's name", st);
+    if (!e)
+        e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_TYPE, sizeof dev->type, &dev->type, NULL),
+                          "asking a device's type", st);
+    if (!e)
+        e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof dev->global_mem,
+                                          &dev->global_mem, NULL),
+                          "asking a device's memory", st);
+    if (!e)
+        e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof dev->max_alloc,
+                                          &dev->max_alloc, NULL),
+                          "asking a device's largest allocation", st);
+    if (!e)
+        e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof dev->compute_units,
+                                          &dev->compute_units, NULL),
+                          "asking a device's compute units", st);
+    return e;
 }
 
 static const char *type_name(cl_device_type t)
@@ -114,7 +133,8 @@ lvcl_error lvcl_device_list(FILE *out, lvcl_status *st)
     if (n == 0) return lvcl_fail(st, LVCL_ERR_DEVICE, "no OpenCL device found (is an ICD such as pocl-opencl-icd installed?)");
     for (int i = 0; i < n; i++) {
         lvcl_device d;
-        describe(refs[i], i, &d);
+        lvcl_error e = describe(refs[i], i, &d, st);
+        if (e) return e;
         fprintf(out, "%d  %-4s  %s  [%s, %u compute units, %.1f GiB]\n", i, type_name(d.type), d.name,
                 d.platform_name, d.compute_units, (double)d.global_mem / (1u << 30));
     }
@@ -132,7 +152,9 @@ lvcl_error lvcl_device_open(const char *spec, lvcl_device *dev, lvcl_status *st)
         cl_device_type want = (spec && !strcmp(spec, "cpu")) ? CL_DEVICE_TYPE_CPU : CL_DEVICE_TYPE_GPU;
         for (int i = 0; i < n && chosen < 0; i++) {
             cl_device_type t = 0;
-            clGetDeviceInfo(refs[i].device, CL_DEVICE_TYPE, sizeof t, &t, NULL);
+            lvcl_error e = lvcl_cl_check(clGetDeviceInfo(refs[i].device, CL_DEVICE_TYPE, sizeof t, &t, NULL),
+                                         "asking a device's type", st);
+            if (e) return e;
             if (t & want) chosen = i;
         }
         if (chosen < 0 && spec)
@@ -148,7 +170,8 @@ lvcl_error lvcl_device_open(const char *spec, lvcl_device *dev, lvcl_status *st)
         chosen = (int)v;
     }
 
-    describe(refs[chosen], chosen, dev);
+    lvcl_error e = describe(refs[chosen], chosen, dev, st);
+    if (e) return e;
     cl_int err;
     cl_context_properties props[] = {CL_CONTEXT_PLATFORM, (cl_context_properties)dev->platform, 0};
     dev->context = clCreateContext(props, 1, &dev->id, NULL, NULL, &err);
@@ -173,6 +196,14 @@ void lvcl_device_close(lvcl_device *dev)
     if (dev->queue) clReleaseCommandQueue(dev->queue);
     if (dev->context) clReleaseContext(dev->context);
     memset(dev, 0, sizeof *dev);
+}
+
+lvcl_error lvcl_cl_check(cl_int err, const char *what, lvcl_status *st)
+{
+    if (err == CL_SUCCESS) return LVCL_OK;
+    lvcl_error code = err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ? LVCL_ERR_TOO_LARGE
+                                                                                           : LVCL_ERR_DEVICE;
+    return lvcl_fail(st, code, "%s failed: %s", what, lvcl_cl_error_name(err));
 }
 
 const char *lvcl_cl_error_name(cl_int err)

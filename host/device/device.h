@@ -53,4 +53,9 @@ void lvcl_device_close(lvcl_device *dev);
 /* A short name for an OpenCL error code, for messages. */
 const char *lvcl_cl_error_name(cl_int err);
 
+/* The one check of OpenCL results: LVCL_OK if err is CL_SUCCESS; else
+ * records "<what> failed: <error>" in st (LVCL_ERR_TOO_LARGE for an
+ * allocation failure, else LVCL_ERR_DEVICE). */
+lvcl_error lvcl_cl_check(cl_int err, const char *what, lvcl_status *st);
+
 #endif

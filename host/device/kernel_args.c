@@ -3,14 +3,6 @@
 #include <stdio.h>
 #include <string.h>
 
-lvcl_error lvcl_cl_check(cl_int err, const char *what, lvcl_status *st)
-{
-    if (err == CL_SUCCESS) return LVCL_OK;
-    lvcl_error code = err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ? LVCL_ERR_TOO_LARGE
-                                                                                           : LVCL_ERR_DEVICE;
-    return lvcl_fail(st, code, "%s failed: %s", what, lvcl_cl_error_name(err));
-}
-
 lvcl_error lvcl_kernel_arg(cl_kernel k, cl_uint index, size_t size, const void *value, const char *what,
                            lvcl_status *st)
 {

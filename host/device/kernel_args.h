@@ -7,10 +7,6 @@
 #include "../../kernels/shared_types.h"
 #include "device.h"
 
-/* LVCL_OK if err is CL_SUCCESS; else records "<what> failed: <error>" in st
- * (LVCL_ERR_TOO_LARGE for an allocation failure, else LVCL_ERR_DEVICE). */
-lvcl_error lvcl_cl_check(cl_int err, const char *what, lvcl_status *st);
-
 /* clSetKernelArg through lvcl_cl_check ("setting <what>"). */
 lvcl_error lvcl_kernel_arg(cl_kernel k, cl_uint index, size_t size, const void *value, const char *what,
                            lvcl_status *st);

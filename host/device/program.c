@@ -79,7 +79,8 @@ static void save_binary(cl_program program, const char *path)
 static lvcl_error build_log_error(const lvcl_device *dev, cl_program program, cl_int err, lvcl_status *st)
 {
     char log[4096] = "";
-    clGetProgramBuildInfo(program, dev->id, CL_PROGRAM_BUILD_LOG, sizeof log - 1, log, NULL);
+    if (clGetProgramBuildInfo(program, dev->id, CL_PROGRAM_BUILD_LOG, sizeof log - 1, log, NULL) != CL_SUCCESS)
+        log[0] = 0; /* no log to show; the error below still names the failure */
     /* The log goes to stderr in full; the error message stays one line. */
     if (log[0]) fprintf(stderr, "%s\n", log);
     return lvcl_fail(st, LVCL_ERR_DEVICE, "kernel build failed on %s: %s", dev->name, lvcl_cl_error_name(err));

@@ -4,13 +4,11 @@
 #ifndef LVCL_PROGRAM_H
 #define LVCL_PROGRAM_H
 
+#include "../scene/materials.h"
 #include "kernel_args.h"
 
-/* Feature switches: code a scene does not use is left out of the build. */
-#define LVCL_FEATURE_GLASS 1u     /* solid and thin dielectrics */
-#define LVCL_FEATURE_TEXTURES 2u  /* base-colour textures */
-#define LVCL_FEATURE_PUNCTUAL 4u  /* point and spot lights */
-/* Not a scene feature: 64-bit tallies from 32-bit atomics, as devices
+/* The scene's feature switches (LVCL_FEATURE_*) are in scene/materials.h.
+ * Not a scene feature: 64-bit tallies from 32-bit atomics, as devices
  * without cl_khr_int64_base_atomics build them anyway (tests use it). */
 #define LVCL_BUILD_EMULATED_INT64_ATOMICS 8u
 

@@ -1,4 +1,4 @@
-/* Image error metrics of DESIGN.md section 4. `ref` is the reference. */
+/* Image error metrics, as the tests and lvcl-compare report them. `ref` is the reference. */
 #ifndef LVCL_METRICS_H
 #define LVCL_METRICS_H
 

@@ -13,9 +13,9 @@ extern const size_t lvcl_scene_kitchen_size;
 const lvcl_embedded_scene *lvcl_embedded_scene_find(const char *name)
 {
     static lvcl_embedded_scene scenes[3];
-    scenes[0] = (lvcl_embedded_scene){"cornell", lvcl_scene_cornell, lvcl_scene_cornell_size};
-    scenes[1] = (lvcl_embedded_scene){"furnace", lvcl_scene_furnace, lvcl_scene_furnace_size};
-    scenes[2] = (lvcl_embedded_scene){"kitchen", lvcl_scene_kitchen, lvcl_scene_kitchen_size};
+    scenes[0] = (lvcl_embedded_scene){.name = "cornell", .data = lvcl_scene_cornell, .size = lvcl_scene_cornell_size};
+    scenes[1] = (lvcl_embedded_scene){.name = "furnace", .data = lvcl_scene_furnace, .size = lvcl_scene_furnace_size};
+    scenes[2] = (lvcl_embedded_scene){.name = "kitchen", .data = lvcl_scene_kitchen, .size = lvcl_scene_kitchen_size};
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++)
         if (!strcmp(scenes[i].name, name)) return &scenes[i];
     return NULL;

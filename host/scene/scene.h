@@ -15,7 +15,7 @@
 extern "C" {
 #endif
 
-/* A glTF material as the file states it (DESIGN.md section 3), before it is
+/* A glTF material as the file states it (docs/design.md, Scene conventions), before it is
  * mapped to a BSDF. Absent extensions keep their glTF defaults. */
 typedef struct {
     float base_color[4];
