@@ -19,8 +19,11 @@ LIBS := -lOpenCL -lOpenImageIO -lOpenImageIO_Util -ltinygltf -lstdc++ -lm -lpthr
 DEBIAN_PACKAGES := build-essential pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers \
 	libopenimageio-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libglm-dev
 
-HOST_C := $(filter-out host/main.c,$(wildcard host/*.c))
-HOST_CXX := $(wildcard host/*.cpp)
+# host/<layer>/ and host/<layer>/<part>/; host/tools/ and host/embed/ build programs of their own.
+HOST_DIRS := $(filter-out host/tools/ host/embed/,$(wildcard host/*/))
+HOST_C := $(filter-out host/app/main.c,$(wildcard $(addsuffix *.c,$(HOST_DIRS)) $(addsuffix */*.c,$(HOST_DIRS))))
+HOST_CXX := $(wildcard $(addsuffix *.cpp,$(HOST_DIRS)) $(addsuffix */*.cpp,$(HOST_DIRS)))
+HOST_H := $(wildcard $(addsuffix *.h,$(HOST_DIRS)) $(addsuffix */*.h,$(HOST_DIRS)))
 KERNELS := $(wildcard kernels/*.h kernels/*/*.h kernels/*.cl kernels/*/*.cl)
 GEN_C := $(BUILD)/gen/kernel_source.c $(BUILD)/gen/scene_cornell.c $(BUILD)/gen/scene_furnace.c \
          $(BUILD)/gen/scene_kitchen.c
@@ -74,11 +77,11 @@ $(BUILD)/gen/scene_%.c: scenes/%.gltf $(BUILD)/embed
 	@mkdir -p $(@D)
 	$(BUILD)/embed bytes lvcl_scene_$* $< > $@
 
-$(BUILD)/obj/%.o: host/%.c host/*.h kernels/shared_types.h | $(BUILD)/.deps-ok
+$(BUILD)/obj/%.o: host/%.c $(HOST_H) kernels/shared_types.h | $(BUILD)/.deps-ok
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -c -o $@ $<
 
-$(BUILD)/obj/%.o: host/%.cpp host/*.h kernels/shared_types.h | $(BUILD)/.deps-ok
+$(BUILD)/obj/%.o: host/%.cpp $(HOST_H) kernels/shared_types.h | $(BUILD)/.deps-ok
 	@mkdir -p $(@D)
 	$(CXX) $(ALL_CXXFLAGS) -c -o $@ $<
 
@@ -87,15 +90,15 @@ $(BUILD)/obj/gen/%.o: $(BUILD)/gen/%.c
 	$(CC) $(ALL_CFLAGS) -c -o $@ $<
 
 $(BUILD)/liblvcl.a: $(LIB_OBJS)
-	ar rcs $@ $^
+	rm -f $@ && ar rcs $@ $^
 
-$(BUILD)/lvcl: host/main.c $(BUILD)/liblvcl.a
+$(BUILD)/lvcl: host/app/main.c $(BUILD)/liblvcl.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LIBS)
 
 $(BUILD)/lvcl-%: host/tools/%.c $(BUILD)/liblvcl.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LIBS)
 
-$(BUILD)/gen/test_kernel_source.c: tests/kernels/unit_tests.cl $(KERNELS) $(BUILD)/embed
+$(BUILD)/gen/test_kernel_source.c: tests/kernels/unit_tests.cl tests/kernels/test_args.h $(KERNELS) $(BUILD)/embed
 	@mkdir -p $(@D)
 	$(BUILD)/embed source lvcl_test_kernel_source $< > $@
 
@@ -197,7 +200,7 @@ $(BUILD)/gen/bench_kernel_source.c: bench/kernels/rays.cl $(KERNELS) $(BUILD)/em
 	@mkdir -p $(@D)
 	$(BUILD)/embed source lvcl_bench_kernel_source $< > $@
 
-$(BUILD)/lvcl-bench: $(BENCH_SOURCES) bench/rays.h host/*.h $(BUILD)/gen/bench_kernel_source.c $(BUILD)/liblvcl.a
+$(BUILD)/lvcl-bench: $(BENCH_SOURCES) bench/rays.h $(HOST_H) $(BUILD)/gen/bench_kernel_source.c $(BUILD)/liblvcl.a
 	$(CC) $(ALL_CFLAGS) $(BENCH_FLAGS) -o $@ $(BENCH_SOURCES) $(BUILD)/gen/bench_kernel_source.c $(BUILD)/liblvcl.a \
 	  $(LIBS) $(BENCH_LIBS)
 

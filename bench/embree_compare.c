@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../host/timer.h"
+#include "../host/util/timer.h"
 
 struct bench_embree {
     RTCDevice device;

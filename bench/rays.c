@@ -7,8 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../host/session.h"
-#include "../host/timer.h"
+#include "../host/render/session.h"
+#include "../host/util/timer.h"
 #include "rays.h"
 
 
@@ -22,7 +22,7 @@ typedef struct {
 
 typedef struct {
     options opt;
-    lvcl_session s;
+    lvcl_session *s;
     lvcl_program program; /* bench/kernels/rays.cl, built beside the session's */
     cl_kernel primary, closest, any, secondary;
     bench_embree *embree;
@@ -75,32 +75,26 @@ static void json_string(char *out, size_t size, const char *s)
     out[n] = '\0';
 }
 
-static lvcl_error cl_check(cl_int err, const char *what, lvcl_status *st)
-{
-    return err == CL_SUCCESS ? LVCL_OK : lvcl_fail(st, LVCL_ERR_DEVICE, "%s failed: %s", what, lvcl_cl_error_name(err));
-}
-
 static cl_mem device_buffer(bench *b, size_t bytes, const void *data, lvcl_status *st)
 {
     cl_int err;
-    cl_mem m = clCreateBuffer(b->s.devices[0].device.context, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0),
+    cl_mem m = clCreateBuffer(lvcl_session_device(b->s, 0)->context, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0),
                               bytes ? bytes : 16, (void *)data, &err);
-    if (err != CL_SUCCESS) {
-        lvcl_fail(st, LVCL_ERR_DEVICE, "allocating %.1f MiB failed: %s", bytes / 1048576.0, lvcl_cl_error_name(err));
-        return NULL;
-    }
+    char what[64];
+    snprintf(what, sizeof what, "allocating %.1f MiB", bytes / 1048576.0);
+    if (lvcl_cl_check(err, what, st)) return NULL;
     return m;
 }
 
 static lvcl_error launch(bench *b, cl_kernel k, size_t count, const char *what, lvcl_status *st)
 {
-    lvcl_error e = cl_check(lvcl_kernel_enqueue(&b->s.devices[0].device, k, count), what, st);
-    return e ? e : cl_check(clFinish(b->s.devices[0].device.queue), what, st);
+    lvcl_error e = lvcl_kernel_enqueue(lvcl_session_device(b->s, 0), k, count, what, st);
+    return e ? e : lvcl_cl_check(clFinish(lvcl_session_device(b->s, 0)->queue), what, st);
 }
 
 static lvcl_error read_back(bench *b, cl_mem m, size_t bytes, void *out, lvcl_status *st)
 {
-    return cl_check(clEnqueueReadBuffer(b->s.devices[0].device.queue, m, CL_TRUE, 0, bytes, out, 0, NULL, NULL), "reading back",
+    return lvcl_cl_check(clEnqueueReadBuffer(lvcl_session_device(b->s, 0)->queue, m, CL_TRUE, 0, bytes, out, 0, NULL, NULL), "reading back",
                     st);
 }
 
@@ -123,13 +117,12 @@ static lvcl_error time_lvcl(bench *b, cl_mem rays, cl_mem hits, size_t count, in
                             lvcl_status *st)
 {
     cl_kernel k = any_hit ? b->any : b->closest;
-    int arg = lvcl_device_scene_set_args(&b->s.devices[0].device_scene, k, 0);
-    cl_uint n = (cl_uint)count;
-    if (arg < 0 || clSetKernelArg(k, (cl_uint)arg, sizeof rays, &rays) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)arg + 1, sizeof n, &n) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)arg + 2, sizeof hits, &hits) != CL_SUCCESS)
-        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the trace kernel's arguments");
-    lvcl_error e = launch(b, k, count, "tracing", st);
+    cl_uint n = (cl_uint)count, a = LV_SCENE_ARG_COUNT; /* the arguments after the scene block, in order */
+    lvcl_error e = lvcl_device_scene_bind(lvcl_session_device_scene(b->s, 0), k, 0, st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof rays, &rays, "the rays", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof n, &n, "the ray count", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof hits, &hits, "the hits", st);
+    if (!e) e = launch(b, k, count, "tracing", st);
     for (int r = 0; r < b->opt.repeat && !e; r++) {
         double start = lvcl_seconds();
         e = launch(b, k, count, "tracing", st);
@@ -226,7 +219,7 @@ static lvcl_error run_workload(bench *b, const char *name, cl_mem rays, cl_mem h
     printf("{\"workload\": \"%s\", \"device\": %s, \"triangles\": %zu, \"rays\": %zu, \"query\": \"%s\", "
            "\"mrays\": %.3f, \"mrays_best\": %.3f, \"seconds\": %.6f, \"hits\": %zu, \"checksum\": %u, "
            "\"mean_distance\": %.7g",
-           name, b->device_json, b->s.scene.triangle_count, count, any_hit ? "any" : "closest", count / sec * 1e-6,
+           name, b->device_json, lvcl_session_scene(b->s)->triangle_count, count, any_hit ? "any" : "closest", count / sec * 1e-6,
            count / t[0] * 1e-6, sec, s.hits, s.checksum, s.mean_distance);
     print_embree(b, hr, hh, count, any_hit, sec);
     printf("}\n");
@@ -246,8 +239,8 @@ extern const size_t lvcl_bench_kernel_source_size;
 static lvcl_error create_kernels(bench *b, lvcl_status *st)
 {
     char defines[160];
-    lvcl_program_feature_defines(b->s.features, defines, sizeof defines);
-    lvcl_error e = lvcl_program_build_source(&b->s.devices[0].device, lvcl_bench_kernel_source,
+    lvcl_program_feature_defines(lvcl_session_features(b->s), defines, sizeof defines);
+    lvcl_error e = lvcl_program_build_source(lvcl_session_device(b->s, 0), lvcl_bench_kernel_source,
                                              lvcl_bench_kernel_source_size, defines, 1, &b->program, st);
     if (e || (e = lvcl_kernel_create(&b->program, "lv_rays_primary", &b->primary, st)) ||
         (e = lvcl_kernel_create(&b->program, "lv_rays_trace_closest", &b->closest, st)) ||
@@ -259,13 +252,13 @@ static lvcl_error create_kernels(bench *b, lvcl_status *st)
 
 static lvcl_error generate_primary(bench *b, const lv_camera *cam, cl_mem rays, lvcl_status *st)
 {
-    if (clSetKernelArg(b->primary, 0, sizeof *cam, cam) != CL_SUCCESS ||
-        clSetKernelArg(b->primary, 1, sizeof rays, &rays) != CL_SUCCESS)
-        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the primary-ray kernel's arguments");
-    return launch(b, b->primary, (size_t)cam->width * cam->height, "generating primary rays", st);
+    /* lv_rays_primary(lv_camera camera, __global float4 *rays) */
+    lvcl_error e = lvcl_kernel_arg(b->primary, 0, sizeof *cam, cam, "the camera", st);
+    if (!e) e = lvcl_kernel_arg(b->primary, 1, sizeof rays, &rays, "the rays", st);
+    return e ? e : launch(b, b->primary, (size_t)cam->width * cam->height, "generating primary rays", st);
 }
 
-/* Emissive triangles lead the light table (host/device_scene.c). */
+/* Emissive triangles lead the light table (host/device/packed_scene.c). */
 static cl_uint emissive_count(const lvcl_packed_scene *p)
 {
     cl_uint n = 0;
@@ -276,23 +269,23 @@ static cl_uint emissive_count(const lvcl_packed_scene *p)
 static lvcl_error generate_secondary(bench *b, cl_mem primary, cl_mem primary_hits, cl_mem hit_pixels, size_t count,
                                      cl_uint emitters, cl_mem diffuse, cl_mem shadow, lvcl_status *st)
 {
-    const float *lo = b->s.packed.bounds_min, *hi = b->s.packed.bounds_max;
+    const float *lo = lvcl_session_packed_scene(b->s)->bounds_min, *hi = lvcl_session_packed_scene(b->s)->bounds_max;
     float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
     float offset = 1e-5f * diag;
     cl_uint n = (cl_uint)count;
     cl_kernel k = b->secondary;
-    int a = lvcl_device_scene_set_args(&b->s.devices[0].device_scene, k, 0);
-    if (a < 0 || clSetKernelArg(k, (cl_uint)a, sizeof primary, &primary) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)a + 1, sizeof primary_hits, &primary_hits) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)a + 2, sizeof hit_pixels, &hit_pixels) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)a + 3, sizeof n, &n) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)a + 4, sizeof offset, &offset) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)a + 5, sizeof emitters, &emitters) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)a + 6, sizeof diffuse, &diffuse) != CL_SUCCESS ||
-        clSetKernelArg(k, (cl_uint)a + 7, sizeof shadow, &shadow) != CL_SUCCESS)
-        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot set the secondary-ray kernel's arguments");
-    return launch(b, k, count, "generating secondary rays", st);
+    cl_uint a = LV_SCENE_ARG_COUNT; /* the arguments after the scene block, in order */
+    lvcl_error e = lvcl_device_scene_bind(lvcl_session_device_scene(b->s, 0), k, 0, st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof primary, &primary, "the primary rays", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof primary_hits, &primary_hits, "the primary hits", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof hit_pixels, &hit_pixels, "the hit pixels", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof n, &n, "the ray count", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof offset, &offset, "the offset", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof emitters, &emitters, "the emitter count", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof diffuse, &diffuse, "the diffuse rays", st);
+    if (!e) e = lvcl_kernel_arg(k, a++, sizeof shadow, &shadow, "the shadow rays", st);
+    return e ? e : launch(b, k, count, "generating secondary rays", st);
 }
 
 /* The pixels whose primary ray hit, in pixel order: the secondary rays'
@@ -313,8 +306,8 @@ static void print_setup(bench *b, int width, int height)
     printf("{\"bench\": \"rays\", \"scene\": %s, \"device\": %s, \"triangles\": %zu, \"bvh_triangles\": %zu, "
            "\"bvh_nodes\": %zu, \"bvh_build_seconds\": %.4f, \"kernel_build_seconds\": %.3f, "
            "\"kernel_from_cache\": %s, \"width\": %d, \"height\": %d, \"repeat\": %d",
-           scene, b->device_json, b->s.scene.triangle_count, b->s.accel.triangle_count, b->s.accel.node_count,
-           b->s.bvh_build_seconds, b->program.build_seconds, b->program.from_cache ? "true" : "false", width,
+           scene, b->device_json, lvcl_session_scene(b->s)->triangle_count, lvcl_session_accel(b->s)->triangle_count, lvcl_session_accel(b->s)->node_count,
+           lvcl_session_bvh_build_seconds(b->s), b->program.build_seconds, b->program.from_cache ? "true" : "false", width,
            height, b->opt.repeat);
     if (b->embree)
         printf(", \"embree\": \"%s\", \"embree_build_seconds\": %.4f", bench_embree_method(),
@@ -329,8 +322,8 @@ static void print_setup(bench *b, int width, int height)
 static lvcl_error run(bench *b, lvcl_status *st)
 {
     int w, h;
-    lvcl_image_size(&b->s.scene.camera, b->opt.width, 0, &w, &h);
-    lv_camera cam = lvcl_camera_make(&b->s.scene.camera, b->s.packed.bounds_min, b->s.packed.bounds_max, w, h);
+    lvcl_image_size(&lvcl_session_scene(b->s)->camera, b->opt.width, 0, &w, &h);
+    lv_camera cam = lvcl_camera_make(&lvcl_session_scene(b->s)->camera, lvcl_session_packed_scene(b->s)->bounds_min, lvcl_session_packed_scene(b->s)->bounds_max, w, h);
     size_t pixels = (size_t)w * h, n_sec = 0;
     print_setup(b, w, h);
 
@@ -338,7 +331,7 @@ static lvcl_error run(bench *b, lvcl_status *st)
     bench_ray *pr = NULL, *dr = NULL, *sr = NULL;
     bench_hit *ph = NULL, *dh = NULL, *sh = NULL;
     uint32_t *pix = NULL;
-    cl_uint emitters = emissive_count(&b->s.packed);
+    cl_uint emitters = emissive_count(lvcl_session_packed_scene(b->s));
     lvcl_error e = LVCL_OK;
     if (!(mem[0] = device_buffer(b, pixels * sizeof(bench_ray), NULL, st)) ||
         !(mem[1] = device_buffer(b, pixels * sizeof(bench_hit), NULL, st)))
@@ -386,16 +379,16 @@ int main(int argc, char **argv)
     lvcl_scene scene = {0};
     /* Fast math as the renderer uses by default: the traversal measured is
      * the one lvcl renders with. */
-    lvcl_session_config cfg = {b.opt.device, b.opt.seed, 1, 1};
+    lvcl_session_config cfg = {.device = b.opt.device, .seed = b.opt.seed, .max_depth = 1, .fast_math = 1};
     lvcl_error e = lvcl_scene_load(b.opt.scene, &scene, &st);
-    if (!e) e = lvcl_session_open(&b.s, &scene, &cfg, &st);
+    if (!e) e = lvcl_session_open(&scene, &cfg, &b.s, &st);
     if (!e) e = create_kernels(&b, &st);
     if (!e) {
-        json_string(b.device_json, sizeof b.device_json, b.s.devices[0].device.name);
+        json_string(b.device_json, sizeof b.device_json, lvcl_session_device(b.s, 0)->name);
         /* Embree is handed the triangles as stored: world space only in a flat scene. */
-        if (b.s.scene.mesh_count == 0)
-            b.embree = bench_embree_create(b.s.scene.positions, b.s.scene.vertex_count, b.s.scene.indices,
-                                           b.s.scene.triangle_count, &b.embree_build_seconds);
+        if (lvcl_session_scene(b.s)->mesh_count == 0)
+            b.embree = bench_embree_create(lvcl_session_scene(b.s)->positions, lvcl_session_scene(b.s)->vertex_count, lvcl_session_scene(b.s)->indices,
+                                           lvcl_session_scene(b.s)->triangle_count, &b.embree_build_seconds);
         e = run(&b, &st);
     }
     if (e) fprintf(stderr, "lvcl-bench: error: %s\n", st.message);
@@ -403,6 +396,6 @@ int main(int argc, char **argv)
     release_kernels(&b);
     lvcl_program_release(&b.program);
     lvcl_scene_free(&scene);
-    lvcl_session_close(&b.s);
+    lvcl_session_close(b.s);
     return e ? 1 : 0;
 }

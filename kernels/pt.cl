@@ -4,8 +4,7 @@
  * owner). */
 #include "lvcl.h"
 
-__kernel void lv_pt_pass(LV_SCENE_PARAMS, lv_camera camera, uint first_pixel, uint pixel_count, uint sample_index,
-                         __global float4 *sum)
+__kernel void lv_pt_pass(LV_KERNEL_PARAMS(LV_PT_PASS_ARGS))
 {
     LV_SCENE_OPEN(sc);
     if (get_global_id(0) >= pixel_count) return;

@@ -1,7 +1,14 @@
-/* The scene as the kernels see it: a private struct of pointers to the
- * uploaded buffers. Every kernel that needs the scene takes LV_SCENE_PARAMS
- * as its first arguments (in this order; host/device_scene.c sets them) and
- * opens them with LV_SCENE_OPEN.
+/* The kernels' side of the host/kernel contract (kernels/shared_types.h):
+ * the tables there expanded into kernel parameter lists and into the
+ * structs the kernels read.
+ *
+ * A kernel declares its parameters with LV_KERNEL_PARAMS(its argument list),
+ * e.g. __kernel void lv_pt_pass(LV_KERNEL_PARAMS(LV_PT_PASS_ARGS)); the
+ * host binds them by the same list (host/device/kernel_args.h). The scene
+ * block's parameters are opened into an lv_scene with LV_SCENE_OPEN, the
+ * volume block's into an lv_grid (kernels/light_volume.h) with
+ * LV_VOLUME_OPEN. Kernels outside the production program (tests, benches)
+ * may take LV_SCENE_PARAMS first and bind it with the host's scene binder.
  *
  * The tables that grow with the geometry (nodes, triangles, vertex
  * attributes) may not fit one buffer on a GPU, whose largest allocation is
@@ -13,26 +20,19 @@
 
 #include "shared_types.h"
 
+/* The scene as the kernels see it: a private struct of pointers to the
+ * uploaded buffers (a field per LV_SCENE_BUFFERS entry), then the info. */
+#define LV_SCENE_FIELD_SPLIT(type, name, stride, per_part, what) __global const type *name[LV_SCENE_PARTS];
+#define LV_SCENE_FIELD_ONE(type, name, what) __global const type *name;
 typedef struct {
-    __global const lv_bvh_node *nodes[LV_SCENE_PARTS];   /* top-level tree, then every mesh's */
-    __global const lv_instance *instances;               /* top-level leaf order */
-    __global const float4 *tri_vertices[LV_SCENE_PARTS]; /* 3 per triangle, leaf order, object space */
-    __global const lv_triangle *triangles[LV_SCENE_PARTS]; /* leaf order */
-    __global const float *normals[LV_SCENE_PARTS];       /* 3 per vertex */
-    __global const float *uvs[LV_SCENE_PARTS];           /* 2 per vertex */
-    __global const lv_material *materials;
-    __global const lv_texture *textures;
-    __global const uchar4 *texels;
-    __global const lv_light *lights;
-    __global const lv_punctual_light *punctuals;
+    LV_SCENE_BUFFERS(LV_SCENE_FIELD_SPLIT, LV_SCENE_FIELD_ONE)
     lv_scene_info info;
 } lv_scene;
 
 /* LV_SPLIT_AT and the parameter lists below spell out the four parts. */
-#if LV_SCENE_PARTS != 4
-#error "kernels/scene.h assumes LV_SCENE_PARTS is 4"
+#if LV_SCENE_PARTS != 4 || LV_TALLY_PARTS != 4
+#error "kernels/scene.h assumes LV_SCENE_PARTS and LV_TALLY_PARTS are 4"
 #endif
-
 /* The address of element i (of `stride` values) of a table split over
  * parts of n elements. Unsigned wrap-around keeps i - k n exact. */
 #define LV_SPLIT_AT(parts, n, i, stride)                                                         \
@@ -43,60 +43,74 @@ typedef struct {
 
 inline __global const lv_bvh_node *lv_node(const lv_scene *sc, uint i)
 {
-    return LV_SPLIT_AT(sc->nodes, sc->info.nodes_per_part, i, 1);
+    return LV_SPLIT_AT(sc->nodes, sc->info.nodes_per_part, i, lv_scene_stride_nodes);
 }
 
 /* Triangle tri's three object-space corners. */
 inline __global const float4 *lv_tri_corners(const lv_scene *sc, uint tri)
 {
-    return LV_SPLIT_AT(sc->tri_vertices, sc->info.triangles_per_part, tri, 3);
+    return LV_SPLIT_AT(sc->tri_vertices, sc->info.triangles_per_part, tri, lv_scene_stride_tri_vertices);
 }
 
 inline lv_triangle lv_triangle_record(const lv_scene *sc, uint tri)
 {
-    return *LV_SPLIT_AT(sc->triangles, sc->info.triangles_per_part, tri, 1);
+    return *LV_SPLIT_AT(sc->triangles, sc->info.triangles_per_part, tri, lv_scene_stride_triangles);
 }
 
 inline float3 lv_vertex_normal(const lv_scene *sc, uint v)
 {
-    return vload3(0, LV_SPLIT_AT(sc->normals, sc->info.vertices_per_part, v, 3));
+    return vload3(0, LV_SPLIT_AT(sc->normals, sc->info.vertices_per_part, v, lv_scene_stride_normals));
 }
 
 inline float2 lv_vertex_uv(const lv_scene *sc, uint v)
 {
-    return vload2(0, LV_SPLIT_AT(sc->uvs, sc->info.vertices_per_part, v, 2));
+    return vload2(0, LV_SPLIT_AT(sc->uvs, sc->info.vertices_per_part, v, lv_scene_stride_uvs));
 }
 
-#define LV_SCENE_PARTS_PARAMS(type, name) \
-    __global const type *name##0, __global const type *name##1, __global const type *name##2, __global const type *name##3
+/* Four __global pointers name0..name3, each followed by a comma. */
+#define LV_PARTS_PARAMS(qual, type, name) \
+    __global qual type *name##0, __global qual type *name##1, __global qual type *name##2, __global qual type *name##3,
+#define LV_PARTS_OPEN(field, name) \
+    field[0] = name##0;            \
+    field[1] = name##1;            \
+    field[2] = name##2;            \
+    field[3] = name##3;
 
-#define LV_SCENE_PARAMS                                                                                   \
-    LV_SCENE_PARTS_PARAMS(lv_bvh_node, scene_nodes), __global const lv_instance *scene_instances,         \
-        LV_SCENE_PARTS_PARAMS(float4, scene_tri_vertices), LV_SCENE_PARTS_PARAMS(lv_triangle, scene_triangles), \
-        LV_SCENE_PARTS_PARAMS(float, scene_normals), LV_SCENE_PARTS_PARAMS(float, scene_uvs),             \
-        __global const lv_material *scene_materials, __global const lv_texture *scene_textures,           \
-        __global const uchar4 *scene_texels, __global const lv_light *scene_lights,                       \
-        __global const lv_punctual_light *scene_punctuals, lv_scene_info scene_info
+/* The scene block: scene_<table> per buffer, then scene_info. */
+#define LV_SCENE_PARAM_SPLIT(type, name, stride, per_part, what) LV_PARTS_PARAMS(const, type, scene_##name)
+#define LV_SCENE_PARAM_ONE(type, name, what) __global const type *scene_##name,
+#define LV_SCENE_PARAMS LV_SCENE_BUFFERS(LV_SCENE_PARAM_SPLIT, LV_SCENE_PARAM_ONE) lv_scene_info scene_info
 
-#define LV_SCENE_OPEN_PARTS(field, name) \
-    field[0] = name##0;                  \
-    field[1] = name##1;                  \
-    field[2] = name##2;                  \
-    field[3] = name##3
+/* Declares lv_scene s and fills it from the scene block. */
+#define LV_SCENE_OPEN_SPLIT(type, name, stride, per_part, what) LV_PARTS_OPEN(lv_opened_scene_->name, scene_##name)
+#define LV_SCENE_OPEN_ONE(type, name, what) lv_opened_scene_->name = scene_##name;
+#define LV_SCENE_OPEN(s)                                                 \
+    lv_scene s;                                                          \
+    lv_scene *lv_opened_scene_ = &(s);                                   \
+    LV_SCENE_BUFFERS(LV_SCENE_OPEN_SPLIT, LV_SCENE_OPEN_ONE)             \
+    lv_opened_scene_->info = scene_info
 
-#define LV_SCENE_OPEN(s)                                        \
-    lv_scene s;                                                 \
-    LV_SCENE_OPEN_PARTS(s.nodes, scene_nodes);                  \
-    s.instances = scene_instances;                              \
-    LV_SCENE_OPEN_PARTS(s.tri_vertices, scene_tri_vertices);    \
-    LV_SCENE_OPEN_PARTS(s.triangles, scene_triangles);          \
-    LV_SCENE_OPEN_PARTS(s.normals, scene_normals);              \
-    LV_SCENE_OPEN_PARTS(s.uvs, scene_uvs);                      \
-    s.materials = scene_materials;                              \
-    s.textures = scene_textures;                                \
-    s.texels = scene_texels;                                    \
-    s.lights = scene_lights;                                    \
-    s.punctuals = scene_punctuals;                              \
-    s.info = scene_info
+/* The volume block: a parameter per buffer (its table name), then grid_info. */
+#define LV_VOLUME_PARAM_SPLIT(type, name) LV_PARTS_PARAMS(, type, name)
+#define LV_VOLUME_PARAM_ONE(type, name) __global type *name,
+#define LV_VOLUME_PARAMS LV_VOLUME_BUFFERS(LV_VOLUME_PARAM_SPLIT, LV_VOLUME_PARAM_ONE) lv_grid_info grid_info
+
+/* Fills lv_grid `grid` (declared by the caller) from the volume block. */
+#define LV_VOLUME_OPEN_SPLIT(type, name) LV_PARTS_OPEN(lv_grid_opened_->name, name)
+#define LV_VOLUME_OPEN_ONE(type, name) lv_grid_opened_->name = name;
+#define LV_VOLUME_OPEN(grid)                                             \
+    do {                                                                 \
+        lv_grid *lv_grid_opened_ = &(grid);                              \
+        LV_VOLUME_BUFFERS(LV_VOLUME_OPEN_SPLIT, LV_VOLUME_OPEN_ONE)      \
+        lv_grid_opened_->g = grid_info;                                  \
+    } while (0)
+
+/* A kernel's parameter list from its argument list. */
+#define LV_KERNEL_PARAM(kernel, kind, type, name) LV_KERNEL_PARAM_##kind(type, name)
+#define LV_KERNEL_PARAM_SCENE(type, name) LV_SCENE_PARAMS
+#define LV_KERNEL_PARAM_VOLUME(type, name) LV_VOLUME_PARAMS
+#define LV_KERNEL_PARAM_VALUE(type, name) type name
+#define LV_KERNEL_PARAM_BUFFER(type, name) __global type *name
+#define LV_KERNEL_PARAMS(LIST) LIST(LV_KERNEL_PARAM, LV_SEP_COMMA)
 
 #endif

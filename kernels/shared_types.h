@@ -2,7 +2,10 @@
  *
  * Only 32-bit scalars and fixed arrays of them: no vector types, whose size
  * and alignment differ between C and OpenCL C. Every struct is a multiple of
- * 16 bytes; host/device_layout.c checks sizes and offsets with static asserts.
+ * 16 bytes but lv_light (24); host/device/layout_checks.c checks the sizes.
+ *
+ * The end of this file is the host/kernel contract: every buffer table and
+ * every kernel's argument list, each declared once as an X-macro list.
  */
 #ifndef LVCL_SHARED_TYPES_H
 #define LVCL_SHARED_TYPES_H
@@ -59,7 +62,7 @@ typedef struct {
     lv_u32 mesh;
 } lv_instance;
 
-/* BSDF families (DESIGN.md section 3); the host maps glTF materials here. */
+/* BSDF families (docs/design.md, Kernels); the host maps glTF materials here. */
 #define LV_BSDF_DIFFUSE 0     /* Lambertian */
 #define LV_BSDF_PLASTIC 1     /* diffuse base under a dielectric GGX (or smooth) layer */
 #define LV_BSDF_CONDUCTOR 2   /* GGX or smooth metal, Schlick Fresnel with F0 = base colour */
@@ -153,7 +156,7 @@ typedef struct {
     lv_u32 pad;
 } lv_scene_info;
 
-/* The light volume (DESIGN.md section 1): a regular grid of cubic cells
+/* The light volume (paper section 4): a regular grid of cubic cells
  * over the scene bounds; each stored cell holds 2 n^2 directional bins of
  * RGB tallies, 64-bit fixed point (LV_TALLY_SCALE units per unit). A tally
  * accumulates (particle weight / particle count) x (track length / cell
@@ -196,5 +199,130 @@ typedef struct {
 #define LV_SUBCELL_OPEN (2 + LV_SUBCELL_MAX)
 #define LV_SUBCELL_LIT_POINT (2 + 2 * LV_SUBCELL_MAX)
 #define LV_SUBCELL_STRIDE (2 + 3 * LV_SUBCELL_MAX)
+
+/* Luminance of linear RGB (Rec. 709 weights): light power, light selection
+ * and the volume's normalisation use it on both sides. */
+#define LV_LUMINANCE(r, g, b) (0.2126f * (r) + 0.7152f * (g) + 0.0722f * (b))
+
+/* lv_gather_pass's `flags`. */
+#define LV_GATHER_ALL 1u       /* the volume holds all light, emitted too: no shadow rays */
+#define LV_GATHER_INTEGRATE 2u /* integrate the BSDF over every bin instead of sampling one */
+
+/* ======== The host/kernel contract ========
+ *
+ * Each table below is the one declaration of a set of buffers or of a
+ * kernel's arguments, in argument order. kernels/scene.h expands them into
+ * kernel parameter lists and the structs the kernels open; the host
+ * (host/device/kernel_args.h) into its buffer structs, the scene upload and
+ * the argument binders; the enums here give every argument's index. */
+
+/* The storage of OpenCL vector types, as both sides see it (16 and 4 bytes). */
+#ifdef __OPENCL_C_VERSION__
+typedef float4 lv_float4;
+typedef uchar4 lv_uchar4;
+#else
+typedef struct { float s[4]; } lv_float4;
+typedef struct { uint8_t s[4]; } lv_uchar4;
+#endif
+
+/* The scene's buffers, read-only, in argument order (then lv_scene_info):
+ *   SPLIT(type, name, stride, per_part, what): `stride` values of `type` per
+ *     element, split over LV_SCENE_PARTS buffers of lv_scene_info.per_part
+ *     elements each (kernels/scene.h reads them with LV_SPLIT_AT);
+ *   ONE(type, name, what): one buffer.
+ * `what` names the table in the host's messages. */
+#define LV_SCENE_BUFFERS(SPLIT, ONE)                                                                    \
+    SPLIT(lv_bvh_node, nodes, 1, nodes_per_part, "BVH nodes") /* top-level tree, then every mesh's */   \
+    ONE(lv_instance, instances, "instances")                  /* top-level leaf order */                \
+    SPLIT(lv_float4, tri_vertices, 3, triangles_per_part, "triangle vertices") /* leaf order, object space */ \
+    SPLIT(lv_triangle, triangles, 1, triangles_per_part, "triangles")          /* leaf order */         \
+    SPLIT(float, normals, 3, vertices_per_part, "normals")                                              \
+    SPLIT(float, uvs, 2, vertices_per_part, "texture coordinates")                                      \
+    ONE(lv_material, materials, "materials")                                                            \
+    ONE(lv_texture, textures, "textures")                                                               \
+    ONE(lv_uchar4, texels, "texels")                                                                    \
+    ONE(lv_light, lights, "lights")                                                                     \
+    ONE(lv_punctual_light, punctuals, "punctual lights")
+
+/* The light volume's buffers, in argument order (then lv_grid_info):
+ * SPLIT(type, name) over LV_TALLY_PARTS buffers of lv_grid_info.slots_per_part
+ * slots, ONE(type, name) in one buffer. */
+#define LV_VOLUME_BUFFERS(SPLIT, ONE)                                              \
+    ONE(const uint, cell_slot) /* cell -> slot or LV_EMPTY_CELL */                 \
+    SPLIT(long, tallies)       /* slot x bin x RGB, 64-bit fixed point */          \
+    ONE(uint, subcells)        /* LV_SUBCELL_STRIDE words per slot */              \
+    ONE(float, lit_volume)     /* per slot, filled by lv_lit_volumes */
+
+#define LV_IGNORE_SPLIT(type, name, stride, per_part, what)
+#define LV_IGNORE_ONE(type, name, what)
+
+/* Argument indices within the scene's and the volume's blocks. */
+#define LV_SCENE_INDEX_SPLIT(type, name, stride, per_part, what) \
+    lv_scene_arg_##name, lv_scene_arg_##name##_end = lv_scene_arg_##name + LV_SCENE_PARTS - 1,
+#define LV_SCENE_INDEX_ONE(type, name, what) lv_scene_arg_##name,
+enum { LV_SCENE_BUFFERS(LV_SCENE_INDEX_SPLIT, LV_SCENE_INDEX_ONE) lv_scene_arg_info, LV_SCENE_ARG_COUNT };
+
+#define LV_VOLUME_INDEX_SPLIT(type, name) \
+    lv_volume_arg_##name, lv_volume_arg_##name##_end = lv_volume_arg_##name + LV_TALLY_PARTS - 1,
+#define LV_VOLUME_INDEX_ONE(type, name) lv_volume_arg_##name,
+enum { LV_VOLUME_BUFFERS(LV_VOLUME_INDEX_SPLIT, LV_VOLUME_INDEX_ONE) lv_volume_arg_info, LV_VOLUME_ARG_COUNT };
+
+/* Values per element of each scene table (lv_scene_stride_nodes, ...). */
+#define LV_SCENE_STRIDE_SPLIT(type, name, stride, per_part, what) lv_scene_stride_##name = stride,
+enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_end_ };
+
+/* Kernel argument lists, one entry per argument in order:
+ *   X(kernel, kind, type, name), with SEP() between entries,
+ * kind: SCENE (the scene block above), VOLUME (the volume block), VALUE
+ * (passed by value: type is valid on both sides) or BUFFER (a __global
+ * pointer to type). SEP is a function-like macro (LV_SEP_COMMA,
+ * LV_SEP_NONE), so that lists can pass it on to the lists they include. */
+#define LV_SEP_COMMA() ,
+#define LV_SEP_NONE()
+
+/* The pixel range of the camera passes: one sample per pixel of
+ * [first_pixel, first_pixel + pixel_count) per launch, added to sum. */
+#define LV_PIXEL_ARGS(X, SEP, kernel)                                                  \
+    X(kernel, VALUE, lv_camera, camera) SEP() X(kernel, VALUE, lv_u32, first_pixel) SEP() \
+    X(kernel, VALUE, lv_u32, pixel_count) SEP() X(kernel, VALUE, lv_u32, sample_index) SEP() \
+    X(kernel, BUFFER, float4, sum)
+
+#define LV_PT_PASS_ARGS(X, SEP) X(lv_pt_pass, SCENE, , scene) SEP() LV_PIXEL_ARGS(X, SEP, lv_pt_pass)
+
+#define LV_GATHER_PASS_ARGS(X, SEP)                                                                    \
+    X(lv_gather_pass, SCENE, , scene) SEP() X(lv_gather_pass, VOLUME, , volume) SEP()                  \
+    X(lv_gather_pass, BUFFER, const float4, bin_directions) SEP()                                      \
+    X(lv_gather_pass, VALUE, lv_u32, flags) SEP() /* LV_GATHER_* */                                    \
+    X(lv_gather_pass, VALUE, float, threshold) SEP() /* near-hit distance, metres */                   \
+    LV_PIXEL_ARGS(X, SEP, lv_gather_pass)
+
+#define LV_PARTICLE_TRACE_ARGS(X, SEP)                                                                 \
+    X(lv_particle_trace, SCENE, , scene) SEP() X(lv_particle_trace, VOLUME, , volume) SEP()            \
+    X(lv_particle_trace, VALUE, lv_u32, first) SEP() /* first particle index of the batch */           \
+    X(lv_particle_trace, VALUE, lv_u32, count) SEP()                                                   \
+    X(lv_particle_trace, VALUE, float, inv_total_particles) SEP()                                      \
+    X(lv_particle_trace, VALUE, lv_u32, store_emitted) SEP() /* lv-all: tally the lights' own segments */ \
+    X(lv_particle_trace, BUFFER, uint, ray_counts) /* segments, visibility rays */
+
+#define LV_LIT_VOLUMES_ARGS(X, SEP) X(lv_lit_volumes, VOLUME, , volume)
+
+#define LV_BIN_DIRECTIONS_ARGS(X, SEP) \
+    X(lv_bin_directions, VALUE, lv_u32, n) SEP() X(lv_bin_directions, BUFFER, float4, directions)
+
+/* The index of argument `name` of `kernel`: LV_ARG(lv_pt_pass, camera). A
+ * block's index is that of its first argument. */
+#define LV_ARG(kernel, name) kernel##_arg_##name
+#define LV_ARG_INDEX(kernel, kind, type, name) LV_ARG_INDEX_##kind(kernel##_arg_##name)
+#define LV_ARG_INDEX_VALUE(id) id
+#define LV_ARG_INDEX_BUFFER(id) id
+#define LV_ARG_INDEX_SCENE(id) id, id##_end = id + LV_SCENE_ARG_COUNT - 1
+#define LV_ARG_INDEX_VOLUME(id) id, id##_end = id + LV_VOLUME_ARG_COUNT - 1
+#define LV_ARG_INDICES(LIST, kernel) enum { LIST(LV_ARG_INDEX, LV_SEP_COMMA), kernel##_argument_count }
+
+LV_ARG_INDICES(LV_PT_PASS_ARGS, lv_pt_pass);
+LV_ARG_INDICES(LV_GATHER_PASS_ARGS, lv_gather_pass);
+LV_ARG_INDICES(LV_PARTICLE_TRACE_ARGS, lv_particle_trace);
+LV_ARG_INDICES(LV_LIT_VOLUMES_ARGS, lv_lit_volumes);
+LV_ARG_INDICES(LV_BIN_DIRECTIONS_ARGS, lv_bin_directions);
 
 #endif

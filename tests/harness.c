@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../host/materials.h"
+#include "../host/scene/materials.h"
 
 extern const unsigned char lvcl_test_kernel_source[];
 extern const size_t lvcl_test_kernel_source_size;
@@ -26,6 +26,12 @@ void harness_open(const char *spec, lvcl_device *dev, lvcl_program *prog)
     lvcl_device_prepare_environment();
     if (!spec) spec = getenv("LVCL_TEST_DEVICE");
     if (lvcl_device_open(spec, dev, &st)) die("opening the device", st.message);
+    harness_build(dev, prog);
+}
+
+void harness_build(const lvcl_device *dev, lvcl_program *prog)
+{
+    lvcl_status st = {0};
     if (lvcl_program_build_source(dev, lvcl_test_kernel_source, lvcl_test_kernel_source_size,
                                   " -DLV_FEATURE_GLASS -DLV_FEATURE_TEXTURES -DLV_FEATURE_PUNCTUAL", 1, prog, &st))
         die("building the test kernels", st.message);
@@ -63,7 +69,8 @@ void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *s)
 
 void harness_run(const lvcl_device *dev, cl_kernel k, size_t global)
 {
-    harness_cl(lvcl_kernel_enqueue(dev, k, global), "launching");
+    lvcl_status st = {0};
+    if (lvcl_kernel_enqueue(dev, k, global, "launching", &st)) die("launching", st.message);
     harness_cl(clFinish(dev->queue), "running");
 }
 
@@ -84,12 +91,11 @@ void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_
     harness_cl(err, "allocating rays");
     cl_mem obuf = clCreateBuffer(dev->context, CL_MEM_WRITE_ONLY, count * 4 * sizeof(float), NULL, &err);
     harness_cl(err, "allocating results");
-    int a = lvcl_device_scene_set_args(&ds, k, 0);
     cl_uint n = (cl_uint)count;
-    if (a < 0) die("setting arguments", "scene");
-    harness_cl(clSetKernelArg(k, (cl_uint)a, sizeof rbuf, &rbuf), "arg");
-    harness_cl(clSetKernelArg(k, (cl_uint)a + 1, sizeof n, &n), "arg");
-    harness_cl(clSetKernelArg(k, (cl_uint)a + 2, sizeof obuf, &obuf), "arg");
+    if (lvcl_device_scene_bind(&ds, k, 0, &st)) die("setting arguments", st.message);
+    harness_cl(clSetKernelArg(k, T_TRACE_ARG_RAYS, sizeof rbuf, &rbuf), "arg");
+    harness_cl(clSetKernelArg(k, T_TRACE_ARG_COUNT, sizeof n, &n), "arg");
+    harness_cl(clSetKernelArg(k, T_TRACE_ARG_RESULTS, sizeof obuf, &obuf), "arg");
     harness_run(dev, k, count);
     harness_cl(clEnqueueReadBuffer(dev->queue, obuf, CL_TRUE, 0, count * 4 * sizeof(float), results, 0, NULL, NULL),
                "reading results");
@@ -113,22 +119,23 @@ double harness_uniform(harness_rng *r)
 lvcl_error harness_render(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_render_request *req,
                           lvcl_render_result *out, lvcl_status *st)
 {
-    lvcl_session s;
-    lvcl_session_config cfg = {device, seed, 64, 1};
+    lvcl_session *s = NULL;
+    lvcl_session_config cfg = {.device = device, .seed = seed, .max_depth = 64, .fast_math = 1};
     memset(out, 0, sizeof *out);
-    lvcl_error e = lvcl_session_open(&s, scene, &cfg, st);
-    if (!e) e = lvcl_session_render(&s, req, out, st);
-    lvcl_session_close(&s);
+    lvcl_error e = lvcl_session_open(scene, &cfg, &s, st);
+    if (!e) e = lvcl_session_render(s, req, out, st);
+    lvcl_session_close(s);
     return e;
 }
 
 lvcl_render_request harness_request(lvcl_mode mode, int size, int spp, int cells, uint64_t particles)
 {
-    lvcl_render_request req = {0};
-    req.mode = mode;
-    req.width = req.height = size;
-    req.pass.spp = spp;
-    req.volume = (lvcl_volume_settings){.cells = cells, .dirs = 8, .subcells = 4, .particles = particles};
-    req.integrate = 1;
-    return req;
+    return (lvcl_render_request){
+        .mode = mode,
+        .width = size,
+        .height = size,
+        .pass = {.spp = spp},
+        .volume = {.cells = cells, .dirs = 8, .subcells = 4, .particles = particles},
+        .integrate = 1,
+    };
 }

@@ -3,16 +3,25 @@
 #ifndef LVCL_TEST_HARNESS_H
 #define LVCL_TEST_HARNESS_H
 
-#include "../host/session.h"
+#include "../host/render/session.h"
 
 /* Opens device `spec` (NULL: $LVCL_TEST_DEVICE or the default) and builds
  * the test program on it. Exits the test program with a message on failure. */
 void harness_open(const char *spec, lvcl_device *dev, lvcl_program *prog);
 void harness_close(lvcl_device *dev, lvcl_program *prog);
 
+/* Builds the test program on an open device (a session's, say). */
+void harness_build(const lvcl_device *dev, lvcl_program *prog);
+
 /* A scene of `count` triangles given as 9 floats each, all one diffuse
  * material; the scene owns copies. */
 void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *scene);
+
+/* The arguments of the test program's tracing kernels (t_trace, t_surface,
+ * t_trace_brute_force, tests/kernels/unit_tests.cl): the scene block, then
+ * these; t_offset_rays takes its re-shoot records before the results. */
+enum { T_TRACE_ARG_RAYS = LV_SCENE_ARG_COUNT, T_TRACE_ARG_COUNT, T_TRACE_ARG_RESULTS };
+enum { T_OFFSET_ARG_RESHOOT = T_TRACE_ARG_RESULTS, T_OFFSET_ARG_RESULTS };
 
 /* Traces rays (8 floats each, the layout of t_trace) through the scene with
  * kernel `kernel_name`; results get 4 floats per ray. */

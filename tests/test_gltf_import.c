@@ -14,7 +14,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "../host/scene.h"
+#include "../host/scene/scene.h"
 #include "check.h"
 
 static const char *data_dir;

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../host/metrics.h"
+#include "../host/io/metrics.h"
 #include "check.h"
 #include "harness.h"
 
@@ -99,8 +99,8 @@ static void test_hits(void)
     scene.instance_count = 1 + PLACEMENTS;
     scene.instances = calloc(scene.instance_count, sizeof *scene.instances);
     if (!scene.meshes || !scene.instances) return;
-    scene.meshes[0] = (lvcl_mesh){0, 2};
-    scene.meshes[1] = (lvcl_mesh){2, 12};
+    scene.meshes[0] = (lvcl_mesh){.first_triangle = 0, .triangle_count = 2};
+    scene.meshes[1] = (lvcl_mesh){.first_triangle = 2, .triangle_count = 12};
     scene.instances[0] = (lvcl_instance){0, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}};
     const float no_offset[3] = {0, 0, 0};
     for (int i = 0; i < PLACEMENTS; i++) {
@@ -227,9 +227,9 @@ static int instanced_cornell(lvcl_scene *s)
     s->vertex_count = verts;
     s->triangle_count = tris;
     s->mesh_count = 3;
-    s->meshes[0] = (lvcl_mesh){0, base_tris};
-    s->meshes[1] = (lvcl_mesh){base_tris, 12};
-    s->meshes[2] = (lvcl_mesh){base_tris + 12, 2};
+    s->meshes[0] = (lvcl_mesh){.first_triangle = 0, .triangle_count = base_tris};
+    s->meshes[1] = (lvcl_mesh){.first_triangle = base_tris, .triangle_count = 12};
+    s->meshes[2] = (lvcl_mesh){.first_triangle = base_tris + 12, .triangle_count = 2};
     s->instance_count = 1 + PLACEMENTS + 2;
     s->instances[0] = (lvcl_instance){0, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}};
     const float centre[3] = {0.28f, 0.0f, 0.28f};
@@ -309,13 +309,13 @@ static void test_memory_budget(void)
     harness_triangle_scene(tris, COUNT, &scene);
     free(tris);
     lvcl_status st = {0};
-    lvcl_session s;
-    lvcl_session_config cfg = {NULL, 0, 8, 1, 4u << 20};
-    lvcl_error e = lvcl_session_open(&s, &scene, &cfg, &st);
+    lvcl_session *s;
+    lvcl_session_config cfg = {.max_depth = 8, .fast_math = 1, .device_memory = 4u << 20};
+    lvcl_error e = lvcl_session_open(&scene, &cfg, &s, &st);
     CHECK("a scene over the device memory budget fails, naming the sizes",
           e == LVCL_ERR_TOO_LARGE && strstr(st.message, "MiB") && !strchr(st.message, '\n'), "error %d: %s", e,
           st.message);
-    if (!e) lvcl_session_close(&s);
+    lvcl_session_close(s);
 }
 
 int main(int argc, char **argv)

@@ -6,41 +6,38 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../host/metrics.h"
+#include "../host/io/metrics.h"
 #include "check.h"
 #include "harness.h"
 
+#include "kernels/test_args.h"
+
 typedef struct {
-    lvcl_session session;
-    lvcl_light_volume volume;
+    lvcl_session *session;
+    const lvcl_light_volume *volume; /* device 0's */
     int64_t *tallies;
     uint32_t *masks;
+    float *lit;                      /* per slot, as lv_lit_volumes stored it */
 } traced_volume;
 
-/* Opens a session on `scene` (consumed) and traces a volume into it, on a
- * device that acts as one of device_memory bytes (0: its own size), with
- * the kernels built with build_flags (LVCL_BUILD_*) besides the scene's. */
+/* Opens a session on `scene` (consumed) and builds a light volume in it as
+ * the lv modes do, on a device that acts as one of device_memory bytes (0:
+ * its own size), with the kernels built with build_flags (LVCL_BUILD_*)
+ * besides the scene's; reads back what the kernels stored. */
 static int trace_sized(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_volume_settings *vs,
                        uint64_t device_memory, unsigned build_flags, traced_volume *tv)
 {
     lvcl_status st = {0};
-    lvcl_session_config cfg = {device, seed, 64, 1, device_memory};
+    lvcl_session_config cfg = {.device = device,
+                               .seed = seed,
+                               .max_depth = 64,
+                               .fast_math = 1,
+                               .device_memory = device_memory,
+                               .build_flags = build_flags};
     memset(tv, 0, sizeof *tv);
-    if (lvcl_session_open(&tv->session, scene, &cfg, &st)) {
-        CHECK("light volume trace", 0, "%s", st.message);
-        return 0;
-    }
-    lvcl_session_device *sd = &tv->session.devices[0];
-    if (build_flags) {
-        lvcl_program_release(&sd->program);
-        if (lvcl_program_build(&sd->device, tv->session.features | build_flags, 1, &sd->program, &st)) {
-            CHECK("light volume trace", 0, "%s", st.message);
-            return 0;
-        }
-    }
-    if (lvcl_volume_create(&sd->device, &tv->session.packed, vs, &tv->volume, &st) ||
-        lvcl_volume_trace(&sd->device, &sd->program, &sd->device_scene, vs, &tv->volume, &st) ||
-        lvcl_volume_read(&sd->device, &tv->volume, &tv->tallies, &tv->masks, &st)) {
+    if (lvcl_session_open(scene, &cfg, &tv->session, &st) || lvcl_session_trace_volume(tv->session, vs, &st) ||
+        !(tv->volume = lvcl_session_volume(tv->session, 0)) ||
+        lvcl_volume_read(tv->volume, &tv->tallies, &tv->masks, &st) || lvcl_volume_read_lit(tv->volume, &tv->lit, &st)) {
         CHECK("light volume trace", 0, "%s", st.message);
         return 0;
     }
@@ -57,19 +54,58 @@ static void release(traced_volume *tv)
 {
     free(tv->tallies);
     free(tv->masks);
-    lvcl_volume_release(&tv->volume);
-    lvcl_session_close(&tv->session);
+    free(tv->lit);
+    lvcl_session_close(tv->session);
 }
 
 static int64_t tally(const traced_volume *tv, uint32_t slot, uint32_t bin, int c)
 {
-    return tv->tallies[((size_t)slot * tv->volume.info.bins + bin) * 3 + c];
+    return tv->tallies[((size_t)slot * lvcl_volume_grid(tv->volume)->bins + bin) * 3 + c];
 }
 
 static uint32_t slot_of(const traced_volume *tv, int x, int y, int z)
 {
-    const lv_grid_info *g = &tv->volume.info;
-    return tv->volume.cell_slot[(size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z)];
+    return lvcl_volume_slot(tv->volume, (uint32_t)x, (uint32_t)y, (uint32_t)z);
+}
+
+typedef LVCL_KERNEL_ARGS(T_BIN_RADIANCE_ARGS) t_bin_radiance_args;
+static LVCL_DEFINE_BINDER(t_bin_radiance, T_BIN_RADIANCE_ARGS, t_bin_radiance_args)
+
+/* The radiance of every bin of `slot` (red channel) as the kernels compute
+ * it from the volume (t_bin_radiance in tests/kernels/unit_tests.cl), on
+ * the session's device; malloc'ed, NULL after a FAIL line. */
+static double *slot_radiance(const traced_volume *tv, uint32_t slot)
+{
+    const lvcl_device *dev = lvcl_session_device(tv->session, 0);
+    uint32_t bins = lvcl_volume_grid(tv->volume)->bins;
+    lvcl_program prog;
+    harness_build(dev, &prog);
+    lvcl_status st = {0};
+    cl_kernel k = NULL;
+    cl_int err;
+    cl_mem out = clCreateBuffer(dev->context, CL_MEM_WRITE_ONLY, bins * 4 * sizeof(float), NULL, &err);
+    float *rgbw = malloc(bins * 4 * sizeof(float));
+    double *radiance = malloc(bins * sizeof(double));
+    lvcl_error e = lvcl_cl_check(err, "allocating the radiance", &st);
+    if (!e && (!rgbw || !radiance)) e = lvcl_fail(&st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory");
+    if (!e) e = lvcl_kernel_create(&prog, "t_bin_radiance", &k, &st);
+    t_bin_radiance_args args = {.volume = lvcl_volume_kernel_buffers(tv->volume), .slot = slot, .radiance = out};
+    if (!e) e = lvcl_bind_t_bin_radiance(k, &args, &st);
+    if (!e) e = lvcl_kernel_enqueue(dev, k, bins, "t_bin_radiance", &st);
+    if (!e)
+        e = lvcl_cl_check(clEnqueueReadBuffer(dev->queue, out, CL_TRUE, 0, bins * 4 * sizeof(float), rgbw, 0, NULL, NULL),
+                          "reading the radiance", &st);
+    for (uint32_t b = 0; !e && b < bins; b++) radiance[b] = rgbw[4 * b];
+    if (k) clReleaseKernel(k);
+    if (out) clReleaseMemObject(out);
+    lvcl_program_release(&prog);
+    free(rgbw);
+    if (e) {
+        CHECK("light volume radiance from the kernels", 0, "%s", st.message);
+        free(radiance);
+        return NULL;
+    }
+    return radiance;
 }
 
 /* The direction-map convention of kernels/direction_map.h: bins below n^2
@@ -117,7 +153,7 @@ static void test_emitting_plane(void)
     lvcl_volume_settings vs = {.cell_size = 1.0, .dirs = 6, .particles = 8000000, .store_emitted = 1};
     traced_volume tv;
     if (!trace(&scene, NULL, 1, &vs, &tv)) return;
-    const lv_grid_info *g = &tv.volume.info;
+    const lv_grid_info *g = lvcl_volume_grid(tv.volume);
     /* Cell (x, y) over the plane's centre, z in [0, 1) m. */
     int cx = (int)((0.5f - g->origin[0]) / g->cell_size), cz = (int)((0.5f - g->origin[2]) / g->cell_size);
     uint32_t slot = slot_of(&tv, cx, cx, cz);
@@ -130,8 +166,13 @@ static void test_emitting_plane(void)
      * bin; the count of crossings gives each bin's statistical error. */
     double worst = 0.0, worst_sigmas = 0.0, mean_up = 0.0, down = 0.0;
     int up_bins = 0;
+    double *radiance = slot_radiance(&tv, slot);
+    if (!radiance) {
+        release(&tv);
+        return;
+    }
     for (uint32_t b = 0; b < g->bins; b++) {
-        double l = lvcl_volume_radiance(g, tally(&tv, slot, b, 0), 1.0);
+        double l = radiance[b];
         if (!bin_goes_up(g, b)) {
             down += l;
             continue;
@@ -145,6 +186,7 @@ static void test_emitting_plane(void)
         mean_up += l;
         up_bins++;
     }
+    free(radiance);
     mean_up /= up_bins;
     printf("  emitting plane: mean radiance of %d upward bins %.4f (Le %.1f), worst bin %.1f%% = %.1f sigma\n",
            up_bins, mean_up, le, 100 * worst, worst_sigmas);
@@ -172,7 +214,7 @@ static void test_cut_cell(void)
     lvcl_volume_settings vs = {.cell_size = 1.0, .dirs = 6, .subcells = 4, .particles = 4000000, .store_emitted = 1};
     traced_volume tv;
     if (!trace(&scene, NULL, 3, &vs, &tv)) return;
-    const lv_grid_info *g = &tv.volume.info;
+    const lv_grid_info *g = lvcl_volume_grid(tv.volume);
     int cx = (int)((0.5f - g->origin[0]) / g->cell_size), cz = (int)((0.0f - g->origin[2]) / g->cell_size);
     uint32_t slot = slot_of(&tv, cx, cx, cz);
     if (slot == LV_EMPTY_CELL) {
@@ -180,14 +222,20 @@ static void test_cut_cell(void)
         release(&tv);
         return;
     }
-    double lit = lvcl_volume_lit_fraction(g, &tv.masks[(size_t)slot * LV_SUBCELL_STRIDE]);
+    double lit = tv.lit[slot];
     double mean_up = 0.0;
     int up_bins = 0;
+    double *radiance = slot_radiance(&tv, slot);
+    if (!radiance) {
+        release(&tv);
+        return;
+    }
     for (uint32_t b = 0; b < g->bins; b++) {
         if (!inner_upward_bin(g, b)) continue;
-        mean_up += lvcl_volume_radiance(g, tally(&tv, slot, b, 0), lit);
+        mean_up += radiance[b];
         up_bins++;
     }
+    free(radiance);
     mean_up /= up_bins;
     printf("  cut cell: lit fraction %.4f, mean upward radiance %.4f (Le %.1f)\n", lit, mean_up, le);
     CHECK("cut cell: subcells give a lit fraction of 1/2", fabs(lit - 0.5) < 1e-9, "lit fraction %.4f", lit);
@@ -225,10 +273,10 @@ static void test_visibility(void)
     lvcl_volume_settings vs = {.cell_size = 1.0, .dirs = 4, .subcells = 4, .particles = 2000000, .store_emitted = 1};
     traced_volume tv;
     if (!trace(&scene, NULL, 4, &vs, &tv)) return;
-    const lv_grid_info *g = &tv.volume.info;
+    const lv_grid_info *g = lvcl_volume_grid(tv.volume);
     int cx = (int)((0.5f - g->origin[0]) / g->cell_size), cz = (int)((z - g->origin[2]) / g->cell_size);
     uint32_t slot = slot_of(&tv, cx, cx, cz);
-    double lit = slot == LV_EMPTY_CELL ? 0.0 : lvcl_volume_lit_fraction(g, &tv.masks[(size_t)slot * LV_SUBCELL_STRIDE]);
+    double lit = slot == LV_EMPTY_CELL ? 0.0 : tv.lit[slot];
     printf("  visibility: floor at %.2f of the cell's height, lit fraction %.4f (expected %.2f)\n", 1 - f, lit, f);
     CHECK("subcell visibility: a cell cut at 0.3 of its volume is lit 0.3 within 10%", fabs(lit - f) < 0.1 * f,
           "lit fraction %.4f", lit);
@@ -251,7 +299,7 @@ static void test_furnace(void)
     lvcl_volume_settings vs = {.cells = 4, .dirs = 6, .particles = 2000000, .store_emitted = 1};
     traced_volume tv;
     if (!trace(&scene, NULL, 2, &vs, &tv)) return;
-    const lv_grid_info *g = &tv.volume.info;
+    const lv_grid_info *g = lvcl_volume_grid(tv.volume);
     double worst = 0.0, total = 0.0;
     int cells = 0;
     for (int z = 1; z <= 4; z++)
@@ -259,11 +307,13 @@ static void test_furnace(void)
             for (int x = 1; x <= 4; x++) {
                 uint32_t slot = slot_of(&tv, x, y, z);
                 if (slot == LV_EMPTY_CELL) continue;
-                double sum = 0.0;
+                double sum = 0.0, *radiance = slot_radiance(&tv, slot);
+                if (!radiance) continue;
                 for (uint32_t b = 0; b < g->bins; b++) {
-                    sum += lvcl_volume_radiance(g, tally(&tv, slot, b, 0), 1.0);
+                    sum += radiance[b];
                     total += (double)tally(&tv, slot, b, 0) / LV_TALLY_SCALE;
                 }
+                free(radiance);
                 double mean = sum / g->bins;
                 if (fabs(mean - 2.0) > worst) worst = fabs(mean - 2.0);
                 cells++;
@@ -295,10 +345,10 @@ static void test_determinism(void)
         const char *device = run == 0 ? "0" : "1";
         traced_volume again;
         if (lvcl_scene_load("cornell", &scene, &st) || !trace(&scene, device, 9, &vs, &again)) break;
-        int same = first.volume.tally_bytes == again.volume.tally_bytes &&
-                   memcmp(first.tallies, again.tallies, first.volume.tally_bytes) == 0;
+        int same = lvcl_volume_stats_of(first.volume).tally_bytes == lvcl_volume_stats_of(again.volume).tally_bytes &&
+                   memcmp(first.tallies, again.tallies, lvcl_volume_stats_of(first.volume).tally_bytes) == 0;
         /* The subcell records: masks, ray counts and lit points. */
-        size_t record_bytes = ((size_t)first.volume.info.slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(uint32_t);
+        size_t record_bytes = ((size_t)lvcl_volume_grid(first.volume)->slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(uint32_t);
         int same_records = same && memcmp(first.masks, again.masks, record_bytes) == 0;
         CHECK(run == 0 ? "light volume: same seed, same tallies and subcell records bit for bit"
                        : "light volume: device 1 gives device 0's tallies and subcell records bit for bit",
@@ -310,12 +360,12 @@ static void test_determinism(void)
      * of twice the volume's size allows half of it in one buffer, less than
      * the tallies and more than the subcell records. */
     traced_volume split;
-    uint64_t small = 2 * first.volume.device_bytes;
+    uint64_t small = 2 * lvcl_volume_stats_of(first.volume).device_bytes;
     if (!lvcl_scene_load("cornell", &scene, &st) && trace_sized(&scene, "0", 9, &vs, small, 0, &split)) {
-        int same = first.volume.tally_bytes == split.volume.tally_bytes &&
-                   memcmp(first.tallies, split.tallies, first.volume.tally_bytes) == 0;
-        CHECK("light volume: tallies split over buffers are the same bit for bit", same && split.volume.tally_parts > 1,
-              "%d buffers, tallies %s", split.volume.tally_parts, same ? "equal" : "differ");
+        int same = lvcl_volume_stats_of(first.volume).tally_bytes == lvcl_volume_stats_of(split.volume).tally_bytes &&
+                   memcmp(first.tallies, split.tallies, lvcl_volume_stats_of(first.volume).tally_bytes) == 0;
+        CHECK("light volume: tallies split over buffers are the same bit for bit", same && lvcl_volume_stats_of(split.volume).tally_buffers > 1,
+              "%d buffers, tallies %s", lvcl_volume_stats_of(split.volume).tally_buffers, same ? "equal" : "differ");
         release(&split);
     }
     /* The tallies of a device without 64-bit atomics (two 32-bit adds with a
@@ -326,14 +376,14 @@ static void test_determinism(void)
     if (!lvcl_scene_load("cornell", &scene, &st) && trace(&scene, "0", 9, &coarse, &native)) {
         if (!lvcl_scene_load("cornell", &scene, &st) &&
             trace_sized(&scene, "0", 9, &coarse, 0, LVCL_BUILD_EMULATED_INT64_ATOMICS, &emulated)) {
-            size_t n = native.volume.tally_bytes / sizeof(int64_t), wide = 0;
+            size_t n = lvcl_volume_stats_of(native.volume).tally_bytes / sizeof(int64_t), wide = 0;
             for (size_t i = 0; i < n; i++) wide += native.tallies[i] >> 32 != 0;
-            int same = emulated.volume.tally_bytes == native.volume.tally_bytes &&
-                       memcmp(native.tallies, emulated.tallies, native.volume.tally_bytes) == 0;
+            int same = lvcl_volume_stats_of(emulated.volume).tally_bytes == lvcl_volume_stats_of(native.volume).tally_bytes &&
+                       memcmp(native.tallies, emulated.tallies, lvcl_volume_stats_of(native.volume).tally_bytes) == 0;
             CHECK("light volume: 64-bit tallies from 32-bit atomics are the same bit for bit",
-                  same && wide > 0 && strstr(emulated.session.devices[0].program.options, "-DLV_EMULATE_INT64_ATOMICS"),
+                  same && wide > 0 && strstr(lvcl_session_program(emulated.session, 0)->options, "-DLV_EMULATE_INT64_ATOMICS"),
                   "the tallies %s; %zu of %zu past 2^32; kernel options %s", same ? "equal" : "differ", wide, n,
-                  emulated.session.devices[0].program.options);
+                  lvcl_session_program(emulated.session, 0)->options);
             release(&emulated);
         }
         release(&native);

@@ -121,7 +121,7 @@ static quad horizontal_quad(double x, double y, double z, double half, int facin
     return q;
 }
 
-/* Lambertian in lvcl's mapping (host/materials.c): specular 0 selects the
+/* Lambertian in lvcl's mapping (host/scene/materials.c): specular 0 selects the
  * pure diffuse BSDF instead of the plastic layer. */
 static lvcl_material_desc lambertian(float albedo)
 {
@@ -161,7 +161,7 @@ static lv_punctual_light point_light(double x, double y, double z, const double 
     return l;
 }
 
-/* ---- the camera, as kernels/camera.h and host/camera.c make it ---- */
+/* ---- the camera, as kernels/camera.h and host/scene/camera.c make it ---- */
 
 typedef struct {
     lvcl_camera_desc cam;
@@ -248,17 +248,17 @@ static void pixel_stats(const view *v, int x, int y, ground_radiance f, const vo
 static float *render(const char *what, lvcl_scene *scene, unsigned seed, int max_depth, const view *v, int spp)
 {
     lvcl_status st = {0};
-    lvcl_session s;
-    lvcl_session_config cfg = {getenv("LVCL_TEST_DEVICE"), seed, max_depth, 1};
+    lvcl_session *s = NULL;
+    lvcl_session_config cfg = {.device = getenv("LVCL_TEST_DEVICE"), .seed = seed, .max_depth = max_depth, .fast_math = 1};
     lvcl_render_result r = {0};
-    lvcl_pass_settings ps = {spp, 0.0, 0};
+    lvcl_pass_settings ps = {.spp = spp};
     scene->camera = v->cam;
-    if (lvcl_session_open(&s, scene, &cfg, &st) || lvcl_session_render_pt(&s, v->width, v->height, &ps, &r, &st)) {
+    if (lvcl_session_open(scene, &cfg, &s, &st) || lvcl_session_render_pt(s, v->width, v->height, &ps, &r, &st)) {
         CHECK(what, 0, "render failed: %s", st.message);
-        lvcl_session_close(&s);
+        lvcl_session_close(s);
         return NULL;
     }
-    lvcl_session_close(&s);
+    lvcl_session_close(s);
     return r.rgb;
 }
 

@@ -7,8 +7,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "../host/image_io.h"
-#include "../host/metrics.h"
+#include "../host/io/image_io.h"
+#include "../host/io/metrics.h"
 #include "check.h"
 #include "harness.h"
 
@@ -47,11 +47,7 @@ static int render_request(const char *what, lvcl_scene *scene, const char *devic
 static int render(const char *what, lvcl_scene *scene, const char *device, unsigned seed, int width, int height,
                   int spp, image *im)
 {
-    lvcl_render_request req = {0};
-    req.mode = LVCL_MODE_PT;
-    req.width = width;
-    req.height = height;
-    req.pass.spp = spp;
+    lvcl_render_request req = {.mode = LVCL_MODE_PT, .width = width, .height = height, .pass = {.spp = spp}};
     return render_request(what, scene, device, seed, &req, im);
 }
 

@@ -202,16 +202,14 @@ static float *run_rays(const gpu_scene *g, const char *kernel_name, const ray_li
     cl_mem ebuf = extra4 ? buffer(extra4, 4 * n * sizeof(float)) : NULL;
     cl_mem obuf = buffer(NULL, 4 * n * sizeof(float));
     cl_uint count = (cl_uint)n;
-    int a = lvcl_device_scene_set_args(&g->ds, k, 0);
-    if (a < 0 || !results) {
-        printf("FAIL traversal: setting up kernel %s\n", kernel_name);
+    if (lvcl_device_scene_bind(&g->ds, k, 0, &st) || !results) {
+        printf("FAIL traversal: setting up kernel %s: %s\n", kernel_name, st.message);
         exit(1);
     }
-    cl_uint arg = (cl_uint)a;
-    harness_cl(clSetKernelArg(k, arg++, sizeof rbuf, &rbuf), "arg");
-    harness_cl(clSetKernelArg(k, arg++, sizeof count, &count), "arg");
-    if (ebuf) harness_cl(clSetKernelArg(k, arg++, sizeof ebuf, &ebuf), "arg");
-    harness_cl(clSetKernelArg(k, arg++, sizeof obuf, &obuf), "arg");
+    harness_cl(clSetKernelArg(k, T_TRACE_ARG_RAYS, sizeof rbuf, &rbuf), "arg");
+    harness_cl(clSetKernelArg(k, T_TRACE_ARG_COUNT, sizeof count, &count), "arg");
+    if (ebuf) harness_cl(clSetKernelArg(k, T_OFFSET_ARG_RESHOOT, sizeof ebuf, &ebuf), "arg");
+    harness_cl(clSetKernelArg(k, ebuf ? T_OFFSET_ARG_RESULTS : T_TRACE_ARG_RESULTS, sizeof obuf, &obuf), "arg");
     harness_run(&dev, k, n);
     harness_cl(clEnqueueReadBuffer(dev.queue, obuf, CL_TRUE, 0, 4 * n * sizeof(float), results, 0, NULL, NULL),
                "reading results");
@@ -461,7 +459,7 @@ static void test_split_tables(void)
     }
     random_attributes(&dev, 11, &whole, &st);
     random_attributes(&small, 11, &split, &st);
-    const lv_scene_info *in = &split.ds.info;
+    const lv_scene_info *in = &split.ds.buffers.info;
     CHECK("split tables: nodes, triangles and vertices each take several buffers",
           split.ds.split_tables == 5 && whole.ds.split_tables == 0 && in->triangles_per_part < 10000 &&
               in->vertices_per_part < 30000 && in->nodes_per_part < split.packed.node_count,

@@ -3,8 +3,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "../image_io.h"
-#include "../metrics.h"
+#include "../io/image_io.h"
+#include "../io/metrics.h"
 
 int main(int argc, char **argv)
 {

@@ -20,12 +20,10 @@
 typedef struct {
     lv_grid grid;
     __global const float4 *bin_directions; /* central direction of each bin */
-    uint flags;      /* LV_GATHER_* */
+    uint flags;      /* LV_GATHER_* (shared_types.h) */
     float threshold; /* a BSDF ray hitting closer than this continues as a path */
 } lv_gather;
 
-#define LV_GATHER_ALL 1u       /* the volume holds all light, emitted too: no shadow rays */
-#define LV_GATHER_INTEGRATE 2u /* integrate the BSDF over every bin instead of sampling one */
 
 /* The BSDF-weighted sum of the volume's radiance over every bin of the cell
  * at p (each bin read at its central direction). */

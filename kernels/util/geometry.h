@@ -2,6 +2,8 @@
 #ifndef LV_GEOMETRY_H
 #define LV_GEOMETRY_H
 
+#include "../shared_types.h"
+
 #define LV_PI 3.14159265358979f
 #define LV_INV_PI 0.318309886183791f
 
@@ -13,9 +15,10 @@ inline float lv_max3(float3 v)
     return fmax(v.x, fmax(v.y, v.z));
 }
 
+/* The weights are the host's too (LV_LUMINANCE, shared_types.h). */
 inline float lv_luminance(float3 c)
 {
-    return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+    return LV_LUMINANCE(c.x, c.y, c.z);
 }
 
 inline int lv_finite3(float3 v)

@@ -1,6 +1,7 @@
 /* Kernels that exercise lvcl's device code directly, for tests/test_kernels.c.
  * Built with every feature switch on, so all BSDFs are present. */
 #include "../../kernels/lvcl.h"
+#include "test_args.h"
 
 inline float3 uniform_sphere(float2 u)
 {
@@ -198,4 +199,17 @@ __kernel void t_offset_rays(LV_SCENE_PARAMS, __global const float *rays, uint co
     o[1] = h2.tri == LV_NO_HIT ? -1.0f : (float)lv_triangle_record(&sc, h2.tri).prim_id;
     o[2] = h2.t;
     o[3] = length(r2.origin - s.p);
+}
+
+/* Per bin of stored cell `slot`: the radiance lv_bin_radiance gives with
+ * the lit volume lv_lit_volumes stored (the lookups' formula), and that lit
+ * volume in w. */
+__kernel void t_bin_radiance(LV_KERNEL_PARAMS(T_BIN_RADIANCE_ARGS))
+{
+    lv_grid grid;
+    LV_VOLUME_OPEN(grid);
+    uint bin = get_global_id(0);
+    if (bin >= grid.g.bins) return;
+    float lit = grid.lit_volume[slot];
+    radiance[bin] = (float4)(lv_bin_radiance(&grid, slot, bin, lit), lit);
 }

@@ -1,0 +1,41 @@
+/* The command line of lvcl. */
+#ifndef LVCL_OPTIONS_H
+#define LVCL_OPTIONS_H
+
+#include "../util/status.h"
+
+typedef struct {
+    const char *scene;      /* file path or embedded scene name */
+    const char *device;     /* NULL = default choice */
+    const char *mode;
+    const char *output;     /* NULL = out/<scene>.exr and .png */
+    const char *stats;
+    int spp;
+    int width, height;      /* 0 = from the camera's aspect */
+    unsigned seed;
+    int max_depth;
+    double exposure;
+    int cells;              /* light volume: cells along the longest axis */
+    double cell_size;       /* metres, 0 = from cells */
+    double grid_offset;     /* fraction of a cell */
+    int dirs;               /* n x n bins per hemisphere */
+    int subcells;           /* k x k x k subcells per cell, 0 = none */
+    double visibility_rate; /* share of surface hits casting a visibility ray, 0 = default */
+    double particles;
+    double threshold;       /* near-hit distance, 0 = cell diagonal */
+    const char *gather;     /* "sample" or "integrate" */
+    double device_memory_mib; /* cap on device memory, 0 = the device's own */
+    double time_limit;
+    int quiet;
+    int fast_math;
+    int list_devices;
+    int help;
+    int version;
+} lvcl_options;
+
+/* Parses argv; on a bad flag or value returns LVCL_ERR_USAGE with a one-line message. */
+lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_status *st);
+
+void lvcl_options_print_help(const char *program);
+
+#endif

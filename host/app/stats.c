@@ -1,0 +1,104 @@
+#include "stats.h"
+
+#include <stdio.h>
+
+
+static void json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; s++) {
+        if (*s == '"' || *s == '\\') fprintf(f, "\\%c", *s);
+        else if ((unsigned char)*s < 0x20) fprintf(f, "\\u%04x", *s);
+        else fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
+lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *st)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) return lvcl_fail(st, LVCL_ERR_IO, "cannot write stats to %s", path);
+    const lvcl_render_result *r = s->result;
+    const lvcl_session *ss = s->session;
+    double pixel_samples = (double)r->width * r->height * r->samples;
+    fprintf(f, "{\n  \"scene\": ");
+    json_string(f, s->options->scene);
+    fprintf(f, ",\n  \"mode\": ");
+    json_string(f, s->options->mode);
+    fprintf(f, ",\n  \"device\": ");
+    const lvcl_device *dev = lvcl_session_device(ss, 0);
+    const lvcl_device_scene *ds = lvcl_session_device_scene(ss, 0);
+    const lvcl_program *prog = lvcl_session_program(ss, 0);
+    const lvcl_accel *accel = lvcl_session_accel(ss);
+    json_string(f, dev->name);
+    fprintf(f, ",\n  \"device_index\": %d,\n  \"platform\": ", dev->index);
+    json_string(f, dev->platform_name);
+    fprintf(f,
+            ",\n  \"triangles\": %zu,\n  \"triangles_skipped\": %zu,\n  \"meshes\": %zu,\n  \"instances\": %zu,\n"
+            "  \"instanced_triangles\": %zu,\n  \"bvh_nodes\": %zu,\n  \"bvh_depth\": %d,\n  \"bvh_bytes\": %zu,\n"
+            "  \"device_bytes\": %zu,\n  \"scene_tables_split\": %d,\n",
+            accel->triangle_count, accel->skipped, accel->mesh_count, accel->instance_count,
+            accel->instanced_triangles, accel->node_count, accel->depth, accel->node_count * sizeof(lv_bvh_node),
+            ds->device_bytes, ds->split_tables);
+    fprintf(f, "  \"kernel_options\": ");
+    json_string(f, prog->options);
+    fprintf(f,
+            ",\n  \"kernel_from_cache\": %s,\n  \"kernel_build_seconds\": %.4f,\n"
+            "  \"scene_load_seconds\": %.4f,\n  \"bvh_build_seconds\": %.4f,\n  \"startup_seconds\": %.4f,\n"
+            "  \"first_launch_seconds\": %.4f,\n  \"render_seconds\": %.4f,\n",
+            prog->from_cache ? "true" : "false", prog->build_seconds, s->scene_load_seconds,
+            lvcl_session_bvh_build_seconds(ss), s->startup_seconds, r->first_launch_seconds, r->render_seconds);
+    fprintf(f,
+            "  \"width\": %d,\n  \"height\": %d,\n  \"spp\": %d,\n  \"samples_per_second\": %.1f,\n"
+            "  \"seed\": %u,\n  \"max_depth\": %d",
+            r->width, r->height, r->samples, r->render_seconds > 0 ? pixel_samples / r->render_seconds : 0.0,
+            s->options->seed, s->options->max_depth);
+    /* The light volume: the grid is every device's; the work adds up. */
+    int devices = lvcl_session_device_count(ss);
+    uint64_t particles = 0, segments = 0, visibility_rays = 0;
+    double trace_seconds = 0;
+    for (int d = 0; d < devices; d++) {
+        const lvcl_light_volume *dv = lvcl_session_volume(ss, d);
+        if (!dv) continue;
+        lvcl_volume_stats w = lvcl_volume_stats_of(dv);
+        particles += w.particles;
+        segments += w.segments;
+        visibility_rays += w.visibility_rays;
+        if (w.trace_seconds > trace_seconds) trace_seconds = w.trace_seconds;
+    }
+    trace_seconds += lvcl_session_merge_seconds(ss);
+    if (particles) {
+        const lvcl_light_volume *v = lvcl_session_volume(ss, 0);
+        const lv_grid_info *g = lvcl_volume_grid(v);
+        lvcl_volume_stats vw = lvcl_volume_stats_of(v);
+        fprintf(f,
+                ",\n  \"grid\": [%u, %u, %u],\n  \"cell_size\": %g,\n  \"dirs\": %u,\n  \"cells_allocated\": %u,\n"
+                "  \"light_volume_bytes\": %zu,\n  \"particles\": %llu,\n  \"particle_trace_seconds\": %.4f,\n"
+                "  \"particles_per_second\": %.1f,\n  \"segments\": %llu,\n  \"segments_per_second\": %.1f,\n"
+                "  \"subcells\": %u,\n  \"visibility_rays\": %llu,\n  \"light_volume_buffers\": %d",
+                g->dims[0], g->dims[1], g->dims[2], g->cell_size, g->dirs, g->slot_count, vw.device_bytes,
+                (unsigned long long)particles, trace_seconds,
+                trace_seconds > 0 ? (double)particles / trace_seconds : 0.0, (unsigned long long)segments,
+                trace_seconds > 0 ? (double)segments / trace_seconds : 0.0, g->subcells,
+                (unsigned long long)visibility_rays, vw.tally_buffers);
+    }
+    /* Each device's share of the work. */
+    fprintf(f, ",\n  \"devices\": [");
+    for (int d = 0; d < devices; d++) {
+        const lvcl_device *sdev = lvcl_session_device(ss, d);
+        const lvcl_light_volume *dv = lvcl_session_volume(ss, d);
+        lvcl_volume_stats w = dv ? lvcl_volume_stats_of(dv) : (lvcl_volume_stats){0};
+        lvcl_pass_share pass = lvcl_session_pass_share(ss, d);
+        fprintf(f, "%s\n    {\"name\": ", d ? "," : "");
+        json_string(f, sdev->name);
+        fprintf(f,
+                ", \"index\": %d, \"compute_units\": %u, \"particles\": %llu, \"particle_trace_seconds\": %.4f, "
+                "\"bands\": %d, \"pixels\": %zu, \"render_busy_seconds\": %.4f}",
+                sdev->index, sdev->compute_units, (unsigned long long)w.particles, w.trace_seconds, pass.bands,
+                pass.pixels, pass.busy_seconds);
+    }
+    fprintf(f, "\n  ]");
+    fprintf(f, "\n}\n");
+    if (fclose(f) != 0) return lvcl_fail(st, LVCL_ERR_IO, "cannot write stats to %s", path);
+    return LVCL_OK;
+}

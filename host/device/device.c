@@ -1,0 +1,232 @@
+#include "device.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define MAX_DEVICES 64
+
+typedef struct {
+    cl_platform_id platform;
+    cl_device_id device;
+} device_ref;
+
+static int make_dirs(const char *path)
+{
+    char buf[PATH_MAX];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *p = buf + 1; *p; p++) {
+        if (*p != '/') continue;
+        *p = 0;
+        if (mkdir(buf, 0755) && errno != EEXIST) return -1;
+        *p = '/';
+    }
+    return mkdir(buf, 0755) && errno != EEXIST ? -1 : 0;
+}
+
+const char *lvcl_cache_dir(void)
+{
+    static char dir[PATH_MAX];
+    if (dir[0]) return dir;
+    const char *env = getenv("LVCL_CACHE_DIR");
+    if (env && *env) {
+        snprintf(dir, sizeof dir, "%s", env);
+    } else {
+        char exe[PATH_MAX];
+        ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+        if (n <= 0) {
+            snprintf(dir, sizeof dir, "lvcl-cache");
+        } else {
+            exe[n] = 0;
+            char *slash = strrchr(exe, '/');
+            if (slash) *slash = 0;
+            snprintf(dir, sizeof dir, "%s/cache", exe);
+        }
+    }
+    if (make_dirs(dir)) lvcl_warn("cannot create cache directory %s: %s", dir, strerror(errno));
+    return dir;
+}
+
+void lvcl_device_prepare_environment(void)
+{
+    char pocl[PATH_MAX];
+    snprintf(pocl, sizeof pocl, "%s/pocl", lvcl_cache_dir());
+    make_dirs(pocl);
+    setenv("POCL_CACHE_DIR", pocl, 0);
+}
+
+/* All devices of all platforms, in a fixed order. */
+static int enumerate(device_ref *refs, int max)
+{
+    cl_uint np = 0;
+    cl_platform_id platforms[16];
+    if (clGetPlatformIDs(16, platforms, &np) != CL_SUCCESS) return 0;
+    int count = 0;
+    for (cl_uint p = 0; p < np && p < 16; p++) {
+        cl_uint nd = 0;
+        cl_device_id ids[MAX_DEVICES];
+        if (clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, MAX_DEVICES, ids, &nd) != CL_SUCCESS) continue;
+        for (cl_uint d = 0; d < nd && d < MAX_DEVICES && count < max; d++) {
+            refs[count].platform = platforms[p];
+            refs[count].device = ids[d];
+            count++;
+        }
+    }
+    return count;
+}
+
+int lvcl_device_count(void)
+{
+    device_ref refs[MAX_DEVICES];
+    return enumerate(refs, MAX_DEVICES);
+}
+
+static lvcl_error describe(device_ref r, int index, lvcl_device *dev, lvcl_status *st)
+{
+    memset(dev, 0, sizeof *dev);
+    dev->platform = r.platform;
+    dev->id = r.device;
+    dev->index = index;
+    lvcl_error e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_NAME, sizeof dev->name - 1, dev->name, NULL),
+                                 "asking a device's name", st);
+    if (!e)
+        e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DRIVER_VERSION, sizeof dev->driver_version - 1,
+                                          dev->driver_version, NULL),
+                          "asking a device's driver version", st);
+    if (!e)
+        e = lvcl_cl_check(clGetPlatformInfo(r.platform, CL_PLATFORM_NAME, sizeof dev->platform_name - 1,
+                                            dev->platform_name, NULL),
+                          "asking a platform's name", st);
+    if (!e)
+        e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_TYPE, sizeof dev->type, &dev->type, NULL),
+                          "asking a device's type", st);
+    if (!e)
+        e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof dev->global_mem,
+                                          &dev->global_mem, NULL),
+                          "asking a device's memory", st);
+    if (!e)
+        e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof dev->max_alloc,
+                                          &dev->max_alloc, NULL),
+                          "asking a device's largest allocation", st);
+    if (!e)
+        e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof dev->compute_units,
+                                          &dev->compute_units, NULL),
+                          "asking a device's compute units", st);
+    return e;
+}
+
+static const char *type_name(cl_device_type t)
+{
+    if (t & CL_DEVICE_TYPE_GPU) return "gpu";
+    if (t & CL_DEVICE_TYPE_CPU) return "cpu";
+    if (t & CL_DEVICE_TYPE_ACCELERATOR) return "accelerator";
+    return "other";
+}
+
+lvcl_error lvcl_device_list(FILE *out, lvcl_status *st)
+{
+    device_ref refs[MAX_DEVICES];
+    int n = enumerate(refs, MAX_DEVICES);
+    if (n == 0) return lvcl_fail(st, LVCL_ERR_DEVICE, "no OpenCL device found (is an ICD such as pocl-opencl-icd installed?)");
+    for (int i = 0; i < n; i++) {
+        lvcl_device d;
+        lvcl_error e = describe(refs[i], i, &d, st);
+        if (e) return e;
+        fprintf(out, "%d  %-4s  %s  [%s, %u compute units, %.1f GiB]\n", i, type_name(d.type), d.name,
+                d.platform_name, d.compute_units, (double)d.global_mem / (1u << 30));
+    }
+    return LVCL_OK;
+}
+
+lvcl_error lvcl_device_open(const char *spec, lvcl_device *dev, lvcl_status *st)
+{
+    device_ref refs[MAX_DEVICES];
+    int n = enumerate(refs, MAX_DEVICES);
+    if (n == 0) return lvcl_fail(st, LVCL_ERR_DEVICE, "no OpenCL device found (is an ICD such as pocl-opencl-icd installed?)");
+
+    int chosen = -1;
+    if (spec == NULL || !strcmp(spec, "gpu") || !strcmp(spec, "cpu")) {
+        cl_device_type want = (spec && !strcmp(spec, "cpu")) ? CL_DEVICE_TYPE_CPU : CL_DEVICE_TYPE_GPU;
+        for (int i = 0; i < n && chosen < 0; i++) {
+            cl_device_type t = 0;
+            lvcl_error e = lvcl_cl_check(clGetDeviceInfo(refs[i].device, CL_DEVICE_TYPE, sizeof t, &t, NULL),
+                                         "asking a device's type", st);
+            if (e) return e;
+            if (t & want) chosen = i;
+        }
+        if (chosen < 0 && spec)
+            return lvcl_fail(st, LVCL_ERR_DEVICE, "no OpenCL %s device found (see --list-devices)", spec);
+        if (chosen < 0) chosen = 0;
+    } else {
+        char *end;
+        long v = strtol(spec, &end, 10);
+        if (*spec == 0 || *end != 0 || v < 0)
+            return lvcl_fail(st, LVCL_ERR_USAGE, "unknown device '%s' (expected cpu, gpu or an index from --list-devices)", spec);
+        if (v >= n)
+            return lvcl_fail(st, LVCL_ERR_DEVICE, "device %ld does not exist: there are %d OpenCL devices (see --list-devices)", v, n);
+        chosen = (int)v;
+    }
+
+    lvcl_error e = describe(refs[chosen], chosen, dev, st);
+    if (e) return e;
+    cl_int err;
+    cl_context_properties props[] = {CL_CONTEXT_PLATFORM, (cl_context_properties)dev->platform, 0};
+    dev->context = clCreateContext(props, 1, &dev->id, NULL, NULL, &err);
+    if (err != CL_SUCCESS)
+        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot create an OpenCL context on %s: %s", dev->name, lvcl_cl_error_name(err));
+    dev->queue = clCreateCommandQueue(dev->context, dev->id, 0, &err);
+    if (err != CL_SUCCESS) {
+        clReleaseContext(dev->context);
+        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot create an OpenCL queue on %s: %s", dev->name, lvcl_cl_error_name(err));
+    }
+    return LVCL_OK;
+}
+
+void lvcl_device_limit_memory(lvcl_device *dev, uint64_t bytes)
+{
+    if (dev->global_mem > bytes) dev->global_mem = bytes;
+    if (dev->max_alloc > bytes / 4) dev->max_alloc = bytes / 4;
+}
+
+void lvcl_device_close(lvcl_device *dev)
+{
+    if (dev->queue) clReleaseCommandQueue(dev->queue);
+    if (dev->context) clReleaseContext(dev->context);
+    memset(dev, 0, sizeof *dev);
+}
+
+lvcl_error lvcl_cl_check(cl_int err, const char *what, lvcl_status *st)
+{
+    if (err == CL_SUCCESS) return LVCL_OK;
+    lvcl_error code = err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ? LVCL_ERR_TOO_LARGE
+                                                                                           : LVCL_ERR_DEVICE;
+    return lvcl_fail(st, code, "%s failed: %s", what, lvcl_cl_error_name(err));
+}
+
+const char *lvcl_cl_error_name(cl_int err)
+{
+    switch (err) {
+    case CL_DEVICE_NOT_FOUND: return "CL_DEVICE_NOT_FOUND";
+    case CL_DEVICE_NOT_AVAILABLE: return "CL_DEVICE_NOT_AVAILABLE";
+    case CL_COMPILER_NOT_AVAILABLE: return "CL_COMPILER_NOT_AVAILABLE";
+    case CL_MEM_OBJECT_ALLOCATION_FAILURE: return "CL_MEM_OBJECT_ALLOCATION_FAILURE";
+    case CL_OUT_OF_RESOURCES: return "CL_OUT_OF_RESOURCES";
+    case CL_OUT_OF_HOST_MEMORY: return "CL_OUT_OF_HOST_MEMORY";
+    case CL_BUILD_PROGRAM_FAILURE: return "CL_BUILD_PROGRAM_FAILURE";
+    case CL_INVALID_VALUE: return "CL_INVALID_VALUE";
+    case CL_INVALID_BINARY: return "CL_INVALID_BINARY";
+    case CL_INVALID_BUILD_OPTIONS: return "CL_INVALID_BUILD_OPTIONS";
+    case CL_INVALID_KERNEL_ARGS: return "CL_INVALID_KERNEL_ARGS";
+    case CL_INVALID_ARG_SIZE: return "CL_INVALID_ARG_SIZE";
+    case CL_INVALID_WORK_GROUP_SIZE: return "CL_INVALID_WORK_GROUP_SIZE";
+    case CL_INVALID_BUFFER_SIZE: return "CL_INVALID_BUFFER_SIZE";
+    default: {
+        static char buf[32];
+        snprintf(buf, sizeof buf, "OpenCL error %d", err);
+        return buf;
+    }
+    }
+}

@@ -1,0 +1,61 @@
+/* OpenCL devices: enumeration across platforms, choice by the --device
+ * argument, and a context and in-order queue on the chosen one. */
+#ifndef LVCL_DEVICE_H
+#define LVCL_DEVICE_H
+
+#define CL_TARGET_OPENCL_VERSION 120
+#include <CL/cl.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "../util/status.h"
+
+typedef struct {
+    cl_platform_id platform;
+    cl_device_id id;
+    cl_context context;
+    cl_command_queue queue;
+    int index;               /* position in the --list-devices order */
+    char name[256];
+    char platform_name[256];
+    char driver_version[128];
+    cl_device_type type;
+    cl_ulong global_mem;
+    cl_ulong max_alloc;
+    cl_uint compute_units;
+} lvcl_device;
+
+/* Points the OpenCL drivers' own caches (PoCL's kernel cache) into lvcl's
+ * cache directory. Call before any other OpenCL call. */
+void lvcl_device_prepare_environment(void);
+
+/* The directory for cached program binaries: $LVCL_CACHE_DIR, or cache/
+ * beside the executable. Created on first use. */
+const char *lvcl_cache_dir(void);
+
+/* Prints one line per device: index, type, name, platform. */
+lvcl_error lvcl_device_list(FILE *out, lvcl_status *st);
+
+/* Number of devices over all platforms (0 if there is no OpenCL at all). */
+int lvcl_device_count(void);
+
+/* Opens the device that `spec` names: "cpu", "gpu", a list index, or NULL
+ * for the default (first GPU, else first CPU, else the first device). */
+lvcl_error lvcl_device_open(const char *spec, lvcl_device *dev, lvcl_status *st);
+
+/* Makes dev act as a device of `bytes` bytes (--device-memory): no more
+ * memory than that, and a quarter of it in one buffer, as OpenCL promises
+ * and GPUs often allow no more. */
+void lvcl_device_limit_memory(lvcl_device *dev, uint64_t bytes);
+
+void lvcl_device_close(lvcl_device *dev);
+
+/* A short name for an OpenCL error code, for messages. */
+const char *lvcl_cl_error_name(cl_int err);
+
+/* The one check of OpenCL results: LVCL_OK if err is CL_SUCCESS; else
+ * records "<what> failed: <error>" in st (LVCL_ERR_TOO_LARGE for an
+ * allocation failure, else LVCL_ERR_DEVICE). */
+lvcl_error lvcl_cl_check(cl_int err, const char *what, lvcl_status *st);
+
+#endif

@@ -1,0 +1,232 @@
+#include "packed_scene.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../scene/materials.h"
+
+/* The kernels' luminance (kernels/shared_types.h) of an RGB triple. */
+static float luminance(const float c[3])
+{
+    return LV_LUMINANCE(c[0], c[1], c[2]);
+}
+
+/* Area of a triangle given by three world-space corners. */
+static float triangle_area(const float v[9])
+{
+    float e1[3], e2[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = v[3 + k] - v[k];
+        e2[k] = v[6 + k] - v[k];
+    }
+    float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    return 0.5f * sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+void lvcl_packed_triangle_world(const lvcl_packed_scene *p, size_t instance, size_t tri, float v[9])
+{
+    const lv_instance *in = &p->instances[instance];
+    for (int c = 0; c < 3; c++) lvcl_transform_point(in->world_from_object, &p->tri_vertices[12 * tri + 4 * c], 1.0f, &v[3 * c]);
+}
+
+/* Power (luminance watts) of a punctual light: 4 pi I for a point light,
+ * the solid angle of its cone (to the middle of the falloff) times I for a spot. */
+static float punctual_power(const lv_punctual_light *l)
+{
+    float i = luminance(l->intensity);
+    if (l->type == LV_PUNCTUAL_SPOT) return 2.0f * 3.14159265f * (1.0f - 0.5f * (l->cos_inner + l->cos_outer)) * i;
+    return 4.0f * 3.14159265f * i;
+}
+
+/* Numbers each mesh's emitting triangles (lv_triangle.light) and returns
+ * how many area lights all instances make. */
+static size_t number_emitters(lvcl_packed_scene *p, size_t *emitters_per_mesh)
+{
+    for (size_t m = 0; m < p->mesh_count; m++) {
+        size_t k = 0;
+        for (size_t t = p->mesh_first[m]; t < p->mesh_first[m] + p->mesh_size[m]; t++)
+            if (luminance(p->materials[p->triangles[t].material].emission) > 0.0f) p->triangles[t].light = (lv_u32)k++;
+        emitters_per_mesh[m] = k;
+    }
+    size_t n = 0;
+    for (size_t i = 0; i < p->instance_count; i++) n += emitters_per_mesh[p->instances[i].mesh];
+    return n;
+}
+
+/* Builds the light table: every instance's emitting triangles and the
+ * punctual lights, chosen in proportion to their power. */
+static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lvcl_status *st)
+{
+    size_t *emitters = calloc(p->mesh_count, sizeof *emitters);
+    if (!emitters) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building the light table");
+    size_t n = number_emitters(p, emitters) + scene->punctual_count;
+    float *power = malloc((n ? n : 1) * sizeof *power);
+    p->lights = calloc(n ? n : 1, sizeof *p->lights);
+    if (!power || !p->lights) {
+        free(power);
+        free(emitters);
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building a table of %zu lights", n);
+    }
+    size_t i = 0;
+    for (size_t in = 0; in < p->instance_count; in++) {
+        uint32_t m = p->instances[in].mesh;
+        p->instances[in].light_base = emitters[m] ? (lv_u32)i : LV_NO_LIGHT;
+        if (!emitters[m]) continue;
+        for (size_t t = p->mesh_first[m]; t < p->mesh_first[m] + p->mesh_size[m]; t++) {
+            if (p->triangles[t].light == LV_NO_LIGHT) continue;
+            float v[9];
+            lvcl_packed_triangle_world(p, in, t, v);
+            p->lights[i].kind = LV_LIGHT_AREA;
+            p->lights[i].index = (lv_u32)t;
+            p->lights[i].instance = (lv_u32)in;
+            power[i++] = luminance(p->materials[p->triangles[t].material].emission) * triangle_area(v) * 3.14159265f;
+        }
+    }
+    free(emitters);
+    for (size_t k = 0; k < scene->punctual_count; k++) {
+        p->lights[i].kind = LV_LIGHT_PUNCTUAL;
+        p->lights[i].index = (lv_u32)k;
+        power[i++] = punctual_power(&scene->punctuals[k]);
+    }
+    double total = 0;
+    for (i = 0; i < n; i++) total += power[i];
+    double acc = 0;
+    for (i = 0; i < n; i++) {
+        acc += power[i];
+        p->lights[i].pdf_select = (float)(power[i] / total);
+        p->lights[i].cdf = i + 1 == n ? 1.0f : (float)(acc / total);
+    }
+    p->light_count = total > 0 ? n : 0;
+    p->info.light_count = (lv_u32)p->light_count;
+    p->info.total_light_power = (float)total;
+    if (p->light_count == 0) lvcl_warn("the scene has no lights: the image will be black");
+    free(power);
+    return LVCL_OK;
+}
+
+/* Copies a mesh's tree after the nodes already packed, with its indices
+ * made absolute, and its triangles in leaf order. */
+static void pack_mesh(const lvcl_scene *scene, const lvcl_mesh *mesh, const lvcl_bvh *b, size_t node_base,
+                      size_t tri_base, lvcl_packed_scene *p)
+{
+    for (size_t i = 0; i < b->node_count; i++) {
+        lv_bvh_node n = b->nodes[i];
+        n.index += (lv_i32)(n.count > 0 ? tri_base : node_base);
+        p->nodes[node_base + i] = n;
+    }
+    for (size_t i = 0; i < b->triangle_count; i++) {
+        size_t t = mesh->first_triangle + b->tri_order[i], slot = tri_base + i;
+        for (int c = 0; c < 3; c++) {
+            uint32_t v = scene->indices[3 * t + c];
+            memcpy(&p->tri_vertices[12 * slot + 4 * c], &scene->positions[3 * v], 3 * sizeof(float));
+            p->tri_vertices[12 * slot + 4 * c + 3] = 0.0f;
+            p->triangles[slot].v[c] = v;
+        }
+        p->triangles[slot].material = scene->tri_material[t];
+        p->triangles[slot].prim_id = (lv_u32)t;
+        p->triangles[slot].light = LV_NO_LIGHT;
+        p->triangles[slot].flags = scene->tri_flags[t];
+    }
+}
+
+lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *a, uint32_t seed, uint32_t max_depth,
+                           lvcl_packed_scene *p, lvcl_status *st)
+{
+    memset(p, 0, sizeof *p);
+    size_t n = a->triangle_count;
+    p->nodes = malloc(a->node_count * sizeof *p->nodes);
+    p->instances = calloc(a->instance_count, sizeof *p->instances);
+    p->mesh_first = calloc(a->mesh_count, sizeof *p->mesh_first);
+    p->mesh_size = calloc(a->mesh_count, sizeof *p->mesh_size);
+    size_t *mesh_root = calloc(a->mesh_count, sizeof *mesh_root);
+    p->tri_vertices = malloc(n * 12 * sizeof(float));
+    p->triangles = calloc(n, sizeof *p->triangles);
+    p->materials = calloc(scene->material_count ? scene->material_count : 1, sizeof *p->materials);
+    p->textures = calloc(scene->texture_count ? scene->texture_count : 1, sizeof *p->textures);
+    size_t texels = 0;
+    for (size_t t = 0; t < scene->texture_count; t++)
+        texels += (size_t)scene->textures[t].width * scene->textures[t].height;
+    p->texels = calloc(texels ? texels : 1, sizeof *p->texels);
+    if (!p->nodes || !p->instances || !p->mesh_first || !p->mesh_size || !mesh_root || !p->tri_vertices ||
+        !p->triangles || !p->materials || !p->textures || !p->texels) {
+        free(mesh_root);
+        lvcl_packed_scene_free(p);
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory packing %zu triangles", n);
+    }
+
+    /* Nodes: the top level first (the kernels start at node 0), then each
+     * mesh's tree; triangles mesh after mesh. */
+    memcpy(p->nodes, a->top.nodes, a->top.node_count * sizeof *p->nodes);
+    size_t node_base = a->top.node_count, tri_base = 0;
+    for (size_t m = 0; m < a->mesh_count; m++) {
+        const lvcl_bvh *b = &a->mesh_bvh[m];
+        pack_mesh(scene, &a->meshes[m], b, node_base, tri_base, p);
+        mesh_root[m] = node_base;
+        p->mesh_first[m] = tri_base;
+        p->mesh_size[m] = b->triangle_count;
+        node_base += b->node_count;
+        tri_base += b->triangle_count;
+    }
+    p->node_count = node_base;
+    p->triangle_count = n;
+    p->mesh_count = a->mesh_count;
+
+    /* Instances in the top level's leaf order (one per leaf). */
+    for (size_t slot = 0; slot < a->instance_count; slot++) {
+        const lvcl_instance *in = &a->instances[a->top.tri_order[slot]];
+        lv_instance *out = &p->instances[slot];
+        memcpy(out->world_from_object, in->world_from_object, sizeof out->world_from_object);
+        int mirrored;
+        lvcl_transform_invert(in->world_from_object, out->object_from_world, &mirrored);
+        out->root = (lv_u32)mesh_root[in->mesh];
+        out->flags = mirrored ? LV_INSTANCE_MIRRORED : 0u;
+        out->mesh = in->mesh;
+    }
+    free(mesh_root);
+    p->instance_count = a->instance_count;
+
+    p->material_count = scene->material_count;
+    for (size_t m = 0; m < scene->material_count; m++)
+        lvcl_material_from_desc(&scene->materials[m], m, &p->materials[m]);
+
+    p->texture_count = scene->texture_count;
+    size_t offset = 0;
+    for (size_t t = 0; t < scene->texture_count; t++) {
+        const lvcl_texture_data *td = &scene->textures[t];
+        size_t count = (size_t)td->width * td->height;
+        p->textures[t].offset = (lv_u32)offset;
+        p->textures[t].width = td->width;
+        p->textures[t].height = td->height;
+        memcpy(&p->texels[offset], td->rgba, count * 4);
+        offset += count;
+    }
+    p->texel_count = texels;
+
+    memcpy(p->bounds_min, a->bounds_min, sizeof p->bounds_min);
+    memcpy(p->bounds_max, a->bounds_max, sizeof p->bounds_max);
+    float extent = 0.0f;
+    for (int k = 0; k < 3; k++) extent = fmaxf(extent, p->bounds_max[k] - p->bounds_min[k]);
+    p->info.triangle_count = (lv_u32)n;
+    p->info.max_depth = max_depth;
+    p->info.seed = seed;
+    p->info.scene_scale = extent > 0.0f ? extent : 1.0f;
+    p->info.instance_count = (lv_u32)a->instance_count;
+    p->info.flat = a->flat ? 1u : 0u;
+    return build_lights(scene, p, st);
+}
+
+void lvcl_packed_scene_free(lvcl_packed_scene *p)
+{
+    free(p->nodes);
+    free(p->instances);
+    free(p->mesh_first);
+    free(p->mesh_size);
+    free(p->tri_vertices);
+    free(p->triangles);
+    free(p->materials);
+    free(p->textures);
+    free(p->texels);
+    free(p->lights);
+    memset(p, 0, sizeof *p);
+}

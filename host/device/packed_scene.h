@@ -1,0 +1,43 @@
+/* The scene packed into the kernels' layouts (kernels/shared_types.h) on
+ * the host: the BVH nodes and triangles in leaf order, the instances, the
+ * materials, textures and the light table. */
+#ifndef LVCL_PACKED_SCENE_H
+#define LVCL_PACKED_SCENE_H
+
+#include "../accel/accel.h"
+#include "../scene/scene.h"
+
+/* The kernels' arrays, packed on the host (also used by host-side checks). */
+typedef struct {
+    lv_bvh_node *nodes;        /* the top level, then every mesh's tree */
+    size_t node_count;
+    lv_instance *instances;    /* in the top level's leaf order */
+    size_t instance_count;
+    size_t *mesh_first, *mesh_size; /* each mesh's range of the leaf-ordered triangles */
+    size_t mesh_count;
+    float *tri_vertices;       /* 12 floats (3 x float4) per triangle, leaf order, object space */
+    lv_triangle *triangles;    /* leaf order */
+    size_t triangle_count;
+    lv_material *materials;
+    size_t material_count;
+    lv_texture *textures;
+    size_t texture_count;
+    uint32_t *texels;          /* RGBA8 */
+    size_t texel_count;
+    lv_light *lights;
+    size_t light_count;
+    lv_scene_info info;
+    float bounds_min[3], bounds_max[3];
+} lvcl_packed_scene;
+
+/* Packs scene and its acceleration structure. The packed scene borrows
+ * nothing from either. */
+lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *accel, uint32_t seed, uint32_t max_depth,
+                           lvcl_packed_scene *packed, lvcl_status *st);
+
+/* The world-space corners (9 floats) of leaf-ordered triangle tri as
+ * placed by instance `instance`. */
+void lvcl_packed_triangle_world(const lvcl_packed_scene *p, size_t instance, size_t tri, float v[9]);
+void lvcl_packed_scene_free(lvcl_packed_scene *packed);
+
+#endif

@@ -1,0 +1,16 @@
+/* Image error metrics, as the tests and lvcl-compare report them. `ref` is the reference. */
+#ifndef LVCL_METRICS_H
+#define LVCL_METRICS_H
+
+#include <stddef.h>
+
+/* mean((a - ref)^2 / (ref^2 + 0.01)) over pixels and channels. */
+double lvcl_relmse(const float *a, const float *ref, size_t count);
+
+/* sqrt(mean((a - ref)^2)). */
+double lvcl_rmse(const float *a, const float *ref, size_t count);
+
+/* Mean of each of the three channels of n RGB pixels. */
+void lvcl_mean_rgb(const float *rgb, size_t n, double mean[3]);
+
+#endif

@@ -1,0 +1,41 @@
+/* The camera passes (path tracing, final gather): one sample per pixel per
+ * launch, added to a running sum, until the sample count or the time limit
+ * is reached. On several devices the image is cut into bands of rows that
+ * the devices take one at a time as they finish (dynamic load balancing). */
+#ifndef LVCL_IMAGE_PASS_H
+#define LVCL_IMAGE_PASS_H
+
+#include "../device/kernel_args.h"
+#include "../../kernels/shared_types.h"
+
+typedef struct {
+    int spp;
+    double time_limit; /* seconds, 0 = none (one device only) */
+    int progress;      /* draw a progress bar on stderr */
+} lvcl_pass_settings;
+
+typedef struct {
+    float *rgb;  /* width x height x 3, malloc'ed; the caller frees it */
+    int width, height;
+    int samples;        /* samples per pixel actually taken */
+    double first_launch_seconds; /* first launch, which may compile machine code */
+    double render_seconds;
+} lvcl_render_result;
+
+/* One device's share of a pass. The caller has bound the kernel's
+ * arguments but its pixel arguments (LV_PIXEL_ARGS: camera, pixel range,
+ * sample index, sum), which the pass binds at the indices pixel_args names.
+ * The pass fills in the work the device did. */
+typedef struct {
+    const lvcl_device *device;
+    cl_kernel kernel;
+    lvcl_pixel_arg_indices pixel_args;
+    int bands;           /* bands rendered */
+    size_t pixels;       /* pixels rendered */
+    double busy_seconds; /* time spent rendering them */
+} lvcl_pass_device;
+
+lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int device_count, const lv_camera *camera,
+                           const lvcl_pass_settings *settings, lvcl_render_result *out, lvcl_status *st);
+
+#endif

@@ -1,0 +1,134 @@
+/* The light volume's lifetime: the grid (volume_grid.c) laid out over as
+ * few buffers as the device allows, checked against its memory budget and
+ * allocated; the accessors of the opaque handle. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "light_volume_internal.h"
+
+lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p, const lvcl_volume_settings *s,
+                              lvcl_light_volume **out, lvcl_status *st)
+{
+    *out = NULL;
+    lvcl_light_volume *vol = calloc(1, sizeof *vol);
+    if (!vol) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for a light volume");
+    vol->dev = dev;
+    lv_grid_info *g = &vol->buf.info;
+    lvcl_error e = lvcl_volume_grid_choose(p, s, g, &vol->cell_count, st);
+    if (e) {
+        lvcl_volume_release(vol);
+        return e;
+    }
+    vol->cell_slot = malloc(vol->cell_count * sizeof(uint32_t));
+    if (!vol->cell_slot) {
+        size_t cells = vol->cell_count;
+        lvcl_volume_release(vol);
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for a %zu-cell grid", cells);
+    }
+    if ((e = lvcl_volume_assign_slots(p, g, vol->cell_count, vol->cell_slot, st))) {
+        lvcl_volume_release(vol);
+        return e;
+    }
+
+    /* The tallies go in as few buffers as the device's largest allocation
+     * allows (GPUs often allow a quarter of their memory in one). */
+    size_t slot_bytes = (size_t)g->bins * 3 * sizeof(int64_t);
+    vol->tally_bytes = (size_t)g->slot_count * slot_bytes;
+    size_t per_part = dev->max_alloc / slot_bytes;
+    if (per_part > UINT32_MAX) per_part = UINT32_MAX;
+    size_t parts = per_part ? ((size_t)g->slot_count + per_part - 1) / per_part : SIZE_MAX;
+    /* Beside the tallies: the cell index, and per slot a subcell record and a lit volume (one buffer each). */
+    size_t records = ((size_t)g->slot_count + 1) * (LV_SUBCELL_STRIDE + 1) * sizeof(uint32_t);
+    vol->device_bytes = vol->tally_bytes + vol->cell_count * sizeof(uint32_t) + records;
+    if (parts > LV_TALLY_PARTS || records > dev->max_alloc || vol->device_bytes > dev->global_mem) {
+        lvcl_error e = lvcl_fail(st, LVCL_ERR_TOO_LARGE,
+                                 "the light volume needs %.1f MiB (%u cells x %u bins) but %s allows %.1f MiB in one "
+                                 "buffer (at most %d buffers) and %.1f MiB in all; use fewer --cells or --dirs",
+                                 vol->device_bytes / 1048576.0, g->slot_count, g->bins, dev->name,
+                                 dev->max_alloc / 1048576.0, LV_TALLY_PARTS, dev->global_mem / 1048576.0);
+        lvcl_volume_release(vol);
+        return e;
+    }
+    vol->tally_parts = parts ? (int)parts : 1;
+    g->slots_per_part = (lv_u32)(parts > 1 ? per_part : (g->slot_count ? g->slot_count : 1));
+    cl_int err;
+    vol->buf.cell_slot = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                        vol->cell_count * sizeof(uint32_t), vol->cell_slot, &err);
+    for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS; i++)
+        vol->buf.tallies[i] = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, lvcl_volume_part_bytes(vol, i), NULL, &err);
+    if (err == CL_SUCCESS)
+        vol->buf.subcells = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
+                                          ((size_t)g->slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(cl_uint), NULL, &err);
+    if (err == CL_SUCCESS)
+        vol->buf.lit_volume = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, ((size_t)g->slot_count + 1) * sizeof(float),
+                                             NULL, &err);
+    if (err == CL_SUCCESS)
+        vol->bin_directions_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, g->bins * 4 * sizeof(float), NULL,
+                                                 &err);
+    if (err != CL_SUCCESS) {
+        char what[300];
+        snprintf(what, sizeof what, "allocating the light volume on %s", dev->name);
+        lvcl_volume_release(vol);
+        return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "%s failed: %s", what, lvcl_cl_error_name(err));
+    }
+    *out = vol;
+    return LVCL_OK;
+}
+
+size_t lvcl_volume_part_bytes(const lvcl_light_volume *vol, int part)
+{
+    size_t slot_bytes = (size_t)vol->buf.info.bins * 3 * sizeof(int64_t);
+    size_t first = (size_t)part * vol->buf.info.slots_per_part;
+    size_t slots = vol->buf.info.slot_count > first ? vol->buf.info.slot_count - first : 0;
+    if (slots > vol->buf.info.slots_per_part) slots = vol->buf.info.slots_per_part;
+    return slots ? slots * slot_bytes : 8; /* OpenCL refuses empty buffers */
+}
+
+size_t lvcl_volume_record_bytes(const lvcl_light_volume *vol)
+{
+    return ((size_t)vol->buf.info.slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(uint32_t);
+}
+
+const lv_grid_info *lvcl_volume_grid(const lvcl_light_volume *vol)
+{
+    return &vol->buf.info;
+}
+
+uint32_t lvcl_volume_slot(const lvcl_light_volume *vol, uint32_t x, uint32_t y, uint32_t z)
+{
+    const lv_grid_info *g = &vol->buf.info;
+    if (x >= g->dims[0] || y >= g->dims[1] || z >= g->dims[2]) return LV_EMPTY_CELL;
+    return vol->cell_slot[(size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z)];
+}
+
+lvcl_volume_stats lvcl_volume_stats_of(const lvcl_light_volume *vol)
+{
+    return (lvcl_volume_stats){.tally_bytes = vol->tally_bytes,
+                               .device_bytes = vol->device_bytes,
+                               .tally_buffers = vol->tally_parts,
+                               .particles = vol->particles,
+                               .segments = vol->segments,
+                               .visibility_rays = vol->visibility_rays,
+                               .trace_seconds = vol->trace_seconds};
+}
+
+const lvcl_volume_buffers *lvcl_volume_kernel_buffers(const lvcl_light_volume *vol)
+{
+    return &vol->buf;
+}
+
+cl_mem lvcl_volume_bin_directions(const lvcl_light_volume *vol)
+{
+    return vol->bin_directions_buf;
+}
+
+void lvcl_volume_release(lvcl_light_volume *vol)
+{
+    if (!vol) return;
+    lvcl_volume_buffers_release(&vol->buf);
+    if (vol->bin_directions_buf) clReleaseMemObject(vol->bin_directions_buf);
+    free(vol->cell_slot);
+    free(vol);
+}

@@ -1,0 +1,99 @@
+/* The light volume on the host (paper section 4): a grid chosen over the
+ * scene, cells stored only where geometry is (and where a jittered lookup
+ * can land), the particle trace run into it on a device, and what the
+ * lookups need computed after it. An opaque handle: the buffers stay with
+ * the volume; tests and stats read it through the accessors below. */
+#ifndef LVCL_LIGHT_VOLUME_H
+#define LVCL_LIGHT_VOLUME_H
+
+#include <pthread.h>
+#include <stdint.h>
+
+#include "../device/device_scene.h"
+#include "../device/program.h"
+
+typedef struct lvcl_light_volume lvcl_light_volume;
+
+/* Hands out batches of particle indices to the devices tracing one volume
+ * together, so that a faster device traces more (lvcl_particle_source_init). */
+typedef struct {
+    pthread_mutex_t lock;
+    uint64_t next, end;
+} lvcl_particle_source;
+
+void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t particles);
+void lvcl_particle_source_destroy(lvcl_particle_source *src);
+
+/* The default share of surface hits that cast a subcell visibility ray
+ * (docs/light-volume.md has the measurements behind it). */
+#define LVCL_VISIBILITY_RATE 0.25
+
+typedef struct {
+    int cells;            /* cells along the longest axis (used if cell_size is 0) */
+    double cell_size;     /* metres; 0 = from `cells` */
+    double offset;        /* shift of the grid against the bounds, in cells, [0, 1) */
+    int dirs;             /* n: n x n bins per hemisphere */
+    int subcells;         /* k: k x k x k subcells per cell (0 to 4), 0 = the lit volume is the whole cell */
+    double visibility_rate; /* share of surface hits that cast a visibility ray; 0 = LVCL_VISIBILITY_RATE */
+    uint64_t particles;   /* in all, over every device */
+    lvcl_particle_source *source; /* several devices: take batches from here; NULL: trace them all */
+    int store_emitted;    /* lv-all: tally the segments leaving the lights too */
+    int progress;
+} lvcl_volume_settings;
+
+/* What a volume holds and what its trace did (this device's share). */
+typedef struct {
+    size_t tally_bytes;       /* all tally buffers */
+    size_t device_bytes;      /* everything the volume holds on the device */
+    int tally_buffers;        /* buffers the tallies are split over */
+    uint64_t particles;       /* traced here */
+    uint64_t segments;        /* straight path pieces traced */
+    uint64_t visibility_rays; /* subcell visibility rays cast (paper 4.1) */
+    double trace_seconds;
+} lvcl_volume_stats;
+
+/* Chooses the grid over the packed scene's bounds and allocates, on dev
+ * (which must outlive the volume), the cells that triangles touch, grown by
+ * one cell in every direction. */
+lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *packed,
+                              const lvcl_volume_settings *settings, lvcl_light_volume **vol, lvcl_status *st);
+
+/* Traces settings->particles particles (or the batches it takes from
+ * settings->source) into the (cleared) volume. Particle i draws its random
+ * numbers from i alone, so batches traced apart and added make the volume
+ * traced at once. */
+lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, const lvcl_device_scene *ds,
+                             const lvcl_volume_settings *settings, lvcl_status *st);
+
+/* After the trace: the per-cell lit volumes the lookups read (lv_lit_volumes). */
+lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st);
+
+/* Adds the tallies and subcell records of every volume (the same grid on
+ * several devices, each with its own particles) and stores the sum in each.
+ * Integer tallies and counters make the sum exact and order-free. */
+lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_status *st);
+
+/* Reads the tallies back (slot_count x bins x 3 int64, malloc'ed) and, if
+ * masks is not NULL, the subcell records (LV_SUBCELL_STRIDE words per slot). */
+lvcl_error lvcl_volume_read(const lvcl_light_volume *vol, int64_t **tallies, uint32_t **masks, lvcl_status *st);
+
+/* Reads back the lit volume of every slot as lv_lit_volumes computed it
+ * (cell units, malloc'ed; valid after lvcl_volume_finish). */
+lvcl_error lvcl_volume_read_lit(const lvcl_light_volume *vol, float **lit, lvcl_status *st);
+
+const lv_grid_info *lvcl_volume_grid(const lvcl_light_volume *vol);
+
+/* The slot of cell (x, y, z), or LV_EMPTY_CELL. */
+uint32_t lvcl_volume_slot(const lvcl_light_volume *vol, uint32_t x, uint32_t y, uint32_t z);
+
+lvcl_volume_stats lvcl_volume_stats_of(const lvcl_light_volume *vol);
+
+/* The buffers the kernels take (the volume block of the contract) and the
+ * bins' central directions, for binding kernels that read the volume. */
+const lvcl_volume_buffers *lvcl_volume_kernel_buffers(const lvcl_light_volume *vol);
+cl_mem lvcl_volume_bin_directions(const lvcl_light_volume *vol);
+
+/* Releases everything; NULL is allowed. */
+void lvcl_volume_release(lvcl_light_volume *vol);
+
+#endif

@@ -1,0 +1,85 @@
+/* A rendering session: a scene made ready on one or more devices (BVHs
+ * built once, buffers uploaded and kernels built on each) and the passes run
+ * on them. lvcl's main, the tests and the benchmarks all render through
+ * this. An opaque handle, opened and closed like Embree's devices and
+ * scenes; what it did is read back through the accessors below. */
+#ifndef LVCL_SESSION_H
+#define LVCL_SESSION_H
+
+#include "../accel/accel.h"
+#include "../device/device_list.h"
+#include "../device/device_scene.h"
+#include "../device/program.h"
+#include "../scene/camera.h"
+#include "../scene/scene.h"
+#include "../scene/scene_load.h"
+#include "image_pass.h"
+#include "light_volume.h"
+
+typedef struct lvcl_session lvcl_session;
+
+typedef struct {
+    const char *device;  /* --device value: cpu, gpu, an index, a list "0,2" or "all"; NULL for the default */
+    unsigned seed;
+    int max_depth;
+    int fast_math;
+    uint64_t device_memory; /* act as a device of this many bytes (a quarter in one buffer); 0 = the device's own */
+    unsigned build_flags;   /* LVCL_BUILD_* switches for the kernels, besides the scene's features */
+} lvcl_session_config;
+
+typedef enum { LVCL_MODE_PT, LVCL_MODE_LV, LVCL_MODE_LV_ALL } lvcl_mode;
+
+typedef struct {
+    lvcl_mode mode;
+    int width, height;          /* 0 = from the camera's aspect */
+    lvcl_pass_settings pass;
+    lvcl_volume_settings volume;
+    int integrate;              /* the gather integrates over all bins instead of sampling one */
+    double threshold;           /* near-hit distance in metres; 0 = the cell diagonal */
+} lvcl_render_request;
+
+/* One device's share of the last camera pass. */
+typedef struct {
+    int bands;           /* bands rendered */
+    size_t pixels;       /* pixels rendered */
+    double busy_seconds; /* time spent rendering them */
+} lvcl_pass_share;
+
+/* Takes ownership of *scene (left zeroed) and prepares it on the devices
+ * cfg names; *session is NULL on failure. */
+lvcl_error lvcl_session_open(lvcl_scene *scene, const lvcl_session_config *cfg, lvcl_session **session,
+                             lvcl_status *st);
+
+/* Renders an image: path tracing, or particle trace then final gather. */
+lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
+                               lvcl_status *st);
+
+/* Path-traces a width x height image (0 = from the camera's aspect). */
+lvcl_error lvcl_session_render_pt(lvcl_session *s, int width, int height, const lvcl_pass_settings *settings,
+                                  lvcl_render_result *out, lvcl_status *st);
+
+/* Builds the light volume on every device as lv modes do (each takes
+ * batches of particles, the tallies are added, the lit volumes computed),
+ * with settings->store_emitted as given. */
+lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings *settings, lvcl_status *st);
+
+/* Releases everything; NULL is allowed. */
+void lvcl_session_close(lvcl_session *s);
+
+/* ---- what the session holds and did ---- */
+int lvcl_session_device_count(const lvcl_session *s);
+const lvcl_device *lvcl_session_device(const lvcl_session *s, int d);
+const lvcl_device_scene *lvcl_session_device_scene(const lvcl_session *s, int d);
+const lvcl_program *lvcl_session_program(const lvcl_session *s, int d);
+/* Device d's light volume: its grid is every device's, its particles and
+ * timings its own; NULL before an lv render or lvcl_session_trace_volume. */
+const lvcl_light_volume *lvcl_session_volume(const lvcl_session *s, int d);
+lvcl_pass_share lvcl_session_pass_share(const lvcl_session *s, int d);
+const lvcl_scene *lvcl_session_scene(const lvcl_session *s);
+unsigned lvcl_session_features(const lvcl_session *s); /* LVCL_FEATURE_* the scene uses */
+const lvcl_accel *lvcl_session_accel(const lvcl_session *s);
+const lvcl_packed_scene *lvcl_session_packed_scene(const lvcl_session *s);
+double lvcl_session_bvh_build_seconds(const lvcl_session *s);
+double lvcl_session_merge_seconds(const lvcl_session *s); /* adding the devices' light volumes */
+
+#endif

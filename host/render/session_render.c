@@ -1,0 +1,71 @@
+/* The session's camera passes: each device's kernel bound by the contract
+ * (kernels/shared_types.h) and handed to the image pass. */
+#include <math.h>
+#include <string.h>
+
+#include "session_internal.h"
+
+/* Binds a camera pass kernel's arguments: the scene's (and the light
+ * volume's, for the gather) and the camera; the pass binds the pixel range,
+ * the sample and the sum (pd->pixel_args says where). */
+static lvcl_error bind_pass_args(session_device *sd, lvcl_pass_device *pd, const lvcl_render_request *req,
+                                 const lv_camera *camera, lvcl_status *st)
+{
+    if (req->mode == LVCL_MODE_PT) {
+        pd->pixel_args = LVCL_PIXEL_ARG_INDICES(lv_pt_pass);
+        lvcl_pt_pass_args a = {.scene = &sd->device_scene.buffers, .camera = *camera};
+        return lvcl_bind_lv_pt_pass(pd->kernel, &a, st);
+    }
+    const lvcl_light_volume *v = sd->volume;
+    pd->pixel_args = LVCL_PIXEL_ARG_INDICES(lv_gather_pass);
+    lvcl_gather_pass_args a = {
+        .scene = &sd->device_scene.buffers,
+        .volume = lvcl_volume_kernel_buffers(v),
+        .bin_directions = lvcl_volume_bin_directions(v),
+        .flags = (req->mode == LVCL_MODE_LV_ALL ? LV_GATHER_ALL : 0u) | (req->integrate ? LV_GATHER_INTEGRATE : 0u),
+        .threshold = (float)(req->threshold > 0 ? req->threshold : sqrt(3.0) * lvcl_volume_grid(v)->cell_size),
+        .camera = *camera,
+    };
+    return lvcl_bind_lv_gather_pass(pd->kernel, &a, st);
+}
+
+lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
+                               lvcl_status *st)
+{
+    lvcl_error e;
+    if (req->mode != LVCL_MODE_PT) {
+        lvcl_volume_settings vs = req->volume;
+        vs.store_emitted = req->mode == LVCL_MODE_LV_ALL;
+        if ((e = lvcl_session_trace_volume(s, &vs, st))) return e;
+    }
+    int w, h;
+    lvcl_image_size(&s->scene.camera, req->width, req->height, &w, &h);
+    lv_camera cam = lvcl_camera_make(&s->scene.camera, s->packed.bounds_min, s->packed.bounds_max, w, h);
+    lvcl_pass_device passes[LVCL_MAX_DEVICES];
+    memset(passes, 0, sizeof passes);
+    e = LVCL_OK;
+    for (int d = 0; d < s->device_count && !e; d++) {
+        session_device *sd = &s->devices[d];
+        passes[d].device = &sd->device;
+        if ((e = lvcl_kernel_create(&sd->program, req->mode == LVCL_MODE_PT ? "lv_pt_pass" : "lv_gather_pass",
+                                    &passes[d].kernel, st)))
+            break;
+        e = bind_pass_args(sd, &passes[d], req, &cam, st);
+    }
+    if (!e) e = lvcl_image_pass(passes, s->device_count, &cam, &req->pass, out, st);
+    for (int d = 0; d < s->device_count; d++) {
+        if (passes[d].kernel) clReleaseKernel(passes[d].kernel);
+        passes[d].kernel = NULL;
+        s->devices[d].pass = (lvcl_pass_share){
+            .bands = passes[d].bands, .pixels = passes[d].pixels, .busy_seconds = passes[d].busy_seconds};
+    }
+    return e;
+}
+
+lvcl_error lvcl_session_render_pt(lvcl_session *s, int width, int height, const lvcl_pass_settings *settings,
+                                  lvcl_render_result *out, lvcl_status *st)
+{
+    lvcl_render_request req = {.mode = LVCL_MODE_PT, .width = width, .height = height, .pass = *settings};
+    return lvcl_session_render(s, &req, out, st);
+}
+

@@ -1,0 +1,63 @@
+/* The light volume of a session over every device: each device takes
+ * batches of particles until none is left (a faster device takes more),
+ * then the tallies are added and stored on each, and each computes its lit
+ * volumes. */
+#include <string.h>
+
+#include "session_internal.h"
+#include "../util/parallel.h"
+#include "../util/timer.h"
+
+typedef struct {
+    session_device *sd;
+    lvcl_volume_settings vs;
+    lvcl_error e;
+    lvcl_status st;
+} trace_job;
+
+static void *trace_part(void *arg)
+{
+    trace_job *j = arg;
+    session_device *sd = j->sd;
+    j->e = lvcl_volume_trace(sd->volume, &sd->program, &sd->device_scene, &j->vs, &j->st);
+    return NULL;
+}
+
+lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings *settings, lvcl_status *st)
+{
+    lvcl_error e = LVCL_OK;
+    int n = s->device_count;
+    for (int d = 0; d < n && !e; d++) {
+        lvcl_volume_release(s->devices[d].volume);
+        s->devices[d].volume = NULL;
+        e = lvcl_volume_create(&s->devices[d].device, &s->packed, settings, &s->devices[d].volume, st);
+    }
+    if (e) return e;
+    trace_job jobs[LVCL_MAX_DEVICES];
+    lvcl_particle_source source;
+    lvcl_particle_source_init(&source, settings->particles);
+    for (int d = 0; d < n; d++) {
+        jobs[d] = (trace_job){.sd = &s->devices[d], .vs = *settings};
+        jobs[d].vs.source = n > 1 ? &source : NULL;
+        jobs[d].vs.progress = settings->progress && d == 0;
+    }
+    e = lvcl_run_parallel(trace_part, jobs, sizeof jobs[0], n, st);
+    lvcl_particle_source_destroy(&source);
+    if (e) return e;
+    for (int d = 0; d < n; d++)
+        if (jobs[d].e) {
+            *st = jobs[d].st;
+            return jobs[d].e;
+        }
+    if (n > 1) {
+        lvcl_light_volume *vols[LVCL_MAX_DEVICES];
+        for (int d = 0; d < n; d++) vols[d] = s->devices[d].volume;
+        double t = lvcl_seconds();
+        if ((e = lvcl_volume_merge(vols, n, st))) return e;
+        s->merge_seconds = lvcl_seconds() - t;
+    }
+    for (int d = 0; d < n && !e; d++)
+        e = lvcl_volume_finish(s->devices[d].volume, &s->devices[d].program, st);
+    return e;
+}
+

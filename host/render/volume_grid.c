@@ -1,0 +1,142 @@
+/* The light volume's grid: its placement over the scene's bounds, and the
+ * cells it stores, those the geometry touches and their neighbours. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "light_volume_internal.h"
+
+static size_t cell_index(const lv_grid_info *g, int x, int y, int z)
+{
+    return (size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z);
+}
+
+/* Cell coordinates covering the world box lo..hi (clamped to the grid). A
+ * surface lying on a cell boundary belongs to the cells on both sides. */
+static void cell_range(const lv_grid_info *g, float inv, const float lo_w[3], const float hi_w[3], int lo[3], int hi[3])
+{
+    for (int k = 0; k < 3; k++) {
+        lo[k] = (int)floorf((lo_w[k] - g->origin[k]) * inv - 1e-4f);
+        hi[k] = (int)floorf((hi_w[k] - g->origin[k]) * inv + 1e-4f);
+        if (lo[k] < 0) lo[k] = 0;
+        if (hi[k] > (int)g->dims[k] - 1) hi[k] = (int)g->dims[k] - 1;
+    }
+}
+
+static void mark_range(const lv_grid_info *g, const int lo[3], const int hi[3], uint8_t *mark)
+{
+    for (int z = lo[2]; z <= hi[2]; z++)
+        for (int y = lo[1]; y <= hi[1]; y++)
+            for (int x = lo[0]; x <= hi[0]; x++) mark[cell_index(g, x, y, z)] = 1;
+}
+
+/* Marks the cells the geometry touches: each placed triangle's bounding box
+ * (conservative for slanted triangles; see docs/light-volume.md), except
+ * that a part of a mesh's tree whose placed box spans at most two cells
+ * along every axis marks that box whole. A tile instanced hundreds of
+ * times then costs a few boxes, not its 500,000 triangles. */
+static void mark_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, uint8_t *mark)
+{
+    float inv = 1.0f / g->cell_size;
+    int stack[LVCL_BVH_MAX_DEPTH + 1];
+    for (size_t in = 0; in < p->instance_count; in++) {
+        const lv_instance *inst = &p->instances[in];
+        int top = 0;
+        stack[top++] = (int)inst->root;
+        while (top > 0) {
+            const lv_bvh_node *n = &p->nodes[stack[--top]];
+            float lo_w[3], hi_w[3];
+            int lo[3], hi[3];
+            lvcl_transform_box(inst->world_from_object, n->bmin, n->bmax, lo_w, hi_w);
+            cell_range(g, inv, lo_w, hi_w, lo, hi);
+            if (hi[0] - lo[0] <= 1 && hi[1] - lo[1] <= 1 && hi[2] - lo[2] <= 1) {
+                mark_range(g, lo, hi, mark);
+            } else if (n->count > 0) {
+                for (int t = n->index; t < n->index + n->count; t++) {
+                    float v[9];
+                    lvcl_packed_triangle_world(p, in, (size_t)t, v);
+                    for (int k = 0; k < 3; k++) {
+                        lo_w[k] = fminf(v[k], fminf(v[3 + k], v[6 + k]));
+                        hi_w[k] = fmaxf(v[k], fmaxf(v[3 + k], v[6 + k]));
+                    }
+                    cell_range(g, inv, lo_w, hi_w, lo, hi);
+                    mark_range(g, lo, hi, mark);
+                }
+            } else {
+                stack[top++] = (int)(n - p->nodes) + 1;
+                stack[top++] = n->index;
+            }
+        }
+    }
+}
+
+/* A lookup jitters up to half a cell from a surface, so the cells next to
+ * geometry cells are stored too. */
+static size_t assign_slots(const lv_grid_info *g, const uint8_t *mark, uint32_t *slot)
+{
+    size_t count = 0;
+    for (int z = 0; z < (int)g->dims[2]; z++)
+        for (int y = 0; y < (int)g->dims[1]; y++)
+            for (int x = 0; x < (int)g->dims[0]; x++) {
+                int near = 0;
+                for (int dz = -1; dz <= 1 && !near; dz++)
+                    for (int dy = -1; dy <= 1 && !near; dy++)
+                        for (int dx = -1; dx <= 1 && !near; dx++) {
+                            int a = x + dx, b = y + dy, c = z + dz;
+                            if (a < 0 || b < 0 || c < 0 || a >= (int)g->dims[0] || b >= (int)g->dims[1] ||
+                                c >= (int)g->dims[2])
+                                continue;
+                            near = mark[cell_index(g, a, b, c)];
+                        }
+                slot[cell_index(g, x, y, z)] = near ? (uint32_t)count++ : LV_EMPTY_CELL;
+            }
+    return count;
+}
+
+lvcl_error lvcl_volume_grid_choose(const lvcl_packed_scene *p, const lvcl_volume_settings *s, lv_grid_info *g,
+                                   size_t *cell_count, lvcl_status *st)
+{
+    memset(g, 0, sizeof *g);
+    if (s->dirs < 1 || s->dirs > 64) return lvcl_fail(st, LVCL_ERR_USAGE, "--dirs must be from 1 to 64");
+    if (s->subcells < 0 || s->subcells > 4) return lvcl_fail(st, LVCL_ERR_USAGE, "--subcells must be from 0 to 4");
+    if (s->offset < 0 || s->offset >= 1) return lvcl_fail(st, LVCL_ERR_USAGE, "--grid-offset must be in [0, 1)");
+    float extent[3], longest = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        extent[k] = p->bounds_max[k] - p->bounds_min[k];
+        longest = fmaxf(longest, extent[k]);
+    }
+    g->cell_size = s->cell_size > 0 ? (float)s->cell_size : longest / (float)(s->cells > 0 ? s->cells : 1);
+    if (!(g->cell_size > 0.0f)) return lvcl_fail(st, LVCL_ERR_UNSUPPORTED, "the scene has no extent for a light volume");
+    /* One spare cell on every side holds lookups jittered off the bounds;
+     * an offset shifts the grid by a fraction of a cell (one more cell). */
+    double cells = 1.0;
+    for (int k = 0; k < 3; k++) {
+        double d = ceil(extent[k] / g->cell_size) + (s->offset > 0 ? 3.0 : 2.0);
+        if (d < 1.0) d = 1.0;
+        g->dims[k] = (lv_u32)d;
+        g->origin[k] = p->bounds_min[k] - g->cell_size * (1.0f + (float)s->offset);
+        cells *= d;
+    }
+    if (cells > 1 << 28)
+        return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "a %ux%ux%u light-volume grid is too large (cell size %g m)",
+                         g->dims[0], g->dims[1], g->dims[2], g->cell_size);
+    g->dirs = (lv_u32)s->dirs;
+    g->bins = 2 * g->dirs * g->dirs;
+    g->total_power = p->info.total_light_power;
+    g->subcells = (lv_u32)s->subcells;
+    g->visibility_rate = (float)(s->visibility_rate > 0 ? s->visibility_rate : LVCL_VISIBILITY_RATE);
+
+    *cell_count = (size_t)cells;
+    return LVCL_OK;
+}
+
+lvcl_error lvcl_volume_assign_slots(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
+                                    lvcl_status *st)
+{
+    uint8_t *mark = calloc(cells, 1);
+    if (!mark) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for a %zu-cell grid", cells);
+    mark_geometry(p, g, mark);
+    g->slot_count = (lv_u32)assign_slots(g, mark, slot);
+    free(mark);
+    return LVCL_OK;
+}

@@ -1,0 +1,140 @@
+/* The particle trace into a light volume (paper section 4.1): the bins'
+ * directions, the batches of particles launched (shared between devices),
+ * and the lit volumes computed once the trace is done. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "light_volume_internal.h"
+#include "../util/progress.h"
+#include "../util/timer.h"
+
+/* Particles per launch: big enough to keep a device busy, small enough for
+ * progress and for --time-limit to be checked often. */
+#define BATCH (1u << 18)
+
+/* Runs lv_bin_directions: the table of the bins' central directions. */
+static lvcl_error fill_bin_directions(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st)
+{
+    const lvcl_device *dev = vol->dev;
+    cl_kernel k;
+    lvcl_error e = lvcl_kernel_create(prog, "lv_bin_directions", &k, st);
+    if (e) return e;
+    lvcl_bin_directions_args args = {.n = vol->buf.info.dirs, .directions = vol->bin_directions_buf};
+    if (!(e = lvcl_bind_lv_bin_directions(k, &args, st)))
+        e = lvcl_kernel_enqueue(dev, k, vol->buf.info.bins, "computing the bin directions", st);
+    clReleaseKernel(k);
+    return e;
+}
+
+lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st)
+{
+    const lvcl_device *dev = vol->dev;
+    cl_kernel k;
+    lvcl_error e = lvcl_kernel_create(prog, "lv_lit_volumes", &k, st);
+    if (e) return e;
+    lvcl_lit_volumes_args args = {.volume = &vol->buf};
+    if (!(e = lvcl_bind_lv_lit_volumes(k, &args, st)) &&
+        !(e = lvcl_kernel_enqueue(dev, k, vol->buf.info.slot_count, "computing the lit volumes", st)))
+        e = lvcl_cl_check(clFinish(dev->queue), "computing the lit volumes", st);
+    clReleaseKernel(k);
+    return e;
+}
+
+void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t particles)
+{
+    pthread_mutex_init(&src->lock, NULL);
+    src->next = 0;
+    src->end = particles;
+}
+
+void lvcl_particle_source_destroy(lvcl_particle_source *src)
+{
+    pthread_mutex_destroy(&src->lock);
+}
+
+/* The next batch of particle indices: from the shared source, or else the
+ * next slice of all the particles (cursor). Returns 0 when none is left. */
+static int next_batch(const lvcl_volume_settings *s, uint64_t *cursor, uint64_t *first, cl_uint *count)
+{
+    uint64_t end = s->particles;
+    if (s->source) {
+        pthread_mutex_lock(&s->source->lock);
+        cursor = &s->source->next;
+        end = s->source->end;
+    }
+    *first = *cursor;
+    *count = (cl_uint)(end - *cursor < BATCH ? end - *cursor : BATCH);
+    *cursor += *count;
+    if (s->source) pthread_mutex_unlock(&s->source->lock);
+    return *count > 0;
+}
+
+lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, const lvcl_device_scene *ds,
+                             const lvcl_volume_settings *s, lvcl_status *st)
+{
+    const lvcl_device *dev = vol->dev;
+    lvcl_error e;
+    if ((e = fill_bin_directions(vol, prog, st))) return e;
+    if (s->particles == 0 || s->particles > UINT32_MAX)
+        return lvcl_fail(st, LVCL_ERR_USAGE, "--particles must be from 1 to %u", UINT32_MAX);
+    cl_long zero = 0;
+    for (int i = 0; i < vol->tally_parts; i++)
+        if ((e = lvcl_cl_check(clEnqueueFillBuffer(dev->queue, vol->buf.tallies[i], &zero, sizeof zero, 0,
+                                           lvcl_volume_part_bytes(vol, i), 0, NULL, NULL),
+                       "clearing the light volume", st)))
+            return e;
+    cl_uint none = 0;
+    if ((e = lvcl_cl_check(clEnqueueFillBuffer(dev->queue, vol->buf.subcells, &none, sizeof none, 0,
+                                       lvcl_volume_record_bytes(vol), 0, NULL, NULL),
+                   "clearing the subcells", st)))
+        return e;
+    vol->buf.info.particles = (float)s->particles;
+    cl_int err;
+    /* Per batch: segments traced, visibility rays cast. */
+    cl_mem counter = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint), NULL, &err);
+    if ((e = lvcl_cl_check(err, "allocating the ray counters", st))) return e;
+    cl_kernel k;
+    if ((e = lvcl_kernel_create(prog, "lv_particle_trace", &k, st))) {
+        clReleaseMemObject(counter);
+        return e;
+    }
+    lvcl_particle_trace_args args = {.scene = &ds->buffers,
+                                     .volume = &vol->buf,
+                                     .inv_total_particles = (float)(1.0 / (double)s->particles),
+                                     .store_emitted = s->store_emitted ? 1u : 0u,
+                                     .ray_counts = counter};
+    if ((e = lvcl_bind_lv_particle_trace(k, &args, st))) {
+        clReleaseKernel(k);
+        clReleaseMemObject(counter);
+        return e;
+    }
+    lvcl_progress bar;
+    lvcl_progress_start(&bar, "particles", s->progress);
+    double start = lvcl_seconds();
+    vol->segments = vol->visibility_rays = vol->particles = 0;
+    uint64_t cursor = 0, first;
+    cl_uint count;
+    while (next_batch(s, &cursor, &first, &count)) {
+        /* 32-bit counts per batch cannot overflow; the totals are 64-bit. */
+        cl_uint counts[2] = {0, 0};
+        cl_uint f = (cl_uint)first;
+        if ((e = lvcl_kernel_arg(k, LV_ARG(lv_particle_trace, first), sizeof f, &f, "the batch's first particle", st)) ||
+            (e = lvcl_kernel_arg(k, LV_ARG(lv_particle_trace, count), sizeof count, &count, "the batch's size", st)) ||
+            (e = lvcl_cl_check(clEnqueueWriteBuffer(dev->queue, counter, CL_FALSE, 0, sizeof counts, counts, 0, NULL, NULL),
+                       "clearing the ray counters", st)) ||
+            (e = lvcl_kernel_enqueue(dev, k, count, "launching the particle trace", st)) ||
+            (e = lvcl_cl_check(clEnqueueReadBuffer(dev->queue, counter, CL_TRUE, 0, sizeof counts, counts, 0, NULL, NULL),
+                       "running the particle trace", st)))
+            break;
+        vol->segments += counts[0];
+        vol->visibility_rays += counts[1];
+        vol->particles += count;
+        lvcl_progress_update(&bar, (double)(first + count), (double)s->particles, "particles");
+    }
+    lvcl_progress_finish(&bar);
+    clReleaseKernel(k);
+    clReleaseMemObject(counter);
+    vol->trace_seconds = lvcl_seconds() - start;
+    return e;
+}
+
