@@ -12,7 +12,7 @@
 #include "util/geometry.h"
 #include "util/rng.h"
 #include "util/sampling.h"
-#include "scene.h"
+#include "scene_buffers.h"
 #include "bvh/traverse.h"
 #include "closure/bsdf.h"
 #include "scene/surface.h"

@@ -149,7 +149,7 @@ typedef struct {
     lv_u32 instance_count;
     lv_u32 flat;             /* one instance, identity transform: rays skip the top level */
     /* Elements per buffer of the tables split over LV_SCENE_PARTS buffers
-     * (kernels/scene.h); 0xffffffff where one buffer holds them all. */
+     * (kernels/scene_buffers.h); 0xffffffff where one buffer holds them all. */
     lv_u32 nodes_per_part;
     lv_u32 triangles_per_part; /* tri_vertices and triangles */
     lv_u32 vertices_per_part;  /* normals and uvs */
@@ -211,7 +211,7 @@ typedef struct {
 /* ======== The host/kernel contract ========
  *
  * Each table below is the one declaration of a set of buffers or of a
- * kernel's arguments, in argument order. kernels/scene.h expands them into
+ * kernel's arguments, in argument order. kernels/scene_buffers.h expands them into
  * kernel parameter lists and the structs the kernels open; the host
  * (host/device/kernel_args.h) into its buffer structs, the scene upload and
  * the argument binders; the enums here give every argument's index. */
@@ -228,7 +228,7 @@ typedef struct { uint8_t s[4]; } lv_uchar4;
 /* The scene's buffers, read-only, in argument order (then lv_scene_info):
  *   SPLIT(type, name, stride, per_part, what): `stride` values of `type` per
  *     element, split over LV_SCENE_PARTS buffers of lv_scene_info.per_part
- *     elements each (kernels/scene.h reads them with LV_SPLIT_AT);
+ *     elements each (kernels/scene_buffers.h reads them with LV_SPLIT_AT);
  *   ONE(type, name, what): one buffer.
  * `what` names the table in the host's messages. */
 #define LV_SCENE_BUFFERS(SPLIT, ONE)                                                                    \

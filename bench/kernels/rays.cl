@@ -13,7 +13,7 @@
 #include "../../kernels/util/geometry.h"
 #include "../../kernels/util/rng.h"
 #include "../../kernels/util/sampling.h"
-#include "../../kernels/scene.h"
+#include "../../kernels/scene_buffers.h"
 #include "../../kernels/bvh/traverse.h"
 #include "../../kernels/scene/camera.h"
 

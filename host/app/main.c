@@ -79,7 +79,16 @@ static lvcl_error run(const lvcl_options *o, lvcl_session **s, lvcl_render_resul
     stats->result = res;
     if (res->samples < o->spp && !o->quiet)
         fprintf(stderr, "lvcl: time limit reached after %d of %d samples per pixel\n", res->samples, o->spp);
-    return write_outputs(o, res, st);
+    if ((e = write_outputs(o, res, st))) return e;
+    if (!o->quiet) {
+        double volume = lvcl_session_volume_seconds(*s);
+        fprintf(stderr, "lvcl: %s, %s, %dx%d, %d spp: %.1f s in all", o->scene, o->mode, res->width, res->height,
+                res->samples, lvcl_seconds() - stats->process_start);
+        if (volume > 0) fprintf(stderr, " (particle trace %.1f s, gather %.1f s)", volume, res->render_seconds);
+        else fprintf(stderr, " (render %.1f s)", res->render_seconds);
+        fputc('\n', stderr);
+    }
+    return LVCL_OK;
 }
 
 int main(int argc, char **argv)

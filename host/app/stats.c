@@ -56,7 +56,7 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
     /* The light volume: the grid is every device's; the work adds up. */
     int devices = lvcl_session_device_count(ss);
     uint64_t particles = 0, segments = 0, visibility_rays = 0;
-    double trace_seconds = 0;
+    double trace_seconds = lvcl_session_volume_seconds(ss);
     for (int d = 0; d < devices; d++) {
         const lvcl_light_volume *dv = lvcl_session_volume(ss, d);
         if (!dv) continue;
@@ -64,9 +64,7 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
         particles += w.particles;
         segments += w.segments;
         visibility_rays += w.visibility_rays;
-        if (w.trace_seconds > trace_seconds) trace_seconds = w.trace_seconds;
     }
-    trace_seconds += lvcl_session_merge_seconds(ss);
     if (particles) {
         const lvcl_light_volume *v = lvcl_session_volume(ss, 0);
         const lv_grid_info *g = lvcl_volume_grid(v);

@@ -8,7 +8,7 @@
 #include "packed_scene.h"
 
 /* The uploaded tables. The large ones come in up to LV_SCENE_PARTS
- * buffers (kernels/scene.h); parts a scene does not need stay NULL. */
+ * buffers (kernels/scene_buffers.h); parts a scene does not need stay NULL. */
 typedef struct {
     lvcl_scene_buffers buffers;
     size_t device_bytes;

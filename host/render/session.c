@@ -132,7 +132,13 @@ double lvcl_session_bvh_build_seconds(const lvcl_session *s)
     return s->bvh_build_seconds;
 }
 
-double lvcl_session_merge_seconds(const lvcl_session *s)
+double lvcl_session_volume_seconds(const lvcl_session *s)
 {
-    return s->merge_seconds;
+    double slowest = 0;
+    for (int d = 0; d < s->device_count; d++) {
+        const lvcl_light_volume *v = lvcl_session_volume(s, d);
+        double t = v ? lvcl_volume_stats_of(v).trace_seconds : 0;
+        if (t > slowest) slowest = t;
+    }
+    return slowest > 0 ? slowest + s->merge_seconds : 0;
 }

@@ -80,6 +80,8 @@ unsigned lvcl_session_features(const lvcl_session *s); /* LVCL_FEATURE_* the sce
 const lvcl_accel *lvcl_session_accel(const lvcl_session *s);
 const lvcl_packed_scene *lvcl_session_packed_scene(const lvcl_session *s);
 double lvcl_session_bvh_build_seconds(const lvcl_session *s);
-double lvcl_session_merge_seconds(const lvcl_session *s); /* adding the devices' light volumes */
+/* The light volume's build: the slowest device's particle trace plus
+ * adding the devices' volumes; 0 without a volume. */
+double lvcl_session_volume_seconds(const lvcl_session *s);
 
 #endif

@@ -3,7 +3,7 @@
 #define LV_TRAVERSE_H
 
 #include "../util/geometry.h"
-#include "../scene.h"
+#include "../scene_buffers.h"
 
 /* Floating-point contraction is off from the end of util/geometry.h on:
  * the watertight test needs its edge functions evaluated exactly alike for

@@ -1,7 +1,7 @@
 /* The final gather (paper section 5; integrator/gather.h): camera rays,
  * one sample per pixel of the range [first_pixel, first_pixel + pixel_count)
  * per launch, with the light volume answering at rough surfaces. */
-#include "lvcl.h"
+#include "../lvcl.h"
 
 __kernel void lv_gather_pass(LV_KERNEL_PARAMS(LV_GATHER_PASS_ARGS))
 {

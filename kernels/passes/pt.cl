@@ -2,7 +2,7 @@
  * first_pixel + pixel_count) (a tile, or the whole image), one sample per
  * launch, added to a running sum per pixel (no atomics: each pixel has one
  * owner). */
-#include "lvcl.h"
+#include "../lvcl.h"
 
 __kernel void lv_pt_pass(LV_KERNEL_PARAMS(LV_PT_PASS_ARGS))
 {

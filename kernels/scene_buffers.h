@@ -6,7 +6,7 @@
  * e.g. __kernel void lv_pt_pass(LV_KERNEL_PARAMS(LV_PT_PASS_ARGS)); the
  * host binds them by the same list (host/device/kernel_args.h). The scene
  * block's parameters are opened into an lv_scene with LV_SCENE_OPEN, the
- * volume block's into an lv_grid (kernels/light_volume.h) with
+ * volume block's into an lv_grid (kernels/volume/grid.h) with
  * LV_VOLUME_OPEN. Kernels outside the production program (tests, benches)
  * may take LV_SCENE_PARAMS first and bind it with the host's scene binder.
  *
@@ -15,8 +15,8 @@
  * often a quarter of its memory; they come in LV_SCENE_PARTS buffers of
  * lv_scene_info.*_per_part elements each, read through the accessors below
  * (a scene that fits one buffer pays one well-predicted comparison). */
-#ifndef LV_SCENE_H
-#define LV_SCENE_H
+#ifndef LV_SCENE_BUFFERS_H
+#define LV_SCENE_BUFFERS_H
 
 #include "shared_types.h"
 
@@ -31,7 +31,7 @@ typedef struct {
 
 /* LV_SPLIT_AT and the parameter lists below spell out the four parts. */
 #if LV_SCENE_PARTS != 4 || LV_TALLY_PARTS != 4
-#error "kernels/scene.h assumes LV_SCENE_PARTS and LV_TALLY_PARTS are 4"
+#error "kernels/scene_buffers.h assumes LV_SCENE_PARTS and LV_TALLY_PARTS are 4"
 #endif
 /* The address of element i (of `stride` values) of a table split over
  * parts of n elements. Unsigned wrap-around keeps i - k n exact. */

@@ -1,7 +1,7 @@
 /* The particle trace (paper section 4.1; integrator/particle_trace.h):
  * one work-item per particle of the range [first, first + count). Tallies
  * are integer atomics, so the result does not depend on the order of work. */
-#include "lvcl.h"
+#include "../lvcl.h"
 
 /* Different from every pixel stream of the camera passes. */
 #define LV_PARTICLE_STREAM 0x9e3779b9u
