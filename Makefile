@@ -110,8 +110,8 @@ $(BUILD)/tests/%: tests/%.c tests/check.h tests/harness.h $(TEST_SUPPORT) $(BUIL
 
 # ---- use ----
 # The paper's kitchen with the light volume: out/kitchen.exr and .png, and
-# how long each part took (about a minute on two cores, the first time
-# with the kernels' compile).
+# how long each part took (about 20 s on two cores; the first run also
+# compiles the kernels).
 run: $(BUILD)/lvcl
 	$(BUILD)/lvcl --mode lv --spp 32 kitchen
 
