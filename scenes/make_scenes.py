@@ -35,7 +35,7 @@ glass-table.gltf
               looks at the table from the front right and above (eye 1.05 m
               high, yfov 50 degrees).
 
-Conventions (see DESIGN.md section 3): flat shading (no NORMAL attribute),
+Conventions (see docs/design.md, "Scene conventions"): flat shading (no NORMAL attribute),
 indexed triangles, front face = counter-clockwise winding, one buffer stored
 as a base64 data URI.
 """
@@ -216,7 +216,7 @@ def lambert(name, rgb, double_sided=True, emissive=None, strength=None):
 
 
 def glass(name, ior=1.5, thickness=1.0):
-    """Solid smooth dielectric (DESIGN.md section 3): transmission 1,
+    """Solid smooth dielectric (docs/design.md, "Scene conventions"): transmission 1,
     volume thickness > 0, roughness 0, the front face is the outside."""
     return {
         "name": name,

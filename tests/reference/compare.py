@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Compare an image against a reference (DESIGN.md section 4).
+"""Compare an image against a reference with the metrics of host/io/metrics.c.
 
     compare.py TEST.exr REFERENCE.exr
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Convert a glTF 2.0 scene (.gltf or .glb) to a Mitsuba 3 scene dictionary
-following lvcl's material contract (DESIGN.md section 3).  See README.md in
+following lvcl's material contract (docs/design.md, "Scene conventions").  See README.md in
 this directory for the rules and the known mismatches.
 
 Library use:
