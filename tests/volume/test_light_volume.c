@@ -6,11 +6,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../host/io/metrics.h"
-#include "check.h"
-#include "harness.h"
+#include "../../host/io/metrics.h"
+#include "../check.h"
+#include "../harness.h"
 
-#include "kernels/test_args.h"
+#include "../kernels/test_args.h"
 
 typedef struct {
     lvcl_session *session;
