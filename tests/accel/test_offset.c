@@ -38,6 +38,40 @@ static void random_reshoot(rng *r, float mode, float e[4])
     e[3] = uniform(r) < 0.5 ? mode : -mode;
 }
 
+/* Up to `cap` rays, each with its re-shoot record. */
+typedef struct {
+    ray_list rays;
+    float *reshoot; /* 4 floats per ray */
+    size_t cap;
+} reshot_rays;
+
+static reshot_rays reshot_rays_make(size_t cap)
+{
+    reshot_rays l = {.reshoot = malloc(4 * cap * sizeof(float)), .cap = cap};
+    if (!l.reshoot) {
+        printf("FAIL offset: out of memory\n");
+        exit(1);
+    }
+    return l;
+}
+
+/* A ray without a limit, and a random re-shoot record of `mode` for it. */
+static void add_reshot_ray(rng *r, vec3 origin, vec3 dir, float mode, reshot_rays *l)
+{
+    if (l->rays.count == l->cap) {
+        printf("FAIL offset: more than %zu re-shot rays\n", l->cap);
+        exit(1);
+    }
+    random_reshoot(r, mode, &l->reshoot[4 * l->rays.count]);
+    add_ray(&l->rays, origin, dir, NO_LIMIT);
+}
+
+static void reshot_rays_free(reshot_rays *l)
+{
+    free(l->rays.v);
+    free(l->reshoot);
+}
+
 /* Shoots rays at `unit` (a scene in about [-1,1]^3) scaled by `scale` and
  * moved to `centre`, re-shoots every hit with t_offset_rays and checks that
  * no re-shot ray hits its own triangle and that the step off the surface
@@ -56,15 +90,13 @@ static void check_offset(const char *what, const tri_list *unit, double scale, v
      * re-shot half the time back to the side it came from, half the time
      * through, a third of those at grazing angles down to 1e-4 rad. */
     size_t n = 40000;
-    ray_list rays = {0};
-    float *reshoot = malloc(4 * n * sizeof(float));
+    reshot_rays l = reshot_rays_make(n);
     for (size_t i = 0; i < n; i++) {
         vec3 o = uniform(&r) < 0.5 ? mul(random_unit(&r), 4) : random_in_box(&r, -1, 1);
         vec3 d = sub(point_on(&r, unit), o);
-        add_ray(&rays, add(centre, mul(o, scale)), d, NO_LIMIT);
-        random_reshoot(&r, 1.0f, &reshoot[4 * i]);
+        add_reshot_ray(&r, add(centre, mul(o, scale)), d, 1.0f, &l);
     }
-    float *res = run_rays(&g, "t_offset_rays", &rays, reshoot);
+    float *res = run_rays(&g, "t_offset_rays", &l.rays, l.reshoot);
 
     /* The offset is 2^-18 of the point's coordinates along the normal plus
      * 2^-20 of the scene's size: well under 1e-4 of the scene's reach. */
@@ -81,7 +113,7 @@ static void check_offset(const char *what, const tri_list *unit, double scale, v
     }
     char name[160];
     snprintf(name, sizeof name, "offset: %s, %zu re-shot rays never hit their own triangle", what, hits);
-    const float *q = &rays.v[8 * first_own], *e = &reshoot[4 * first_own], *o = &res[4 * first_own];
+    const float *q = &l.rays.v[8 * first_own], *e = &l.reshoot[4 * first_own], *o = &res[4 * first_own];
     CHECK(name, own == 0 && hits > n / 2,
           "%zu of %zu hit their own triangle (scene_scale %g); first: ray %zu origin %.9g %.9g %.9g dir %.9g %.9g "
           "%.9g, prim %g, re-shot %s at local direction %g %g %g, own hit at t %.9g, offset %.3g",
@@ -91,8 +123,7 @@ static void check_offset(const char *what, const tri_list *unit, double scale, v
     CHECK(name, far == 0, "%zu steps too long, largest %.3g for reach %.3g", far, largest_step, reach);
 
     free(res);
-    free(reshoot);
-    free(rays.v);
+    reshot_rays_free(&l);
     gpu_scene_free(&g);
     free(scene.v);
 }
@@ -115,11 +146,8 @@ static void check_needle(void)
     add_tri(&needle, a, d, b);
     add_tri(&needle, b, d, c);
     add_tri(&needle, a, c, d);
-    gpu_scene g;
-    gpu_scene_make(&needle, &g);
     size_t n = 40000;
-    ray_list rays = {0};
-    float *reshoot = malloc(4 * n * sizeof(float));
+    reshot_rays l = reshot_rays_make(n);
     for (size_t i = 0; i < n; i++) {
         vec3 o = mul(random_unit(&r), 3);
         size_t t = (size_t)(uniform(&r) * needle.count);
@@ -127,17 +155,17 @@ static void check_needle(void)
         do {
             b1 = uniform(&r), b2 = uniform(&r);
         } while (b1 < 0.05 || b2 < 0.05 || b1 + b2 > 0.95);
-        vec3 target = tri_point(&needle, t, b1, b2);
-        add_ray(&rays, o, sub(target, o), NO_LIMIT);
-        random_reshoot(&r, 2.0f, &reshoot[4 * i]);
+        add_reshot_ray(&r, o, sub(tri_point(&needle, t, b1, b2), o), 2.0f, &l);
     }
-    float *res = run_rays(&g, "t_offset_rays", &rays, reshoot);
+    gpu_scene g;
+    gpu_scene_make(&needle, &g);
+    float *res = run_rays(&g, "t_offset_rays", &l.rays, l.reshoot);
     size_t hits = 0, out_hit = 0, in_missed = 0;
     for (size_t i = 0; i < n; i++) {
         const float *o = &res[4 * i];
         if (o[0] < 0) continue;
         hits++;
-        if (reshoot[4 * i + 3] > 0) out_hit += o[1] >= 0;
+        if (l.reshoot[4 * i + 3] > 0) out_hit += o[1] >= 0;
         else in_missed += o[1] < 0 || o[1] == o[0];
     }
     /* Known limit (docs/design.md): a few grazing rays inside a body 1e-3 of
@@ -150,8 +178,7 @@ static void check_needle(void)
     CHECK("offset: sliver needle, rays re-shot inward meet another face (all but 1 in 500)",
           in_missed * 500 <= hits && hits > n / 4, "%zu of %zu inward rays found no other face", in_missed, hits);
     free(res);
-    free(reshoot);
-    free(rays.v);
+    reshot_rays_free(&l);
     gpu_scene_free(&g);
     free(needle.v);
 }

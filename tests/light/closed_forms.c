@@ -278,12 +278,8 @@ comparison compare_pixels(const float *rgb, const view *v, int spp, ground_radia
                     if (ref > 0.01 * max_ref) r.max_rel = fmax(r.max_rel, err / ref);
                     double score = tol > 0.0 ? err / tol : err > 0.0 ? INFINITY : 0.0;
                     if (!(score <= r.worst)) {
-                        r.worst = score;
-                        r.worst_ref = ref;
-                        r.worst_got = got;
-                        r.worst_tol = tol;
-                        r.worst_x = x;
-                        r.worst_y = y;
+                        r.worst = score, r.worst_ref = ref, r.worst_got = got, r.worst_tol = tol;
+                        r.worst_x = x, r.worst_y = y;
                     }
                 }
             }
