@@ -36,13 +36,17 @@ $(patsubst host/%.c,$(1)/obj/%.o,$(HOST_C)) $(patsubst host/%.cpp,$(1)/obj/%.o,$
 endef
 LIB_OBJS := $(call objects_in,$(BUILD))
 
-TEST_SOURCES := $(wildcard tests/test_*.c)
-TEST_BINS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SOURCES))
+# tests/<layer>/test_<name>.c builds $(BUILD)/tests/test_<name>, linked with
+# the other .c files of its folder (the support the folder's tests share).
+TEST_SOURCES := $(wildcard tests/*/test_*.c)
+TEST_BINS := $(addprefix $(BUILD)/tests/,$(basename $(notdir $(TEST_SOURCES))))
 
 .PHONY: all run test test-asan deps references clean format
 # Keep generated sources (kernel and scene arrays) between builds.
 .SECONDARY:
 all: $(BUILD)/lvcl $(BUILD)/lvcl-compare $(TEST_BINS)
+	@# A test program whose source has gone or moved would still run.
+	@rm -f $(filter-out $(TEST_BINS),$(wildcard $(BUILD)/tests/test_*))
 
 # ---- set-up ----
 # Installs whichever of the Debian packages $(1) are missing (apt-get, as
@@ -104,9 +108,14 @@ $(BUILD)/gen/test_kernel_source.c: tests/kernels/unit_tests.cl tests/kernels/tes
 	$(BUILD)/embed source lvcl_test_kernel_source $< > $@
 
 TEST_SUPPORT := tests/harness.c $(BUILD)/gen/test_kernel_source.c
-$(BUILD)/tests/%: tests/%.c tests/check.h tests/harness.h $(TEST_SUPPORT) $(BUILD)/liblvcl.a
-	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -o $@ $< $(TEST_SUPPORT) $(BUILD)/liblvcl.a $(LIBS)
+TEST_HEADERS := tests/check.h tests/harness.h tests/kernels/test_args.h $(HOST_H) kernels/shared_types.h
+# $(1): tests/<layer>/test_<name>.c; $(2): the other .c files of its folder.
+define test_program
+$(BUILD)/tests/$(basename $(notdir $(1))): $(1) $(2) $(wildcard $(dir $(1))*.h) $(TEST_HEADERS) $(TEST_SUPPORT) $(BUILD)/liblvcl.a
+	@mkdir -p $$(@D)
+	$$(CC) $$(ALL_CFLAGS) -o $$@ $(1) $(2) $$(TEST_SUPPORT) $$(BUILD)/liblvcl.a $$(LIBS)
+endef
+$(foreach t,$(TEST_SOURCES),$(eval $(call test_program,$(t),$(filter-out $(dir $(t))test_%,$(wildcard $(dir $(t))*.c)))))
 
 # ---- use ----
 # The paper's kitchen with the light volume: out/kitchen.exr and .png, and

@@ -20,6 +20,11 @@ void harness_cl(cl_int err, const char *what)
     if (err != CL_SUCCESS) die(what, lvcl_cl_error_name(err));
 }
 
+void harness_ok(lvcl_error e, const lvcl_status *st, const char *what)
+{
+    if (e) die(what, st->message);
+}
+
 void harness_open(const char *spec, lvcl_device *dev, lvcl_program *prog)
 {
     lvcl_status st = {0};
@@ -74,6 +79,31 @@ void harness_run(const lvcl_device *dev, cl_kernel k, size_t global)
     harness_cl(clFinish(dev->queue), "running");
 }
 
+LVCL_DEFINE_BINDER(t_trace, T_TRACE_ARGS, t_trace_args)
+LVCL_DEFINE_BINDER(t_offset_rays, T_OFFSET_RAYS_ARGS, t_offset_rays_args)
+
+cl_kernel harness_kernel(const lvcl_program *prog, const char *name)
+{
+    cl_kernel k;
+    lvcl_status st = {0};
+    if (lvcl_kernel_create(prog, name, &k, &st)) die(name, st.message);
+    return k;
+}
+
+cl_mem harness_buffer(const lvcl_device *dev, const void *data, size_t bytes)
+{
+    cl_int err;
+    cl_mem m = clCreateBuffer(dev->context, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0), bytes,
+                              (void *)data, &err);
+    harness_cl(err, "allocating");
+    return m;
+}
+
+void harness_read(const lvcl_device *dev, cl_mem m, size_t bytes, void *out)
+{
+    harness_cl(clEnqueueReadBuffer(dev->queue, m, CL_TRUE, 0, bytes, out, 0, NULL, NULL), "reading results");
+}
+
 void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_scene *scene,
                    const char *kernel_name, const float *rays, size_t count, float *results)
 {
@@ -83,24 +113,18 @@ void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_
     lvcl_device_scene ds;
     if (lvcl_accel_build(scene, &accel, &st) || lvcl_pack_scene(scene, &accel, 0, 8, &packed, &st) || lvcl_device_scene_upload(dev, scene, &packed, &ds, &st))
         die("preparing the scene", st.message);
-    cl_kernel k;
-    if (lvcl_kernel_create(prog, kernel_name, &k, &st)) die("creating the kernel", st.message);
-    cl_int err;
-    cl_mem rbuf = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, count * 8 * sizeof(float),
-                                 (void *)rays, &err);
-    harness_cl(err, "allocating rays");
-    cl_mem obuf = clCreateBuffer(dev->context, CL_MEM_WRITE_ONLY, count * 4 * sizeof(float), NULL, &err);
-    harness_cl(err, "allocating results");
-    cl_uint n = (cl_uint)count;
-    if (lvcl_device_scene_bind(&ds, k, 0, &st)) die("setting arguments", st.message);
-    harness_cl(clSetKernelArg(k, T_TRACE_ARG_RAYS, sizeof rbuf, &rbuf), "arg");
-    harness_cl(clSetKernelArg(k, T_TRACE_ARG_COUNT, sizeof n, &n), "arg");
-    harness_cl(clSetKernelArg(k, T_TRACE_ARG_RESULTS, sizeof obuf, &obuf), "arg");
+    cl_kernel k = harness_kernel(prog, kernel_name);
+    t_trace_args a = {
+        .scene = &ds.buffers,
+        .rays = harness_buffer(dev, rays, count * 8 * sizeof(float)),
+        .count = (cl_uint)count,
+        .results = harness_buffer(dev, NULL, count * 4 * sizeof(float)),
+    };
+    harness_ok(lvcl_bind_t_trace(k, &a, &st), &st, "setting arguments");
     harness_run(dev, k, count);
-    harness_cl(clEnqueueReadBuffer(dev->queue, obuf, CL_TRUE, 0, count * 4 * sizeof(float), results, 0, NULL, NULL),
-               "reading results");
-    clReleaseMemObject(rbuf);
-    clReleaseMemObject(obuf);
+    harness_read(dev, a.results, count * 4 * sizeof(float), results);
+    clReleaseMemObject(a.rays);
+    clReleaseMemObject(a.results);
     clReleaseKernel(k);
     lvcl_device_scene_release(&ds);
     lvcl_packed_scene_free(&packed);

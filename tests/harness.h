@@ -3,7 +3,9 @@
 #ifndef LVCL_TEST_HARNESS_H
 #define LVCL_TEST_HARNESS_H
 
+#include "../host/device/kernel_args.h"
 #include "../host/render/session.h"
+#include "kernels/test_args.h"
 
 /* Opens device `spec` (NULL: $LVCL_TEST_DEVICE or the default) and builds
  * the test program on it. Exits the test program with a message on failure. */
@@ -17,11 +19,22 @@ void harness_build(const lvcl_device *dev, lvcl_program *prog);
  * material; the scene owns copies. */
 void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *scene);
 
-/* The arguments of the test program's tracing kernels (t_trace, t_surface,
- * t_trace_brute_force, tests/kernels/unit_tests.cl): the scene block, then
- * these; t_offset_rays takes its re-shoot records before the results. */
-enum { T_TRACE_ARG_RAYS = LV_SCENE_ARG_COUNT, T_TRACE_ARG_COUNT, T_TRACE_ARG_RESULTS };
-enum { T_OFFSET_ARG_RESHOOT = T_TRACE_ARG_RESULTS, T_OFFSET_ARG_RESULTS };
+/* The arguments of the test program's ray kernels (t_trace, t_surface and
+ * t_trace_brute_force take T_TRACE_ARGS, t_offset_rays T_OFFSET_RAYS_ARGS:
+ * tests/kernels/test_args.h) as host structs, and their binders. */
+typedef LVCL_KERNEL_ARGS(T_TRACE_ARGS) t_trace_args;
+typedef LVCL_KERNEL_ARGS(T_OFFSET_RAYS_ARGS) t_offset_rays_args;
+lvcl_error lvcl_bind_t_trace(cl_kernel k, const t_trace_args *a, lvcl_status *st);
+lvcl_error lvcl_bind_t_offset_rays(cl_kernel k, const t_offset_rays_args *a, lvcl_status *st);
+
+/* Kernel `name` of the test program, or the test program ends with a FAIL line. */
+cl_kernel harness_kernel(const lvcl_program *prog, const char *name);
+
+/* A read-write buffer of `bytes`, holding a copy of `data` unless it is NULL. */
+cl_mem harness_buffer(const lvcl_device *dev, const void *data, size_t bytes);
+
+/* Reads `bytes` of m into out, waiting for it. */
+void harness_read(const lvcl_device *dev, cl_mem m, size_t bytes, void *out);
 
 /* Traces rays (8 floats each, the layout of t_trace) through the scene with
  * kernel `kernel_name`; results get 4 floats per ray. */
@@ -47,7 +60,9 @@ typedef struct {
 } harness_rng;
 double harness_uniform(harness_rng *r);
 
-/* Aborts the test program with a message if err is not CL_SUCCESS. */
+/* Aborts the test program with a message if err is not CL_SUCCESS, or if
+ * e is not LVCL_OK (naming what and st's message). */
 void harness_cl(cl_int err, const char *what);
+void harness_ok(lvcl_error e, const lvcl_status *st, const char *what);
 
 #endif

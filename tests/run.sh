@@ -1,6 +1,8 @@
 #!/bin/sh
-# Runs lvcl's tests: every test program in BUILD/tests (each prints PASS and
-# FAIL lines) and the command-line tests, then one line of totals.
+# Runs lvcl's tests: every test program in BUILD/tests (built from
+# tests/<layer>/test_<name>.c; each prints PASS and FAIL lines) and the
+# command-line tests (tests/app/cli_tests.sh), then one line of totals. Each
+# program gets this folder as its argument.
 #   tests/run.sh BUILD [--asan] [NAME...]
 #   --asan: only the tests that matter under sanitizers
 #   NAME:   only these tests: a program's name with or without "test_"
@@ -60,7 +62,7 @@ done
 
 if wanted cli || wanted cli_tests; then
     ran=$((ran + 1))
-    "$tests_dir/cli_tests.sh" "$build" >"$log" 2>&1
+    "$tests_dir/app/cli_tests.sh" "$build" >"$log" 2>&1
     count cli_tests $?
 fi
 

@@ -1,5 +1,6 @@
-/* Kernels that exercise lvcl's device code directly, for tests/test_kernels.c.
- * Built with every feature switch on, so all BSDFs are present. */
+/* Kernels that exercise lvcl's device code directly, for the tests in
+ * tests/<layer>/; their argument lists are in test_args.h. Built with every
+ * feature switch on, so all BSDFs are present. */
 #include "../../kernels/lvcl.h"
 #include "test_args.h"
 
@@ -12,7 +13,7 @@ inline float3 uniform_sphere(float2 u)
 }
 
 /* Histogram of uniformly distributed directions over the 2 n^2 bins. */
-__kernel void t_direction_histogram(uint n, uint per_item, __global uint *counts)
+__kernel void t_direction_histogram(LV_KERNEL_PARAMS(T_DIRECTION_HISTOGRAM_ARGS))
 {
     lv_rng rng = lv_rng_make(7u, get_global_id(0), 0u);
     for (uint k = 0; k < per_item; k++) {
@@ -22,7 +23,7 @@ __kernel void t_direction_histogram(uint n, uint per_item, __global uint *counts
 }
 
 /* Directions drawn inside each bin must map back to it; counts misses. */
-__kernel void t_direction_roundtrip(uint n, uint per_item, __global uint *misses)
+__kernel void t_direction_roundtrip(LV_KERNEL_PARAMS(T_DIRECTION_ROUNDTRIP_ARGS))
 {
     uint bin = get_global_id(0);
     if (bin >= 2u * n * n) return;
@@ -46,8 +47,7 @@ __kernel void t_direction_roundtrip(uint n, uint per_item, __global uint *misses
  *   5  largest relative reciprocity error f(wo,wi)/|cos wi| vs f(wi,wo)/|cos wo|
  *   6  largest relative mismatch between a sample's weight*pdf and eval
  *   7  largest relative mismatch between a sample's pdf and lv_bsdf_eval's */
-__kernel void t_bsdf_moments(__global const float *config, uint count, __global const float4 *wos, uint n_wo,
-                             uint samples, __global float *out)
+__kernel void t_bsdf_moments(LV_KERNEL_PARAMS(T_BSDF_MOMENTS_ARGS))
 {
     uint item = get_global_id(0);
     if (item >= count) return;
@@ -119,7 +119,7 @@ inline lv_hit trace_test_ray(const lv_scene *sc, __global const float *rays, uin
     return lv_trace(sc, *r, 0);
 }
 
-__kernel void t_trace(LV_SCENE_PARAMS, __global const float *rays, uint count, __global float *results)
+__kernel void t_trace(LV_KERNEL_PARAMS(T_TRACE_ARGS))
 {
     LV_SCENE_OPEN(sc);
     uint i = get_global_id(0);
@@ -134,7 +134,7 @@ __kernel void t_trace(LV_SCENE_PARAMS, __global const float *rays, uint count, _
 
 /* The surface each ray meets: 4 floats (shading normal x and y, uv), zero
  * on a miss. */
-__kernel void t_surface(LV_SCENE_PARAMS, __global const float *rays, uint count, __global float *results)
+__kernel void t_surface(LV_KERNEL_PARAMS(T_TRACE_ARGS))
 {
     LV_SCENE_OPEN(sc);
     uint i = get_global_id(0);
@@ -150,7 +150,7 @@ __kernel void t_surface(LV_SCENE_PARAMS, __global const float *rays, uint count,
 }
 
 /* The same rays against every triangle, without the BVH. */
-__kernel void t_trace_brute_force(LV_SCENE_PARAMS, __global const float *rays, uint count, __global float *results)
+__kernel void t_trace_brute_force(LV_KERNEL_PARAMS(T_TRACE_ARGS))
 {
     LV_SCENE_OPEN(sc);
     uint i = get_global_id(0);
@@ -176,8 +176,7 @@ __kernel void t_trace_brute_force(LV_SCENE_PARAMS, __global const float *rays, u
  * |w| = 2 also skips the triangle left, as the renderer's rays do.
  * Results: 4 floats per ray (prim_id first hit or -1, prim_id the new ray
  * hits or -1, its t, distance of the new origin from the hit point). */
-__kernel void t_offset_rays(LV_SCENE_PARAMS, __global const float *rays, uint count, __global const float4 *reshoot,
-                            __global float *results)
+__kernel void t_offset_rays(LV_KERNEL_PARAMS(T_OFFSET_RAYS_ARGS))
 {
     LV_SCENE_OPEN(sc);
     uint i = get_global_id(0);

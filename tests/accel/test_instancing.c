@@ -8,9 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../host/io/metrics.h"
-#include "check.h"
-#include "harness.h"
+#include "../../host/io/metrics.h"
+#include "../check.h"
+#include "../harness.h"
 
 static lvcl_device dev;
 static lvcl_program prog;

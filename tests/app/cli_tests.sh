@@ -4,7 +4,7 @@
 # must render, write its files and report its statistics.
 build=${1:-build}
 lvcl="$build/lvcl"
-data=$(dirname "$0")/data/gltf
+data=$(dirname "$0")/../data/gltf
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 

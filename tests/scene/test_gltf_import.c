@@ -14,8 +14,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "../host/scene/scene.h"
-#include "check.h"
+#include "../../host/scene/scene.h"
+#include "../check.h"
 
 static const char *data_dir;
 

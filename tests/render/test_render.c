@@ -7,10 +7,10 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "../host/io/image_io.h"
-#include "../host/io/metrics.h"
-#include "check.h"
-#include "harness.h"
+#include "../../host/io/image_io.h"
+#include "../../host/io/metrics.h"
+#include "../check.h"
+#include "../harness.h"
 
 static const char *tests_dir;
 

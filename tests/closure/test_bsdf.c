@@ -1,72 +1,18 @@
-/* Analytic checks of the device code: the direction map is measure-preserving
- * and invertible; every BSDF's pdf integrates to its sampling rate, its
- * samples agree with eval and pdf, it conserves energy and is reciprocal. */
+/* Analytic checks of every BSDF family (kernels/closure): its pdf
+ * integrates to its sampling rate, its samples agree with eval and pdf, it
+ * conserves energy (delta glass without loss) and is reciprocal. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "check.h"
-#include "harness.h"
+#include "../check.h"
+#include "../harness.h"
 
 static lvcl_device dev;
 static lvcl_program prog;
 
-static cl_mem buffer(size_t bytes, const void *data)
-{
-    cl_int err;
-    cl_mem m = clCreateBuffer(dev.context, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0), bytes, (void *)data,
-                              &err);
-    harness_cl(err, "allocating");
-    return m;
-}
-
-static cl_kernel kernel(const char *name)
-{
-    cl_kernel k;
-    lvcl_status st = {0};
-    if (lvcl_kernel_create(&prog, name, &k, &st)) {
-        printf("FAIL %s: %s\n", name, st.message);
-        exit(1);
-    }
-    return k;
-}
-
-static void test_direction_map(unsigned n)
-{
-    unsigned bins = 2 * n * n, per_item = 4096, items = 1024;
-    unsigned *counts = calloc(bins, sizeof *counts);
-    cl_mem cbuf = buffer(bins * sizeof(unsigned), counts);
-    cl_kernel k = kernel("t_direction_histogram");
-    clSetKernelArg(k, 0, sizeof n, &n);
-    clSetKernelArg(k, 1, sizeof per_item, &per_item);
-    clSetKernelArg(k, 2, sizeof cbuf, &cbuf);
-    harness_run(&dev, k, items);
-    clEnqueueReadBuffer(dev.queue, cbuf, CL_TRUE, 0, bins * sizeof(unsigned), counts, 0, NULL, NULL);
-    /* Each bin's count is binomial; chi-square over all bins must be near
-     * its degrees of freedom (within 5 standard deviations). */
-    double total = (double)per_item * items, expect = total / bins, chi2 = 0.0;
-    for (unsigned b = 0; b < bins; b++) chi2 += (counts[b] - expect) * (counts[b] - expect) / expect;
-    double dof = bins - 1;
-    char name[64];
-    snprintf(name, sizeof name, "direction map n=%u is equal-area", n);
-    CHECK(name, fabs(chi2 - dof) < 5.0 * sqrt(2.0 * dof), "chi2 %.1f for %.0f degrees of freedom", chi2, dof);
-
-    unsigned misses = 0, per_bin = 256;
-    cl_mem mbuf = buffer(sizeof misses, &misses);
-    cl_kernel r = kernel("t_direction_roundtrip");
-    clSetKernelArg(r, 0, sizeof n, &n);
-    clSetKernelArg(r, 1, sizeof per_bin, &per_bin);
-    clSetKernelArg(r, 2, sizeof mbuf, &mbuf);
-    harness_run(&dev, r, bins);
-    clEnqueueReadBuffer(dev.queue, mbuf, CL_TRUE, 0, sizeof misses, &misses, 0, NULL, NULL);
-    snprintf(name, sizeof name, "direction map n=%u round trip", n);
-    CHECK(name, misses == 0, "%u of %u directions came back in another bin", misses, bins * per_bin);
-    clReleaseKernel(k);
-    clReleaseKernel(r);
-    clReleaseMemObject(cbuf);
-    clReleaseMemObject(mbuf);
-    free(counts);
-}
+typedef LVCL_KERNEL_ARGS(T_BSDF_MOMENTS_ARGS) t_bsdf_moments_args;
+static LVCL_DEFINE_BINDER(t_bsdf_moments, T_BSDF_MOMENTS_ARGS, t_bsdf_moments_args)
 
 typedef struct {
     const char *name;
@@ -100,19 +46,20 @@ static void test_bsdfs(void)
         memcpy(&config[8 * i], v, sizeof v);
     }
     size_t items = n_cases * n_wo;
-    cl_mem cbuf = buffer(sizeof config, config), wbuf = buffer(sizeof wos, wos);
-    cl_mem obuf = buffer(items * 8 * sizeof(float), NULL);
-    cl_kernel k = kernel("t_bsdf_moments");
-    cl_uint count = (cl_uint)items;
-    clSetKernelArg(k, 0, sizeof cbuf, &cbuf);
-    clSetKernelArg(k, 1, sizeof count, &count);
-    clSetKernelArg(k, 2, sizeof wbuf, &wbuf);
-    clSetKernelArg(k, 3, sizeof n_wo, &n_wo);
-    clSetKernelArg(k, 4, sizeof samples, &samples);
-    clSetKernelArg(k, 5, sizeof obuf, &obuf);
+    t_bsdf_moments_args a = {
+        .config = harness_buffer(&dev, config, sizeof config),
+        .count = (cl_uint)items,
+        .wos = harness_buffer(&dev, wos, sizeof wos),
+        .n_wo = n_wo,
+        .samples = samples,
+        .out = harness_buffer(&dev, NULL, items * 8 * sizeof(float)),
+    };
+    lvcl_status st = {0};
+    cl_kernel k = harness_kernel(&prog, "t_bsdf_moments");
+    harness_ok(lvcl_bind_t_bsdf_moments(k, &a, &st), &st, "setting arguments");
     harness_run(&dev, k, items);
     float *out = malloc(items * 8 * sizeof(float));
-    clEnqueueReadBuffer(dev.queue, obuf, CL_TRUE, 0, items * 8 * sizeof(float), out, 0, NULL, NULL);
+    harness_read(&dev, a.out, items * 8 * sizeof(float), out);
 
     for (size_t i = 0; i < n_cases; i++) {
         const bsdf_case *c = &cases[i];
@@ -144,16 +91,14 @@ static void test_bsdfs(void)
     CHECK("bsdf diffuse: white albedo is 1", fabsf(out[4] - 1.0f) < 1e-6f, "albedo %.6f", out[4]);
     free(out);
     clReleaseKernel(k);
-    clReleaseMemObject(cbuf);
-    clReleaseMemObject(wbuf);
-    clReleaseMemObject(obuf);
+    clReleaseMemObject(a.config);
+    clReleaseMemObject(a.wos);
+    clReleaseMemObject(a.out);
 }
 
 int main(void)
 {
     harness_open(NULL, &dev, &prog);
-    test_direction_map(11);
-    test_direction_map(4);
     test_bsdfs();
     harness_close(&dev, &prog);
     CHECK_EXIT();

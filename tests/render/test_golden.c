@@ -14,8 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "check.h"
-#include "harness.h"
+#include "../check.h"
+#include "../harness.h"
 
 typedef struct {
     const char *scene; /* embedded name, or a path relative to the tests folder */

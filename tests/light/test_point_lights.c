@@ -1,0 +1,253 @@
+/* Point and spot lights against closed forms: quads rendered by the path
+ * tracer at max depth 2 (direct light only), compared pixel by pixel with
+ * what the light gives on a Lambertian plane:
+ *   point light   L = (a / pi) I cos(theta) / d^2, and inverse-square;
+ *   spot light    the same times the glTF cone falloff, squared;
+ *   texture       under a point light, albedo per texel block =
+ *                 factor x srgb_to_linear(texel).
+ * The closed forms and the scenes are in closed_forms.h. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../check.h"
+#include "closed_forms.h"
+
+/* 1. A point light off the image centre (also catching flipped image axes)
+ * over a Lambertian plane, coloured intensity, every pixel. */
+static void test_point_light(void)
+{
+    const double albedo = 0.6, intensity[3] = {10.0, 6.0, 3.0};
+    const int spp = 1024;
+    view v = vertical_view(0, 0, 4, 1, 60, 32);
+    lv_punctual_light light = point_light(0.4, -0.3, 1.0, intensity);
+    quad q = ground();
+    lvcl_material_desc m = lambertian((float)albedo);
+    lvcl_scene scene;
+    quad_scene(&q, 1, &m, 1, &light, 1, &scene);
+    const char *name = "point light: every pixel of a Lambertian plane is (a/pi) I cos/d^2 within 1% + noise";
+    float *rgb = render(name, &scene, 1, 2, &v, spp);
+    punctual_ground g = {&light, albedo};
+    comparison r = compare_pixels(rgb, &v, spp, punctual_radiance, &g, intensity, 0.0, NULL, NULL);
+    print_comparison("point light", &r);
+    CHECK(name, r.failed == 0, "%d channel values off; worst at (%d,%d): %.6g rendered, %.6g analytic +- %.3g",
+          r.failed, r.worst_x, r.worst_y, r.worst_got, r.worst_ref, r.worst_tol);
+    free(rgb);
+}
+
+/* The pixel straight below a point light at `height`, seen through a
+ * narrow view so its footprint is nearly a point. */
+static double radiance_below(double height, double albedo, double intensity)
+{
+    const double i3[3] = {intensity, intensity, intensity};
+    view v = vertical_view(0, 0, 4, 1, 4, 9);
+    lv_punctual_light light = point_light(0, 0, height, i3);
+    quad q = ground();
+    lvcl_material_desc m = lambertian((float)albedo);
+    lvcl_scene scene;
+    quad_scene(&q, 1, &m, 1, &light, 1, &scene);
+    float *rgb = render("inverse square", &scene, 2, 2, &v, 16);
+    double l = pixel(rgb, &v, 4, 4, 0);
+    free(rgb);
+    return l;
+}
+
+static void test_inverse_square(void)
+{
+    const double albedo = 0.5, intensity = 8.0;
+    double l1 = radiance_below(1.0, albedo, intensity), l2 = radiance_below(2.0, albedo, intensity);
+    double expect1 = albedo / PI * intensity; /* d = 1, cos = 1 */
+    printf("  inverse square: below the light %.5f at height 1 (analytic %.5f), %.5f at height 2, ratio %.4f\n", l1,
+           expect1, l2, l1 / l2);
+    CHECK("point light: radiance straight below is a I / (pi h^2) within 1%", fabs(l1 - expect1) < 0.01 * expect1,
+          "%.5f rendered, %.5f analytic", l1, expect1);
+    CHECK("point light: doubling the height quarters the radiance (within 1%)", fabs(l1 / l2 - 4.0) < 0.04,
+          "%.5f at height 1, %.5f at height 2: ratio %.4f", l1, l2, l1 / l2);
+}
+
+/* Which part of a spot's cone a pixel sees: all of its sub-samples inside
+ * the inner cone, all outside the outer cone (with a margin, so the
+ * renderer's jitter cannot reach the falloff), or otherwise in between. */
+enum { SPOT_INSIDE, SPOT_BETWEEN, SPOT_OUTSIDE };
+
+static int spot_zone(const view *v, int x, int y, const lv_punctual_light *l)
+{
+    int inside = 1, outside = 1;
+    double axis[3] = {l->direction[0], l->direction[1], l->direction[2]};
+    for (int j = 0; j < SUB; j++)
+        for (int i = 0; i < SUB; i++) {
+            double p[3], d[3];
+            if (!subsample_ground(v, x, y, i, j, p)) return SPOT_BETWEEN;
+            for (int k = 0; k < 3; k++) d[k] = p[k] - l->position[k];
+            normalize3(d);
+            double c = dot3(axis, d);
+            if (c <= l->cos_inner + 0.005) inside = 0;
+            if (c >= l->cos_outer - 0.01) outside = 0;
+        }
+    return inside ? SPOT_INSIDE : outside ? SPOT_OUTSIDE : SPOT_BETWEEN;
+}
+
+typedef struct {
+    const lv_punctual_light *light;
+    int zone;
+} zone_filter;
+
+static int in_zone(const view *v, int x, int y, const void *ctx)
+{
+    const zone_filter *z = ctx;
+    return spot_zone(v, x, y, z->light) == z->zone;
+}
+
+/* 2. A tilted spot light: its cones cut ellipses out of the plane; pixels
+ * inside, between and outside the cones are checked separately. */
+static void test_spot_light(void)
+{
+    const double albedo = 0.7, intensity[3] = {12.0, 12.0, 12.0};
+    const int spp = 1024;
+    view v = vertical_view(0, 0, 4, 1, 60, 64);
+    lv_punctual_light light = point_light(0.2, 0.1, 1.5, intensity);
+    double axis[3] = {0.2, -0.1, -1.0};
+    normalize3(axis);
+    light.type = LV_PUNCTUAL_SPOT;
+    for (int k = 0; k < 3; k++) light.direction[k] = (float)axis[k];
+    light.cos_inner = (float)cos(20.0 * PI / 180.0);
+    light.cos_outer = (float)cos(40.0 * PI / 180.0);
+    quad q = ground();
+    lvcl_material_desc m = lambertian((float)albedo);
+    lvcl_scene scene;
+    quad_scene(&q, 1, &m, 1, &light, 1, &scene);
+    float *rgb = render("spot light", &scene, 3, 2, &v, spp);
+
+    punctual_ground g = {&light, albedo};
+    static const char *zone_names[3] = {"inside", "between", "outside"};
+    static const char *check_names[3] = {
+        "spot light: inside the inner cone the point-light formula holds within 1% + noise",
+        "spot light: between the cones radiance follows the squared glTF falloff within 1% + noise",
+        "spot light: outside the outer cone radiance is exactly 0"};
+    for (int zone = 0; zone < 3; zone++) {
+        zone_filter zf = {&light, zone};
+        /* Near the outer cone the falloff is ~0 and a jittered sample may
+         * graze it where no sub-sample does: allow 1e-6 per unit intensity
+         * (peak ~0.1). Outside, the tolerance is 0: exactly black. */
+        double abs_floor = zone == SPOT_OUTSIDE ? 0.0 : 1e-6;
+        comparison r = compare_pixels(rgb, &v, spp, punctual_radiance, &g, intensity, abs_floor, in_zone, &zf);
+        char what[64];
+        snprintf(what, sizeof what, "spot light, %s", zone_names[zone]);
+        print_comparison(what, &r);
+        CHECK(check_names[zone], r.failed == 0 && r.compared >= 50,
+              "%d channel values of %d pixels off; worst at (%d,%d): %.6g rendered, %.6g analytic +- %.3g", r.failed,
+              r.compared, r.worst_x, r.worst_y, r.worst_got, r.worst_ref, r.worst_tol);
+    }
+    free(rgb);
+}
+
+
+/* 3. Texture: an 8 x 8 texture of 2 x 2 blocks of 4 x 4 equal texels, on a
+ * 2 m square under a point light. Bilinear filtering is constant where all
+ * four texels it blends lie in one block; there the rendered radiance over
+ * the closed form for albedo 1 is factor x srgb_to_linear(texel). */
+#define TEX 8
+#define BLOCK 4
+
+static const uint8_t block_rgb[2][2][3] = {
+    {{255, 128, 0}, {30, 200, 90}}, /* row 0: the top of the image (v = 0) */
+    {{128, 128, 128}, {8, 60, 250}}, /* 8 lies on the linear segment of sRGB */
+};
+
+/* The block (row * 2 + column) whose texels bilinear lookup at (u, v)
+ * blends, or -1 where it blends texels of two blocks or wraps around. */
+static int texture_block(double u, double v)
+{
+    double x = u * TEX - 0.5, y = v * TEX - 0.5;
+    int x0 = (int)floor(x), y0 = (int)floor(y);
+    if (x0 < 0 || y0 < 0 || x0 + 1 >= TEX || y0 + 1 >= TEX) return -1;
+    if (x0 / BLOCK != (x0 + 1) / BLOCK || y0 / BLOCK != (y0 + 1) / BLOCK) return -1;
+    return (y0 / BLOCK) * 2 + x0 / BLOCK;
+}
+
+/* The block all of a pixel's footprint sees, or -1 (uv from the quad of
+ * horizontal_quad(0, 0, 0, 1, ...): u = (x + 1) / 2, v = (1 - y) / 2). */
+static int pixel_block(const view *v, int x, int y)
+{
+    int block = -2;
+    for (int j = 0; j < SUB; j++)
+        for (int i = 0; i < SUB; i++) {
+            double p[3];
+            if (!subsample_ground(v, x, y, i, j, p) || fabs(p[0]) >= 1.0 || fabs(p[1]) >= 1.0) return -1;
+            int b = texture_block(0.5 * (p[0] + 1.0), 0.5 * (1.0 - p[1]));
+            if (b < 0 || (block != -2 && b != block)) return -1;
+            block = b;
+        }
+    return block;
+}
+
+static double srgb_to_linear(double c)
+{
+    return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+}
+
+static void test_texture(void)
+{
+    const double factor = 0.8, intensity[3] = {9.0, 9.0, 9.0};
+    lvcl_texture_data tex = {TEX, TEX, must_alloc(TEX * TEX * 4)};
+    for (int y = 0; y < TEX; y++)
+        for (int x = 0; x < TEX; x++) {
+            uint8_t *t = &tex.rgba[4 * (y * TEX + x)];
+            memcpy(t, block_rgb[y / BLOCK][x / BLOCK], 3);
+            t[3] = 255;
+        }
+    quad q = horizontal_quad(0, 0, 0, 1, 1, 0);
+    lvcl_material_desc m = lambertian((float)factor);
+    m.base_color_texture = 0;
+    lv_punctual_light light = point_light(0.1, 0.2, 3.0, intensity);
+    lvcl_scene scene;
+    quad_scene(&q, 1, &m, 1, &light, 1, &scene);
+    scene.textures = copy_of(&tex, sizeof tex);
+    scene.texture_count = 1;
+    view v = vertical_view(0, 0, 2.5, 1, 40, 32); /* sees +-0.91 m of the 2 m square */
+    float *rgb = render("texture", &scene, 6, 2, &v, 64);
+
+    /* Per block and channel: sum of rendered / closed form at albedo 1. */
+    double ratio[4][3] = {{0}};
+    int count[4] = {0};
+    punctual_ground g = {&light, 1.0};
+    for (int y = 0; y < v.height; y++)
+        for (int x = 0; x < v.width; x++) {
+            int b = pixel_block(&v, x, y);
+            if (b < 0) continue;
+            double mean, sd;
+            pixel_stats(&v, x, y, punctual_radiance, &g, &mean, &sd);
+            for (int c = 0; c < 3; c++) ratio[b][c] += pixel(rgb, &v, x, y, c) / (mean * intensity[c]);
+            count[b]++;
+        }
+    for (int b = 0; b < 4; b++) {
+        const uint8_t *texel = block_rgb[b / 2][b % 2];
+        char name[160];
+        snprintf(name, sizeof name,
+                 "texture: block at row %d column %d has albedo factor x srgb_to_linear(%d,%d,%d) within 1%%", b / 2,
+                 b % 2, texel[0], texel[1], texel[2]);
+        double got[3], want[3];
+        int ok = count[b] >= 20;
+        for (int c = 0; c < 3; c++) {
+            got[c] = count[b] ? ratio[b][c] / count[b] : 0.0;
+            want[c] = factor * srgb_to_linear(texel[c] / 255.0);
+            ok &= fabs(got[c] - want[c]) <= 0.01 * want[c] + 1e-5;
+        }
+        printf("  texture block %d: %d pixels, albedo %.5f %.5f %.5f rendered, %.5f %.5f %.5f expected\n", b,
+               count[b], got[0], got[1], got[2], want[0], want[1], want[2]);
+        CHECK(name, ok, "%d pixels: albedo (%.5f, %.5f, %.5f) rendered, (%.5f, %.5f, %.5f) expected", count[b],
+              got[0], got[1], got[2], want[0], want[1], want[2]);
+    }
+    free(rgb);
+}
+
+int main(void)
+{
+    lvcl_device_prepare_environment();
+    test_point_light();
+    test_inverse_square();
+    test_spot_light();
+    test_texture();
+    CHECK_EXIT();
+}
