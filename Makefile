@@ -209,11 +209,11 @@ BENCH_FLAGS += -DLVCL_HAVE_EMBREE -fopenmp
 BENCH_LIBS += -lembree3
 endif
 
-$(BUILD)/gen/bench_kernel_source.c: bench/kernels/rays.cl $(KERNELS) $(BUILD)/embed
+$(BUILD)/gen/bench_kernel_source.c: bench/kernels/rays.cl bench/kernels/rays_args.h $(KERNELS) $(BUILD)/embed
 	@mkdir -p $(@D)
 	$(BUILD)/embed source lvcl_bench_kernel_source $< > $@
 
-$(BUILD)/lvcl-bench: $(BENCH_SOURCES) bench/rays.h $(HOST_H) $(BUILD)/gen/bench_kernel_source.c $(BUILD)/liblvcl.a
+$(BUILD)/lvcl-bench: $(BENCH_SOURCES) bench/rays.h bench/kernels/rays_args.h $(HOST_H) $(BUILD)/gen/bench_kernel_source.c $(BUILD)/liblvcl.a
 	$(CC) $(ALL_CFLAGS) $(BENCH_FLAGS) -o $@ $(BENCH_SOURCES) $(BUILD)/gen/bench_kernel_source.c $(BUILD)/liblvcl.a \
 	  $(LIBS) $(BENCH_LIBS)
 

@@ -9,6 +9,7 @@
 
 #include "../host/render/session.h"
 #include "../host/util/timer.h"
+#include "kernels/rays_args.h"
 #include "rays.h"
 
 
@@ -111,17 +112,24 @@ static double median(double *t, int n)
     return n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
 }
 
+typedef LVCL_KERNEL_ARGS(LV_RAYS_PRIMARY_ARGS) rays_primary_args;
+typedef LVCL_KERNEL_ARGS(LV_RAYS_TRACE_ARGS) rays_trace_args;
+typedef LVCL_KERNEL_ARGS(LV_RAYS_SECONDARY_ARGS) rays_secondary_args;
+static LVCL_DEFINE_BINDER(lv_rays_primary, LV_RAYS_PRIMARY_ARGS, rays_primary_args)
+static LVCL_DEFINE_BINDER(lv_rays_trace, LV_RAYS_TRACE_ARGS, rays_trace_args)
+static LVCL_DEFINE_BINDER(lv_rays_secondary, LV_RAYS_SECONDARY_ARGS, rays_secondary_args)
+
 /* Times the trace kernel alone, after one untimed launch (PoCL compiles a
  * kernel's machine code on its first launch). */
 static lvcl_error time_lvcl(bench *b, cl_mem rays, cl_mem hits, size_t count, int any_hit, double *seconds,
                             lvcl_status *st)
 {
     cl_kernel k = any_hit ? b->any : b->closest;
-    cl_uint n = (cl_uint)count, a = LV_SCENE_ARG_COUNT; /* the arguments after the scene block, in order */
-    lvcl_error e = lvcl_device_scene_bind(lvcl_session_device_scene(b->s, 0), k, 0, st);
-    if (!e) e = lvcl_kernel_arg(k, a++, sizeof rays, &rays, "the rays", st);
-    if (!e) e = lvcl_kernel_arg(k, a++, sizeof n, &n, "the ray count", st);
-    if (!e) e = lvcl_kernel_arg(k, a++, sizeof hits, &hits, "the hits", st);
+    rays_trace_args a = {.scene = &lvcl_session_device_scene(b->s, 0)->buffers,
+                         .rays = rays,
+                         .count = (cl_uint)count,
+                         .hits = hits};
+    lvcl_error e = lvcl_bind_lv_rays_trace(k, &a, st);
     if (!e) e = launch(b, k, count, "tracing", st);
     for (int r = 0; r < b->opt.repeat && !e; r++) {
         double start = lvcl_seconds();
@@ -252,9 +260,8 @@ static lvcl_error create_kernels(bench *b, lvcl_status *st)
 
 static lvcl_error generate_primary(bench *b, const lv_camera *cam, cl_mem rays, lvcl_status *st)
 {
-    /* lv_rays_primary(lv_camera camera, __global float4 *rays) */
-    lvcl_error e = lvcl_kernel_arg(b->primary, 0, sizeof *cam, cam, "the camera", st);
-    if (!e) e = lvcl_kernel_arg(b->primary, 1, sizeof rays, &rays, "the rays", st);
+    rays_primary_args a = {.camera = *cam, .rays = rays};
+    lvcl_error e = lvcl_bind_lv_rays_primary(b->primary, &a, st);
     return e ? e : launch(b, b->primary, (size_t)cam->width * cam->height, "generating primary rays", st);
 }
 
@@ -272,19 +279,17 @@ static lvcl_error generate_secondary(bench *b, cl_mem primary, cl_mem primary_hi
     const float *lo = lvcl_session_packed_scene(b->s)->bounds_min, *hi = lvcl_session_packed_scene(b->s)->bounds_max;
     float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    float offset = 1e-5f * diag;
-    cl_uint n = (cl_uint)count;
+    rays_secondary_args a = {.scene = &lvcl_session_device_scene(b->s, 0)->buffers,
+                             .primary = primary,
+                             .primary_hits = primary_hits,
+                             .hit_pixels = hit_pixels,
+                             .count = (cl_uint)count,
+                             .offset = 1e-5f * diag,
+                             .emissive_count = emitters,
+                             .diffuse = diffuse,
+                             .shadow = shadow};
     cl_kernel k = b->secondary;
-    cl_uint a = LV_SCENE_ARG_COUNT; /* the arguments after the scene block, in order */
-    lvcl_error e = lvcl_device_scene_bind(lvcl_session_device_scene(b->s, 0), k, 0, st);
-    if (!e) e = lvcl_kernel_arg(k, a++, sizeof primary, &primary, "the primary rays", st);
-    if (!e) e = lvcl_kernel_arg(k, a++, sizeof primary_hits, &primary_hits, "the primary hits", st);
-    if (!e) e = lvcl_kernel_arg(k, a++, sizeof hit_pixels, &hit_pixels, "the hit pixels", st);
-    if (!e) e = lvcl_kernel_arg(k, a++, sizeof n, &n, "the ray count", st);
-    if (!e) e = lvcl_kernel_arg(k, a++, sizeof offset, &offset, "the offset", st);
-    if (!e) e = lvcl_kernel_arg(k, a++, sizeof emitters, &emitters, "the emitter count", st);
-    if (!e) e = lvcl_kernel_arg(k, a++, sizeof diffuse, &diffuse, "the diffuse rays", st);
-    if (!e) e = lvcl_kernel_arg(k, a++, sizeof shadow, &shadow, "the shadow rays", st);
+    lvcl_error e = lvcl_bind_lv_rays_secondary(k, &a, st);
     return e ? e : launch(b, k, count, "generating secondary rays", st);
 }
 

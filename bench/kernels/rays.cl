@@ -14,6 +14,7 @@
 #include "../../kernels/util/rng.h"
 #include "../../kernels/util/sampling.h"
 #include "../../kernels/scene_buffers.h"
+#include "rays_args.h"
 #include "../../kernels/bvh/traverse.h"
 #include "../../kernels/scene/camera.h"
 
@@ -32,7 +33,7 @@ inline void lv_rays_store(__global float4 *rays, uint i, float3 origin, float3 d
 }
 
 /* One ray through the centre of every pixel, row 0 at the top. */
-__kernel void lv_rays_primary(lv_camera camera, __global float4 *rays)
+__kernel void lv_rays_primary(LV_KERNEL_PARAMS(LV_RAYS_PRIMARY_ARGS))
 {
     uint i = get_global_id(0);
     if (i >= camera.width * camera.height) return;
@@ -47,7 +48,7 @@ inline void lv_rays_trace(const lv_scene *sc, __global const float4 *rays, uint 
     hits[i] = (uint4)(as_uint(h.t), prim, h.tri, 0u);
 }
 
-__kernel void lv_rays_trace_closest(LV_SCENE_PARAMS, __global const float4 *rays, uint count, __global uint4 *hits)
+__kernel void lv_rays_trace_closest(LV_KERNEL_PARAMS(LV_RAYS_TRACE_ARGS))
 {
     LV_SCENE_OPEN(sc);
     uint i = get_global_id(0);
@@ -55,7 +56,7 @@ __kernel void lv_rays_trace_closest(LV_SCENE_PARAMS, __global const float4 *rays
     lv_rays_trace(&sc, rays, i, 0, hits);
 }
 
-__kernel void lv_rays_trace_any(LV_SCENE_PARAMS, __global const float4 *rays, uint count, __global uint4 *hits)
+__kernel void lv_rays_trace_any(LV_KERNEL_PARAMS(LV_RAYS_TRACE_ARGS))
 {
     LV_SCENE_OPEN(sc);
     uint i = get_global_id(0);
@@ -70,9 +71,7 @@ __kernel void lv_rays_trace_any(LV_SCENE_PARAMS, __global const float4 *rays, ui
  * table (area lights come before punctual ones); one is chosen uniformly,
  * not by power, so that another tracer's harness need not know the
  * materials. Random numbers are keyed by (seed, pixel), as in the renderer. */
-__kernel void lv_rays_secondary(LV_SCENE_PARAMS, __global const float4 *primary, __global const uint4 *primary_hits,
-                                __global const uint *hit_pixels, uint count, float offset, uint emissive_count,
-                                __global float4 *diffuse, __global float4 *shadow)
+__kernel void lv_rays_secondary(LV_KERNEL_PARAMS(LV_RAYS_SECONDARY_ARGS))
 {
     LV_SCENE_OPEN(sc);
     uint i = get_global_id(0);
