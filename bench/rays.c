@@ -12,7 +12,6 @@
 #include "kernels/rays_args.h"
 #include "rays.h"
 
-
 typedef struct {
     const char *device;
     int width;
@@ -39,10 +38,11 @@ typedef struct {
 
 static void usage(void)
 {
-    fprintf(stderr, "usage: lvcl-bench rays [--device D] [--width W] [--repeat N] [--seed S] SCENE\n"
-                    "  SCENE: a .gltf/.glb path or an embedded scene name (cornell, furnace, kitchen)\n"
-                    "  --width W   primary-ray image width (default 1024; height from the camera's aspect)\n"
-                    "  --repeat N  timed runs per workload, the median is reported (default 5)\n");
+    fprintf(stderr,
+            "usage: lvcl-bench rays [--device D] [--width W] [--repeat N] [--seed S] SCENE\n"
+            "  SCENE: a .gltf/.glb path or an embedded scene name (cornell, furnace, kitchen)\n"
+            "  --width W   primary-ray image width (default 1024; height from the camera's aspect)\n"
+            "  --repeat N  timed runs per workload, the median is reported (default 5)\n");
 }
 
 static int parse_options(int argc, char **argv, options *o)
@@ -79,8 +79,9 @@ static void json_string(char *out, size_t size, const char *s)
 static cl_mem device_buffer(bench *b, size_t bytes, const void *data, lvcl_status *st)
 {
     cl_int err;
-    cl_mem m = clCreateBuffer(lvcl_session_device(b->s, 0)->context, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0),
-                              bytes ? bytes : 16, (void *)data, &err);
+    cl_mem m =
+        clCreateBuffer(lvcl_session_device(b->s, 0)->context, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0),
+                       bytes ? bytes : 16, (void *)data, &err);
     char what[64];
     snprintf(what, sizeof what, "allocating %.1f MiB", bytes / 1048576.0);
     if (lvcl_cl_check(err, what, st)) return NULL;
@@ -95,8 +96,9 @@ static lvcl_error launch(bench *b, cl_kernel k, size_t count, const char *what, 
 
 static lvcl_error read_back(bench *b, cl_mem m, size_t bytes, void *out, lvcl_status *st)
 {
-    return lvcl_cl_check(clEnqueueReadBuffer(lvcl_session_device(b->s, 0)->queue, m, CL_TRUE, 0, bytes, out, 0, NULL, NULL), "reading back",
-                    st);
+    return lvcl_cl_check(
+        clEnqueueReadBuffer(lvcl_session_device(b->s, 0)->queue, m, CL_TRUE, 0, bytes, out, 0, NULL, NULL),
+        "reading back", st);
 }
 
 static int compare_seconds(const void *a, const void *b)
@@ -115,20 +117,18 @@ static double median(double *t, int n)
 typedef LVCL_KERNEL_ARGS(LV_RAYS_PRIMARY_ARGS) rays_primary_args;
 typedef LVCL_KERNEL_ARGS(LV_RAYS_TRACE_ARGS) rays_trace_args;
 typedef LVCL_KERNEL_ARGS(LV_RAYS_SECONDARY_ARGS) rays_secondary_args;
-static LVCL_DEFINE_BINDER(lv_rays_primary, LV_RAYS_PRIMARY_ARGS, rays_primary_args)
-static LVCL_DEFINE_BINDER(lv_rays_trace, LV_RAYS_TRACE_ARGS, rays_trace_args)
-static LVCL_DEFINE_BINDER(lv_rays_secondary, LV_RAYS_SECONDARY_ARGS, rays_secondary_args)
+static LVCL_DEFINE_BINDER(lv_rays_primary, LV_RAYS_PRIMARY_ARGS, rays_primary_args) static LVCL_DEFINE_BINDER(
+    lv_rays_trace, LV_RAYS_TRACE_ARGS,
+    rays_trace_args) static LVCL_DEFINE_BINDER(lv_rays_secondary, LV_RAYS_SECONDARY_ARGS, rays_secondary_args)
 
-/* Times the trace kernel alone, after one untimed launch (PoCL compiles a
+    /* Times the trace kernel alone, after one untimed launch (PoCL compiles a
  * kernel's machine code on its first launch). */
-static lvcl_error time_lvcl(bench *b, cl_mem rays, cl_mem hits, size_t count, int any_hit, double *seconds,
-                            lvcl_status *st)
+    static lvcl_error
+    time_lvcl(bench *b, cl_mem rays, cl_mem hits, size_t count, int any_hit, double *seconds, lvcl_status *st)
 {
     cl_kernel k = any_hit ? b->any : b->closest;
-    rays_trace_args a = {.scene = &lvcl_session_device_scene(b->s, 0)->buffers,
-                         .rays = rays,
-                         .count = (cl_uint)count,
-                         .hits = hits};
+    rays_trace_args a = {
+        .scene = &lvcl_session_device_scene(b->s, 0)->buffers, .rays = rays, .count = (cl_uint)count, .hits = hits};
     lvcl_error e = lvcl_bind_lv_rays_trace(k, &a, st);
     if (!e) e = launch(b, k, count, "tracing", st);
     for (int r = 0; r < b->opt.repeat && !e; r++) {
@@ -139,8 +139,7 @@ static lvcl_error time_lvcl(bench *b, cl_mem rays, cl_mem hits, size_t count, in
     return e;
 }
 
-static void time_embree(bench *b, const bench_ray *rays, size_t count, int any_hit, bench_hit *hits,
-                        double *seconds)
+static void time_embree(bench *b, const bench_ray *rays, size_t count, int any_hit, bench_hit *hits, double *seconds)
 {
     bench_embree_trace(b->embree, rays, count, any_hit, hits); /* warm caches and threads */
     for (int r = 0; r < b->opt.repeat; r++) {
@@ -227,8 +226,8 @@ static lvcl_error run_workload(bench *b, const char *name, cl_mem rays, cl_mem h
     printf("{\"workload\": \"%s\", \"device\": %s, \"triangles\": %zu, \"rays\": %zu, \"query\": \"%s\", "
            "\"mrays\": %.3f, \"mrays_best\": %.3f, \"seconds\": %.6f, \"hits\": %zu, \"checksum\": %u, "
            "\"mean_distance\": %.7g",
-           name, b->device_json, lvcl_session_scene(b->s)->triangle_count, count, any_hit ? "any" : "closest", count / sec * 1e-6,
-           count / t[0] * 1e-6, sec, s.hits, s.checksum, s.mean_distance);
+           name, b->device_json, lvcl_session_scene(b->s)->triangle_count, count, any_hit ? "any" : "closest",
+           count / sec * 1e-6, count / t[0] * 1e-6, sec, s.hits, s.checksum, s.mean_distance);
     print_embree(b, hr, hh, count, any_hit, sec);
     printf("}\n");
     fflush(stdout);
@@ -311,14 +310,12 @@ static void print_setup(bench *b, int width, int height)
     printf("{\"bench\": \"rays\", \"scene\": %s, \"device\": %s, \"triangles\": %zu, \"bvh_triangles\": %zu, "
            "\"bvh_nodes\": %zu, \"bvh_build_seconds\": %.4f, \"kernel_build_seconds\": %.3f, "
            "\"kernel_from_cache\": %s, \"width\": %d, \"height\": %d, \"repeat\": %d",
-           scene, b->device_json, lvcl_session_scene(b->s)->triangle_count, lvcl_session_accel(b->s)->triangle_count, lvcl_session_accel(b->s)->node_count,
-           lvcl_session_bvh_build_seconds(b->s), b->program.build_seconds, b->program.from_cache ? "true" : "false", width,
-           height, b->opt.repeat);
+           scene, b->device_json, lvcl_session_scene(b->s)->triangle_count, lvcl_session_accel(b->s)->triangle_count,
+           lvcl_session_accel(b->s)->node_count, lvcl_session_bvh_build_seconds(b->s), b->program.build_seconds,
+           b->program.from_cache ? "true" : "false", width, height, b->opt.repeat);
     if (b->embree)
-        printf(", \"embree\": \"%s\", \"embree_build_seconds\": %.4f", bench_embree_method(),
-               b->embree_build_seconds);
-    else
-        printf(", \"embree\": null");
+        printf(", \"embree\": \"%s\", \"embree_build_seconds\": %.4f", bench_embree_method(), b->embree_build_seconds);
+    else printf(", \"embree\": null");
     printf("}\n");
     fflush(stdout);
 }
@@ -328,7 +325,8 @@ static lvcl_error run(bench *b, lvcl_status *st)
 {
     int w, h;
     lvcl_image_size(&lvcl_session_scene(b->s)->camera, b->opt.width, 0, &w, &h);
-    lv_camera cam = lvcl_camera_make(&lvcl_session_scene(b->s)->camera, lvcl_session_packed_scene(b->s)->bounds_min, lvcl_session_packed_scene(b->s)->bounds_max, w, h);
+    lv_camera cam = lvcl_camera_make(&lvcl_session_scene(b->s)->camera, lvcl_session_packed_scene(b->s)->bounds_min,
+                                     lvcl_session_packed_scene(b->s)->bounds_max, w, h);
     size_t pixels = (size_t)w * h, n_sec = 0;
     print_setup(b, w, h);
 
@@ -345,18 +343,18 @@ static lvcl_error run(bench *b, lvcl_status *st)
     if (!e) e = run_workload(b, "primary", mem[0], mem[1], pixels, 0, &pr, &ph, st);
     if (!e && !(pix = hit_pixel_list(ph, pixels, &n_sec)))
         e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory");
-    if (!e && (!(mem[2] = device_buffer(b, n_sec * sizeof *pix, pix, st)) ||
-               !(mem[3] = device_buffer(b, n_sec * sizeof(bench_ray), NULL, st)) ||
-               !(mem[4] = device_buffer(b, n_sec * sizeof(bench_ray), NULL, st)) ||
-               !(mem[5] = device_buffer(b, n_sec * sizeof(bench_hit), NULL, st))))
+    if (!e &&
+        (!(mem[2] = device_buffer(b, n_sec * sizeof *pix, pix, st)) ||
+         !(mem[3] = device_buffer(b, n_sec * sizeof(bench_ray), NULL, st)) ||
+         !(mem[4] = device_buffer(b, n_sec * sizeof(bench_ray), NULL, st)) ||
+         !(mem[5] = device_buffer(b, n_sec * sizeof(bench_hit), NULL, st))))
         e = st->code;
     if (!e) e = generate_secondary(b, mem[0], mem[1], mem[2], n_sec, emitters, mem[3], mem[4], st);
     if (!e) e = run_workload(b, "diffuse", mem[3], mem[5], n_sec, 0, &dr, &dh, st);
     if (!e && emitters == 0)
         printf("{\"workload\": \"shadow\", \"device\": %s, \"skipped\": \"the scene has no emissive triangles\"}\n",
                b->device_json);
-    else if (!e)
-        e = run_workload(b, "shadow", mem[4], mem[5], n_sec, 1, &sr, &sh, st);
+    else if (!e) e = run_workload(b, "shadow", mem[4], mem[5], n_sec, 1, &sr, &sh, st);
 
     for (int i = 0; i < 6; i++)
         if (mem[i]) clReleaseMemObject(mem[i]);
@@ -392,8 +390,9 @@ int main(int argc, char **argv)
         json_string(b.device_json, sizeof b.device_json, lvcl_session_device(b.s, 0)->name);
         /* Embree is handed the triangles as stored: world space only in a flat scene. */
         if (lvcl_session_scene(b.s)->mesh_count == 0)
-            b.embree = bench_embree_create(lvcl_session_scene(b.s)->positions, lvcl_session_scene(b.s)->vertex_count, lvcl_session_scene(b.s)->indices,
-                                           lvcl_session_scene(b.s)->triangle_count, &b.embree_build_seconds);
+            b.embree = bench_embree_create(lvcl_session_scene(b.s)->positions, lvcl_session_scene(b.s)->vertex_count,
+                                           lvcl_session_scene(b.s)->indices, lvcl_session_scene(b.s)->triangle_count,
+                                           &b.embree_build_seconds);
         e = run(&b, &st);
     }
     if (e) fprintf(stderr, "lvcl-bench: error: %s\n", st.message);

@@ -20,7 +20,7 @@ typedef struct {
 typedef struct {
     float t;
     uint32_t prim_id;
-    uint32_t leaf;  /* lvcl's leaf-ordered triangle; unused by Embree */
+    uint32_t leaf; /* lvcl's leaf-ordered triangle; unused by Embree */
     uint32_t pad;
 } bench_hit;
 
@@ -53,8 +53,14 @@ static inline void bench_embree_trace(bench_embree *e, const bench_ray *rays, si
 {
     (void)e, (void)rays, (void)count, (void)any_hit, (void)hits;
 }
-static inline const char *bench_embree_method(void) { return ""; }
-static inline void bench_embree_destroy(bench_embree *e) { (void)e; }
+static inline const char *bench_embree_method(void)
+{
+    return "";
+}
+static inline void bench_embree_destroy(bench_embree *e)
+{
+    (void)e;
+}
 #endif
 
 #endif

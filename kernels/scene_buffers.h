@@ -35,11 +35,11 @@ typedef struct {
 #endif
 /* The address of element i (of `stride` values) of a table split over
  * parts of n elements. Unsigned wrap-around keeps i - k n exact. */
-#define LV_SPLIT_AT(parts, n, i, stride)                                                         \
-    ((i) < (n)                ? (parts)[0] + (size_t)(stride) * (i)                              \
-     : (i) - (n) < (n)        ? (parts)[1] + (size_t)(stride) * ((i) - (n))                      \
-     : (i) - (n) - (n) < (n)  ? (parts)[2] + (size_t)(stride) * ((i) - 2u * (n))                 \
-                              : (parts)[3] + (size_t)(stride) * ((i) - 3u * (n)))
+#define LV_SPLIT_AT(parts, n, i, stride)                                          \
+    ((i) < (n)                   ? (parts)[0] + (size_t)(stride) * (i)            \
+         : (i) - (n) < (n)       ? (parts)[1] + (size_t)(stride) * ((i) - (n))    \
+         : (i) - (n) - (n) < (n) ? (parts)[2] + (size_t)(stride) * ((i)-2u * (n)) \
+                                 : (parts)[3] + (size_t)(stride) * ((i)-3u * (n)))
 
 inline __global const lv_bvh_node *lv_node(const lv_scene *sc, uint i)
 {
@@ -84,10 +84,10 @@ inline float2 lv_vertex_uv(const lv_scene *sc, uint v)
 /* Declares lv_scene s and fills it from the scene block. */
 #define LV_SCENE_OPEN_SPLIT(type, name, stride, per_part, what) LV_PARTS_OPEN(lv_opened_scene_->name, scene_##name)
 #define LV_SCENE_OPEN_ONE(type, name, what) lv_opened_scene_->name = scene_##name;
-#define LV_SCENE_OPEN(s)                                                 \
-    lv_scene s;                                                          \
-    lv_scene *lv_opened_scene_ = &(s);                                   \
-    LV_SCENE_BUFFERS(LV_SCENE_OPEN_SPLIT, LV_SCENE_OPEN_ONE)             \
+#define LV_SCENE_OPEN(s)                                     \
+    lv_scene s;                                              \
+    lv_scene *lv_opened_scene_ = &(s);                       \
+    LV_SCENE_BUFFERS(LV_SCENE_OPEN_SPLIT, LV_SCENE_OPEN_ONE) \
     lv_opened_scene_->info = scene_info
 
 /* The volume block: a parameter per buffer (its table name), then grid_info. */
@@ -98,11 +98,11 @@ inline float2 lv_vertex_uv(const lv_scene *sc, uint v)
 /* Fills lv_grid `grid` (declared by the caller) from the volume block. */
 #define LV_VOLUME_OPEN_SPLIT(type, name) LV_PARTS_OPEN(lv_grid_opened_->name, name)
 #define LV_VOLUME_OPEN_ONE(type, name) lv_grid_opened_->name = name;
-#define LV_VOLUME_OPEN(grid)                                             \
-    do {                                                                 \
-        lv_grid *lv_grid_opened_ = &(grid);                              \
-        LV_VOLUME_BUFFERS(LV_VOLUME_OPEN_SPLIT, LV_VOLUME_OPEN_ONE)      \
-        lv_grid_opened_->g = grid_info;                                  \
+#define LV_VOLUME_OPEN(grid)                                        \
+    do {                                                            \
+        lv_grid *lv_grid_opened_ = &(grid);                         \
+        LV_VOLUME_BUFFERS(LV_VOLUME_OPEN_SPLIT, LV_VOLUME_OPEN_ONE) \
+        lv_grid_opened_->g = grid_info;                             \
     } while (0)
 
 /* A kernel's parameter list from its argument list. */

@@ -33,12 +33,12 @@ typedef struct {
 
 /* Per triangle, in BVH leaf order: where its attributes live and what it is. */
 typedef struct {
-    lv_u32 v[3];      /* indices into the vertex attribute arrays */
-    lv_u32 material;  /* index into the material array */
-    lv_u32 prim_id;   /* global triangle index in glTF order (checksums) */
-    lv_u32 light;     /* emitters: which of its mesh's emitting triangles (the light
+    lv_u32 v[3];     /* indices into the vertex attribute arrays */
+    lv_u32 material; /* index into the material array */
+    lv_u32 prim_id;  /* global triangle index in glTF order (checksums) */
+    lv_u32 light;    /* emitters: which of its mesh's emitting triangles (the light
                          table holds them per instance from lv_instance.light_base), else LV_NO_LIGHT */
-    lv_u32 flags;     /* LV_TRI_* */
+    lv_u32 flags;    /* LV_TRI_* */
     lv_u32 pad;
 } lv_triangle;
 
@@ -63,11 +63,11 @@ typedef struct {
 } lv_instance;
 
 /* BSDF families (docs/design.md, Kernels); the host maps glTF materials here. */
-#define LV_BSDF_DIFFUSE 0     /* Lambertian */
-#define LV_BSDF_PLASTIC 1     /* diffuse base under a dielectric GGX (or smooth) layer */
-#define LV_BSDF_CONDUCTOR 2   /* GGX or smooth metal, Schlick Fresnel with F0 = base colour */
-#define LV_BSDF_GLASS 3       /* solid dielectric, smooth or GGX, Beer-Lambert inside */
-#define LV_BSDF_THIN_GLASS 4  /* thin-walled dielectric: reflection, straight transmission */
+#define LV_BSDF_DIFFUSE 0    /* Lambertian */
+#define LV_BSDF_PLASTIC 1    /* diffuse base under a dielectric GGX (or smooth) layer */
+#define LV_BSDF_CONDUCTOR 2  /* GGX or smooth metal, Schlick Fresnel with F0 = base colour */
+#define LV_BSDF_GLASS 3      /* solid dielectric, smooth or GGX, Beer-Lambert inside */
+#define LV_BSDF_THIN_GLASS 4 /* thin-walled dielectric: reflection, straight transmission */
 #define LV_BSDF_COUNT 5
 
 typedef struct {
@@ -79,7 +79,7 @@ typedef struct {
     float ior;                 /* dielectric index of refraction */
     float specular;            /* KHR_materials_specular factor (scales Fresnel) */
     lv_u32 double_sided;
-    float attenuation[3];      /* absorption coefficient per metre inside glass */
+    float attenuation[3]; /* absorption coefficient per metre inside glass */
     float pad;
 } lv_material;
 
@@ -98,11 +98,11 @@ typedef struct {
 #define LV_LIGHT_PUNCTUAL 1
 
 typedef struct {
-    lv_u32 kind;       /* LV_LIGHT_AREA or LV_LIGHT_PUNCTUAL */
-    lv_u32 index;      /* leaf-ordered triangle index, or punctual light index */
-    lv_u32 instance;   /* the instance an area light's triangle belongs to */
-    float cdf;         /* cumulative selection probability up to and including this light */
-    float pdf_select;  /* probability of choosing this light */
+    lv_u32 kind;      /* LV_LIGHT_AREA or LV_LIGHT_PUNCTUAL */
+    lv_u32 index;     /* leaf-ordered triangle index, or punctual light index */
+    lv_u32 instance;  /* the instance an area light's triangle belongs to */
+    float cdf;        /* cumulative selection probability up to and including this light */
+    float pdf_select; /* probability of choosing this light */
     lv_u32 pad;
 } lv_light;
 
@@ -112,9 +112,9 @@ typedef struct {
 typedef struct {
     float position[3];
     lv_u32 type;
-    float direction[3];   /* spot axis, unit */
+    float direction[3]; /* spot axis, unit */
     float cos_outer;
-    float intensity[3];   /* radiant intensity, W/sr */
+    float intensity[3]; /* radiant intensity, W/sr */
     float cos_inner;
 } lv_punctual_light;
 
@@ -147,7 +147,7 @@ typedef struct {
     float total_light_power; /* summed over lights (luminance of RGB watts) */
     float scene_scale;       /* largest extent of the scene bounds, metres */
     lv_u32 instance_count;
-    lv_u32 flat;             /* one instance, identity transform: rays skip the top level */
+    lv_u32 flat; /* one instance, identity transform: rays skip the top level */
     /* Elements per buffer of the tables split over LV_SCENE_PARTS buffers
      * (kernels/scene_buffers.h); 0xffffffff where one buffer holds them all. */
     lv_u32 nodes_per_part;
@@ -170,15 +170,15 @@ typedef struct {
 #define LV_TALLY_MAX_CONTRIBUTION 1048576.0f
 
 typedef struct {
-    float origin[3];   /* corner of cell (0,0,0) */
-    float cell_size;   /* metres */
-    lv_u32 dims[3];    /* cells along x, y, z */
-    lv_u32 dirs;       /* n: n x n bins per hemisphere */
-    lv_u32 slot_count; /* cells stored */
-    lv_u32 bins;       /* 2 n^2 */
-    float total_power; /* luminance watts emitted by all lights */
-    float particles;   /* particles traced in all (for normalisation) */
-    lv_u32 subcells;   /* k: k x k x k binary subcells per cell (k <= 4), 0 = none */
+    float origin[3];       /* corner of cell (0,0,0) */
+    float cell_size;       /* metres */
+    lv_u32 dims[3];        /* cells along x, y, z */
+    lv_u32 dirs;           /* n: n x n bins per hemisphere */
+    lv_u32 slot_count;     /* cells stored */
+    lv_u32 bins;           /* 2 n^2 */
+    float total_power;     /* luminance watts emitted by all lights */
+    float particles;       /* particles traced in all (for normalisation) */
+    lv_u32 subcells;       /* k: k x k x k binary subcells per cell (k <= 4), 0 = none */
     lv_u32 slots_per_part; /* the tallies are split over buffers of this many slots each */
     float visibility_rate; /* share of tallied surface hits that cast a subcell visibility ray */
     lv_u32 pad;
@@ -221,8 +221,12 @@ typedef struct {
 typedef float4 lv_float4;
 typedef uchar4 lv_uchar4;
 #else
-typedef struct { float s[4]; } lv_float4;
-typedef struct { uint8_t s[4]; } lv_uchar4;
+typedef struct {
+    float s[4];
+} lv_float4;
+typedef struct {
+    uint8_t s[4];
+} lv_uchar4;
 #endif
 
 /* The scene's buffers, read-only, in argument order (then lv_scene_info):
@@ -231,26 +235,26 @@ typedef struct { uint8_t s[4]; } lv_uchar4;
  *     elements each (kernels/scene_buffers.h reads them with LV_SPLIT_AT);
  *   ONE(type, name, what): one buffer.
  * `what` names the table in the host's messages. */
-#define LV_SCENE_BUFFERS(SPLIT, ONE)                                                                    \
-    SPLIT(lv_bvh_node, nodes, 1, nodes_per_part, "BVH nodes") /* top-level tree, then every mesh's */   \
-    ONE(lv_instance, instances, "instances")                  /* top-level leaf order */                \
-    SPLIT(lv_float4, tri_vertices, 3, triangles_per_part, "triangle vertices") /* leaf order, object space */ \
-    SPLIT(lv_triangle, triangles, 1, triangles_per_part, "triangles")          /* leaf order */         \
-    SPLIT(float, normals, 3, vertices_per_part, "normals")                                              \
-    SPLIT(float, uvs, 2, vertices_per_part, "texture coordinates")                                      \
-    ONE(lv_material, materials, "materials")                                                            \
-    ONE(lv_texture, textures, "textures")                                                               \
-    ONE(lv_uchar4, texels, "texels")                                                                    \
-    ONE(lv_light, lights, "lights")                                                                     \
+#define LV_SCENE_BUFFERS(SPLIT, ONE)                                                                                   \
+    SPLIT(lv_bvh_node, nodes, 1, nodes_per_part, "BVH nodes")                  /* top-level tree, then every mesh's */ \
+    ONE(lv_instance, instances, "instances")                                   /* top-level leaf order */              \
+    SPLIT(lv_float4, tri_vertices, 3, triangles_per_part, "triangle vertices") /* leaf order, object space */          \
+    SPLIT(lv_triangle, triangles, 1, triangles_per_part, "triangles")          /* leaf order */                        \
+    SPLIT(float, normals, 3, vertices_per_part, "normals")                                                             \
+    SPLIT(float, uvs, 2, vertices_per_part, "texture coordinates")                                                     \
+    ONE(lv_material, materials, "materials")                                                                           \
+    ONE(lv_texture, textures, "textures")                                                                              \
+    ONE(lv_uchar4, texels, "texels")                                                                                   \
+    ONE(lv_light, lights, "lights")                                                                                    \
     ONE(lv_punctual_light, punctuals, "punctual lights")
 
 /* The light volume's buffers, in argument order (then lv_grid_info):
  * SPLIT(type, name) over LV_TALLY_PARTS buffers of lv_grid_info.slots_per_part
  * slots, ONE(type, name) in one buffer. */
-#define LV_VOLUME_BUFFERS(SPLIT, ONE)                                              \
-    ONE(const uint, cell_slot) /* cell -> slot or LV_EMPTY_CELL */                 \
-    SPLIT(long, tallies)       /* slot x bin x RGB, 64-bit fixed point */          \
-    ONE(uint, subcells)        /* LV_SUBCELL_STRIDE words per slot */              \
+#define LV_VOLUME_BUFFERS(SPLIT, ONE)                                     \
+    ONE(const uint, cell_slot) /* cell -> slot or LV_EMPTY_CELL */        \
+    SPLIT(long, tallies)       /* slot x bin x RGB, 64-bit fixed point */ \
+    ONE(uint, subcells)        /* LV_SUBCELL_STRIDE words per slot */     \
     ONE(float, lit_volume)     /* per slot, filled by lv_lit_volumes */
 
 #define LV_IGNORE_SPLIT(type, name, stride, per_part, what)
@@ -282,27 +286,27 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
 
 /* The pixel range of the camera passes: one sample per pixel of
  * [first_pixel, first_pixel + pixel_count) per launch, added to sum. */
-#define LV_PIXEL_ARGS(X, SEP, kernel)                                                  \
-    X(kernel, VALUE, lv_camera, camera) SEP() X(kernel, VALUE, lv_u32, first_pixel) SEP() \
-    X(kernel, VALUE, lv_u32, pixel_count) SEP() X(kernel, VALUE, lv_u32, sample_index) SEP() \
-    X(kernel, BUFFER, float4, sum)
+#define LV_PIXEL_ARGS(X, SEP, kernel)                                                             \
+    X(kernel, VALUE, lv_camera, camera)                                                           \
+    SEP() X(kernel, VALUE, lv_u32, first_pixel) SEP() X(kernel, VALUE, lv_u32, pixel_count) SEP() \
+        X(kernel, VALUE, lv_u32, sample_index) SEP() X(kernel, BUFFER, float4, sum)
 
 #define LV_PT_PASS_ARGS(X, SEP) X(lv_pt_pass, SCENE, , scene) SEP() LV_PIXEL_ARGS(X, SEP, lv_pt_pass)
 
-#define LV_GATHER_PASS_ARGS(X, SEP)                                                                    \
-    X(lv_gather_pass, SCENE, , scene) SEP() X(lv_gather_pass, VOLUME, , volume) SEP()                  \
-    X(lv_gather_pass, BUFFER, const float4, bin_directions) SEP()                                      \
-    X(lv_gather_pass, VALUE, lv_u32, flags) SEP() /* LV_GATHER_* */                                    \
-    X(lv_gather_pass, VALUE, float, threshold) SEP() /* near-hit distance, metres */                   \
-    LV_PIXEL_ARGS(X, SEP, lv_gather_pass)
+#define LV_GATHER_PASS_ARGS(X, SEP)                                                                               \
+    X(lv_gather_pass, SCENE, , scene)                                                                             \
+    SEP() X(lv_gather_pass, VOLUME, , volume) SEP() X(lv_gather_pass, BUFFER, const float4, bin_directions) SEP() \
+        X(lv_gather_pass, VALUE, lv_u32, flags) SEP()    /* LV_GATHER_* */                                        \
+        X(lv_gather_pass, VALUE, float, threshold) SEP() /* near-hit distance, metres */                          \
+        LV_PIXEL_ARGS(X, SEP, lv_gather_pass)
 
-#define LV_PARTICLE_TRACE_ARGS(X, SEP)                                                                 \
-    X(lv_particle_trace, SCENE, , scene) SEP() X(lv_particle_trace, VOLUME, , volume) SEP()            \
-    X(lv_particle_trace, VALUE, lv_u32, first) SEP() /* first particle index of the batch */           \
-    X(lv_particle_trace, VALUE, lv_u32, count) SEP()                                                   \
-    X(lv_particle_trace, VALUE, float, inv_total_particles) SEP()                                      \
-    X(lv_particle_trace, VALUE, lv_u32, store_emitted) SEP() /* lv-all: tally the lights' own segments */ \
-    X(lv_particle_trace, BUFFER, uint, ray_counts) /* segments, visibility rays */
+#define LV_PARTICLE_TRACE_ARGS(X, SEP)                                                                                 \
+    X(lv_particle_trace, SCENE, , scene)                                                                               \
+    SEP() X(lv_particle_trace, VOLUME, , volume) SEP() X(lv_particle_trace, VALUE, lv_u32, first)                      \
+        SEP() /* first particle index of the batch */                                                                  \
+        X(lv_particle_trace, VALUE, lv_u32, count) SEP() X(lv_particle_trace, VALUE, float, inv_total_particles) SEP() \
+            X(lv_particle_trace, VALUE, lv_u32, store_emitted) SEP() /* lv-all: tally the lights' own segments */      \
+        X(lv_particle_trace, BUFFER, uint, ray_counts)               /* segments, visibility rays */
 
 #define LV_LIT_VOLUMES_ARGS(X, SEP) X(lv_lit_volumes, VOLUME, , volume)
 

@@ -9,17 +9,17 @@
 static int check_failures;
 
 /* Records one named check; `why` is printed (printf-style) when it fails. */
-#define CHECK(name, cond, ...)                                   \
-    do {                                                         \
-        if (cond) {                                              \
-            printf("PASS %s\n", name);                           \
-        } else {                                                 \
-            printf("FAIL %s: ", name);                           \
-            printf(__VA_ARGS__);                                 \
-            printf("\n");                                        \
-            check_failures++;                                    \
-        }                                                        \
-        fflush(stdout);                                          \
+#define CHECK(name, cond, ...)         \
+    do {                               \
+        if (cond) {                    \
+            printf("PASS %s\n", name); \
+        } else {                       \
+            printf("FAIL %s: ", name); \
+            printf(__VA_ARGS__);       \
+            printf("\n");              \
+            check_failures++;          \
+        }                              \
+        fflush(stdout);                \
     } while (0)
 
 /* Prints a skipped check, with the reason; it counts neither way. */

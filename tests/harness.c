@@ -93,8 +93,8 @@ cl_kernel harness_kernel(const lvcl_program *prog, const char *name)
 cl_mem harness_buffer(const lvcl_device *dev, const void *data, size_t bytes)
 {
     cl_int err;
-    cl_mem m = clCreateBuffer(dev->context, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0), bytes,
-                              (void *)data, &err);
+    cl_mem m =
+        clCreateBuffer(dev->context, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0), bytes, (void *)data, &err);
     harness_cl(err, "allocating");
     return m;
 }
@@ -104,14 +104,15 @@ void harness_read(const lvcl_device *dev, cl_mem m, size_t bytes, void *out)
     harness_cl(clEnqueueReadBuffer(dev->queue, m, CL_TRUE, 0, bytes, out, 0, NULL, NULL), "reading results");
 }
 
-void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_scene *scene,
-                   const char *kernel_name, const float *rays, size_t count, float *results)
+void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_scene *scene, const char *kernel_name,
+                   const float *rays, size_t count, float *results)
 {
     lvcl_status st = {0};
     lvcl_accel accel;
     lvcl_packed_scene packed;
     lvcl_device_scene ds;
-    if (lvcl_accel_build(scene, &accel, &st) || lvcl_pack_scene(scene, &accel, 0, 8, &packed, &st) || lvcl_device_scene_upload(dev, scene, &packed, &ds, &st))
+    if (lvcl_accel_build(scene, &accel, &st) || lvcl_pack_scene(scene, &accel, 0, 8, &packed, &st) ||
+        lvcl_device_scene_upload(dev, scene, &packed, &ds, &st))
         die("preparing the scene", st.message);
     cl_kernel k = harness_kernel(prog, kernel_name);
     t_trace_args a = {

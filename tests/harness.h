@@ -38,8 +38,8 @@ void harness_read(const lvcl_device *dev, cl_mem m, size_t bytes, void *out);
 
 /* Traces rays (8 floats each, the layout of t_trace) through the scene with
  * kernel `kernel_name`; results get 4 floats per ray. */
-void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_scene *scene,
-                   const char *kernel_name, const float *rays, size_t count, float *results);
+void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_scene *scene, const char *kernel_name,
+                   const float *rays, size_t count, float *results);
 
 /* A square size x size render request: the path tracer, or the light volume
  * of `cells` cells and `particles` particles (8 x 8 bins per hemisphere,

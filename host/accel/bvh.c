@@ -29,8 +29,14 @@ typedef struct {
 
 /* Plain comparisons: fminf/fmaxf are library calls here (NaN rules), and
  * the builder feeds them only finite values. */
-static inline float min_f(float a, float b) { return a < b ? a : b; }
-static inline float max_f(float a, float b) { return a > b ? a : b; }
+static inline float min_f(float a, float b)
+{
+    return a < b ? a : b;
+}
+static inline float max_f(float a, float b)
+{
+    return a > b ? a : b;
+}
 
 static box3 box_empty(void)
 {
@@ -249,8 +255,7 @@ static void set_item(builder *bd, uint32_t i, const box3 *b)
     for (int k = 0; k < 3; k++) bd->centroid[3 * i + k] = 0.5f * (b->lo[k] + b->hi[k]);
 }
 
-lvcl_error lvcl_bvh_build(const float *positions, const uint32_t *indices, size_t count,
-                          lvcl_bvh *bvh, lvcl_status *st)
+lvcl_error lvcl_bvh_build(const float *positions, const uint32_t *indices, size_t count, lvcl_bvh *bvh, lvcl_status *st)
 {
     memset(bvh, 0, sizeof *bvh);
     builder bd;

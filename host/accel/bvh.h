@@ -17,17 +17,17 @@
 typedef struct {
     lv_bvh_node *nodes;
     size_t node_count;
-    uint32_t *tri_order;    /* leaf slot -> original triangle (or box) index */
-    size_t triangle_count;  /* items in the tree (degenerate triangles left out) */
-    size_t skipped;         /* zero-area or non-finite triangles left out */
+    uint32_t *tri_order;   /* leaf slot -> original triangle (or box) index */
+    size_t triangle_count; /* items in the tree (degenerate triangles left out) */
+    size_t skipped;        /* zero-area or non-finite triangles left out */
     int depth;
 } lvcl_bvh;
 
 /* Builds over `count` triangles given by 3 indices each into `positions`
  * (3 floats per vertex). Triangles of zero area or with non-finite vertices
  * are left out and counted in `skipped`. */
-lvcl_error lvcl_bvh_build(const float *positions, const uint32_t *indices, size_t count,
-                          lvcl_bvh *bvh, lvcl_status *st);
+lvcl_error lvcl_bvh_build(const float *positions, const uint32_t *indices, size_t count, lvcl_bvh *bvh,
+                          lvcl_status *st);
 
 /* Builds over `count` boxes (6 floats each: min xyz, max xyz, finite), one
  * per leaf; tri_order then lists box indices. For the top level of

@@ -59,7 +59,9 @@ static lvcl_error run(const lvcl_options *o, lvcl_session **s, lvcl_render_resul
     stats->session = *s;
 
     lvcl_render_request req = {
-        .mode = !strcmp(o->mode, "lv") ? LVCL_MODE_LV : !strcmp(o->mode, "lv-all") ? LVCL_MODE_LV_ALL : LVCL_MODE_PT,
+        .mode = !strcmp(o->mode, "lv")   ? LVCL_MODE_LV
+            : !strcmp(o->mode, "lv-all") ? LVCL_MODE_LV_ALL
+                                         : LVCL_MODE_PT,
         .width = o->width,
         .height = o->height,
         .pass = {.spp = o->spp, .time_limit = o->time_limit, .progress = !o->quiet},

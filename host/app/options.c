@@ -50,21 +50,38 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         /* Flags that take no value. */
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) { o->help = 1; continue; }
-        if (!strcmp(a, "--version")) { o->version = 1; continue; }
-        if (!strcmp(a, "--list-devices")) { o->list_devices = 1; continue; }
-        if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) { o->quiet = 1; continue; }
-        if (!strcmp(a, "--no-fast-math")) { o->fast_math = 0; continue; }
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            o->help = 1;
+            continue;
+        }
+        if (!strcmp(a, "--version")) {
+            o->version = 1;
+            continue;
+        }
+        if (!strcmp(a, "--list-devices")) {
+            o->list_devices = 1;
+            continue;
+        }
+        if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) {
+            o->quiet = 1;
+            continue;
+        }
+        if (!strcmp(a, "--no-fast-math")) {
+            o->fast_math = 0;
+            continue;
+        }
         if (a[0] != '-' || a[1] == 0) {
-            if (o->scene) return lvcl_fail(st, LVCL_ERR_USAGE, "more than one scene given ('%s' and '%s')", o->scene, a);
+            if (o->scene)
+                return lvcl_fail(st, LVCL_ERR_USAGE, "more than one scene given ('%s' and '%s')", o->scene, a);
             o->scene = a;
             continue;
         }
         /* Flags that take a value. */
-        static const char *with_value[] = {"--device", "--mode", "-o", "--output", "--stats", "--spp", "--width",
-                                           "--height", "--seed", "--max-depth", "--exposure", "--time-limit",
-                                           "--cells", "--cell-size", "--grid-offset", "--dirs", "--subcells", "--particles", "--threshold",
-                                           "--gather", "--device-memory", "--visibility-rate"};
+        static const char *with_value[] = {
+            "--device",         "--mode", "-o",          "--output",    "--stats",      "--spp",    "--width",
+            "--height",         "--seed", "--max-depth", "--exposure",  "--time-limit", "--cells",  "--cell-size",
+            "--grid-offset",    "--dirs", "--subcells",  "--particles", "--threshold",  "--gather", "--device-memory",
+            "--visibility-rate"};
         int known = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++) known |= !strcmp(a, with_value[k]);
         if (!known) return lvcl_fail(st, LVCL_ERR_USAGE, "unknown option '%s' (see --help)", a);
@@ -77,23 +94,56 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         else if (!strcmp(a, "--mode")) o->mode = v;
         else if (!strcmp(a, "-o") || !strcmp(a, "--output")) o->output = v;
         else if (!strcmp(a, "--stats")) o->stats = v;
-        else if (!strcmp(a, "--spp")) { e = parse_int(a, v, 1, 1 << 24, &n, st); o->spp = (int)n; }
-        else if (!strcmp(a, "--width")) { e = parse_int(a, v, 1, 16384, &n, st); o->width = (int)n; }
-        else if (!strcmp(a, "--height")) { e = parse_int(a, v, 1, 16384, &n, st); o->height = (int)n; }
-        else if (!strcmp(a, "--seed")) { e = parse_int(a, v, 0, UINT_MAX, &n, st); o->seed = (unsigned)n; }
-        else if (!strcmp(a, "--max-depth")) { e = parse_int(a, v, 1, 1024, &n, st); o->max_depth = (int)n; }
-        else if (!strcmp(a, "--exposure")) { e = parse_real(a, v, -64, 64, &x, st); o->exposure = x; }
-        else if (!strcmp(a, "--time-limit")) { e = parse_real(a, v, 0, 1e9, &x, st); o->time_limit = x; }
-        else if (!strcmp(a, "--cells")) { e = parse_int(a, v, 1, 1024, &n, st); o->cells = (int)n; }
-        else if (!strcmp(a, "--cell-size")) { e = parse_real(a, v, 1e-9, 1e9, &x, st); o->cell_size = x; }
-        else if (!strcmp(a, "--grid-offset")) { e = parse_real(a, v, 0, 0.999, &x, st); o->grid_offset = x; }
-        else if (!strcmp(a, "--dirs")) { e = parse_int(a, v, 1, 64, &n, st); o->dirs = (int)n; }
-        else if (!strcmp(a, "--subcells")) { e = parse_int(a, v, 0, 4, &n, st); o->subcells = (int)n; }
-        else if (!strcmp(a, "--visibility-rate")) { e = parse_real(a, v, 0.001, 1, &x, st); o->visibility_rate = x; }
-        else if (!strcmp(a, "--particles")) { e = parse_real(a, v, 1, 4294967295.0, &x, st); o->particles = floor(x); }
-        else if (!strcmp(a, "--threshold")) { e = parse_real(a, v, 1e-12, 1e12, &x, st); o->threshold = x; }
-        else if (!strcmp(a, "--gather")) o->gather = v;
-        else if (!strcmp(a, "--device-memory")) { e = parse_real(a, v, 0.01, 1e9, &x, st); o->device_memory_mib = x; }
+        else if (!strcmp(a, "--spp")) {
+            e = parse_int(a, v, 1, 1 << 24, &n, st);
+            o->spp = (int)n;
+        } else if (!strcmp(a, "--width")) {
+            e = parse_int(a, v, 1, 16384, &n, st);
+            o->width = (int)n;
+        } else if (!strcmp(a, "--height")) {
+            e = parse_int(a, v, 1, 16384, &n, st);
+            o->height = (int)n;
+        } else if (!strcmp(a, "--seed")) {
+            e = parse_int(a, v, 0, UINT_MAX, &n, st);
+            o->seed = (unsigned)n;
+        } else if (!strcmp(a, "--max-depth")) {
+            e = parse_int(a, v, 1, 1024, &n, st);
+            o->max_depth = (int)n;
+        } else if (!strcmp(a, "--exposure")) {
+            e = parse_real(a, v, -64, 64, &x, st);
+            o->exposure = x;
+        } else if (!strcmp(a, "--time-limit")) {
+            e = parse_real(a, v, 0, 1e9, &x, st);
+            o->time_limit = x;
+        } else if (!strcmp(a, "--cells")) {
+            e = parse_int(a, v, 1, 1024, &n, st);
+            o->cells = (int)n;
+        } else if (!strcmp(a, "--cell-size")) {
+            e = parse_real(a, v, 1e-9, 1e9, &x, st);
+            o->cell_size = x;
+        } else if (!strcmp(a, "--grid-offset")) {
+            e = parse_real(a, v, 0, 0.999, &x, st);
+            o->grid_offset = x;
+        } else if (!strcmp(a, "--dirs")) {
+            e = parse_int(a, v, 1, 64, &n, st);
+            o->dirs = (int)n;
+        } else if (!strcmp(a, "--subcells")) {
+            e = parse_int(a, v, 0, 4, &n, st);
+            o->subcells = (int)n;
+        } else if (!strcmp(a, "--visibility-rate")) {
+            e = parse_real(a, v, 0.001, 1, &x, st);
+            o->visibility_rate = x;
+        } else if (!strcmp(a, "--particles")) {
+            e = parse_real(a, v, 1, 4294967295.0, &x, st);
+            o->particles = floor(x);
+        } else if (!strcmp(a, "--threshold")) {
+            e = parse_real(a, v, 1e-12, 1e12, &x, st);
+            o->threshold = x;
+        } else if (!strcmp(a, "--gather")) o->gather = v;
+        else if (!strcmp(a, "--device-memory")) {
+            e = parse_real(a, v, 0.01, 1e9, &x, st);
+            o->device_memory_mib = x;
+        }
         if (e) return e;
     }
     if (strcmp(o->mode, "pt") && strcmp(o->mode, "lv") && strcmp(o->mode, "lv-all"))
@@ -106,41 +156,42 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
 
 void lvcl_options_print_help(const char *program)
 {
-    printf("usage: %s [options] [SCENE]\n"
-           "\n"
-           "Renders SCENE, a .gltf/.glb file or the name of an embedded scene\n"
-           "(cornell, furnace, kitchen; default cornell).\n"
-           "\n"
-           "  --device cpu|gpu|N   OpenCL device (default: first GPU, else CPU); a list N,M,... or\n"
-           "                       all renders on several at once\n"
-           "  --list-devices       list OpenCL devices and exit\n"
-           "  --device-memory MIB  act as a device of MIB MiB, a quarter of it in one buffer (default: the device's own)\n"
-           "  --mode pt|lv|lv-all  pt: path tracing; lv: light volume for indirect light, shadow rays\n"
-           "                       for direct (default pt); lv-all: the light volume answers all light\n"
-           "  --particles N        light volume: particles traced (default 1e6)\n"
-           "  --cells N            light volume: cells along the longest axis (default 32)\n"
-           "  --cell-size M        light volume: cell size in metres (overrides --cells)\n"
-           "  --grid-offset F      light volume: shift the grid by F cells against the scene (0 to 0.999)\n"
-           "  --dirs N             light volume: N x N direction bins per hemisphere (default 11)\n"
-           "  --subcells K         light volume: K x K x K subcells per cell estimate its lit volume\n"
-           "                       (0 to 4, default 4; 0 = the whole cell)\n"
-           "  --visibility-rate R  light volume: share of particle hits that cast a subcell visibility\n"
-           "                       ray (0.001 to 1, default 0.25)\n"
-           "  --threshold M        lv: BSDF rays meeting a rough surface closer than M metres\n"
-           "                       continue as paths (default the cell diagonal)\n"
-           "  --gather integrate|sample  lv: integrate the BSDF over all bins of the cell (default),\n"
-           "                       or read the bin of one BSDF-sampled direction\n"
-           "  --spp N              samples per pixel (default 64)\n"
-           "  --width N, --height N  image size (default 512 wide, height from the camera's aspect)\n"
-           "  --seed N             random seed (default 0); the same seed gives the same image\n"
-           "  --max-depth N        longest path in segments (default 64; 1 = emitters only)\n"
-           "  -o, --output FILE    .exr (linear float) or .png (sRGB); default out/SCENE.exr and .png\n"
-           "  --exposure EV        scale by 2^EV before writing 8-bit images (default 0)\n"
-           "  --time-limit S       stop sampling after S seconds (at least one sample is taken)\n"
-           "  --stats FILE.json    write timings, sizes and device facts as JSON\n"
-           "  --no-fast-math       build kernels without -cl-fast-relaxed-math\n"
-           "  -q, --quiet          no progress bar\n"
-           "  --version            print the version and exit\n"
-           "  -h, --help           this text\n",
-           program);
+    printf(
+        "usage: %s [options] [SCENE]\n"
+        "\n"
+        "Renders SCENE, a .gltf/.glb file or the name of an embedded scene\n"
+        "(cornell, furnace, kitchen; default cornell).\n"
+        "\n"
+        "  --device cpu|gpu|N   OpenCL device (default: first GPU, else CPU); a list N,M,... or\n"
+        "                       all renders on several at once\n"
+        "  --list-devices       list OpenCL devices and exit\n"
+        "  --device-memory MIB  act as a device of MIB MiB, a quarter of it in one buffer (default: the device's own)\n"
+        "  --mode pt|lv|lv-all  pt: path tracing; lv: light volume for indirect light, shadow rays\n"
+        "                       for direct (default pt); lv-all: the light volume answers all light\n"
+        "  --particles N        light volume: particles traced (default 1e6)\n"
+        "  --cells N            light volume: cells along the longest axis (default 32)\n"
+        "  --cell-size M        light volume: cell size in metres (overrides --cells)\n"
+        "  --grid-offset F      light volume: shift the grid by F cells against the scene (0 to 0.999)\n"
+        "  --dirs N             light volume: N x N direction bins per hemisphere (default 11)\n"
+        "  --subcells K         light volume: K x K x K subcells per cell estimate its lit volume\n"
+        "                       (0 to 4, default 4; 0 = the whole cell)\n"
+        "  --visibility-rate R  light volume: share of particle hits that cast a subcell visibility\n"
+        "                       ray (0.001 to 1, default 0.25)\n"
+        "  --threshold M        lv: BSDF rays meeting a rough surface closer than M metres\n"
+        "                       continue as paths (default the cell diagonal)\n"
+        "  --gather integrate|sample  lv: integrate the BSDF over all bins of the cell (default),\n"
+        "                       or read the bin of one BSDF-sampled direction\n"
+        "  --spp N              samples per pixel (default 64)\n"
+        "  --width N, --height N  image size (default 512 wide, height from the camera's aspect)\n"
+        "  --seed N             random seed (default 0); the same seed gives the same image\n"
+        "  --max-depth N        longest path in segments (default 64; 1 = emitters only)\n"
+        "  -o, --output FILE    .exr (linear float) or .png (sRGB); default out/SCENE.exr and .png\n"
+        "  --exposure EV        scale by 2^EV before writing 8-bit images (default 0)\n"
+        "  --time-limit S       stop sampling after S seconds (at least one sample is taken)\n"
+        "  --stats FILE.json    write timings, sizes and device facts as JSON\n"
+        "  --no-fast-math       build kernels without -cl-fast-relaxed-math\n"
+        "  -q, --quiet          no progress bar\n"
+        "  --version            print the version and exit\n"
+        "  -h, --help           this text\n",
+        program);
 }

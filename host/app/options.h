@@ -5,13 +5,13 @@
 #include "../util/status.h"
 
 typedef struct {
-    const char *scene;      /* file path or embedded scene name */
-    const char *device;     /* NULL = default choice */
+    const char *scene;  /* file path or embedded scene name */
+    const char *device; /* NULL = default choice */
     const char *mode;
-    const char *output;     /* NULL = out/<scene>.exr and .png */
+    const char *output; /* NULL = out/<scene>.exr and .png */
     const char *stats;
     int spp;
-    int width, height;      /* 0 = from the camera's aspect */
+    int width, height; /* 0 = from the camera's aspect */
     unsigned seed;
     int max_depth;
     double exposure;
@@ -22,8 +22,8 @@ typedef struct {
     int subcells;           /* k x k x k subcells per cell, 0 = none */
     double visibility_rate; /* share of surface hits casting a visibility ray, 0 = default */
     double particles;
-    double threshold;       /* near-hit distance, 0 = cell diagonal */
-    const char *gather;     /* "sample" or "integrate" */
+    double threshold;         /* near-hit distance, 0 = cell diagonal */
+    const char *gather;       /* "sample" or "integrate" */
     double device_memory_mib; /* cap on device memory, 0 = the device's own */
     double time_limit;
     int quiet;

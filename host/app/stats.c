@@ -2,7 +2,6 @@
 
 #include <stdio.h>
 
-
 static void json_string(FILE *f, const char *s)
 {
     fputc('"', f);
@@ -37,9 +36,9 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
             ",\n  \"triangles\": %zu,\n  \"triangles_skipped\": %zu,\n  \"meshes\": %zu,\n  \"instances\": %zu,\n"
             "  \"instanced_triangles\": %zu,\n  \"bvh_nodes\": %zu,\n  \"bvh_depth\": %d,\n  \"bvh_bytes\": %zu,\n"
             "  \"device_bytes\": %zu,\n  \"scene_tables_split\": %d,\n",
-            accel->triangle_count, accel->skipped, accel->mesh_count, accel->instance_count,
-            accel->instanced_triangles, accel->node_count, accel->depth, accel->node_count * sizeof(lv_bvh_node),
-            ds->device_bytes, ds->split_tables);
+            accel->triangle_count, accel->skipped, accel->mesh_count, accel->instance_count, accel->instanced_triangles,
+            accel->node_count, accel->depth, accel->node_count * sizeof(lv_bvh_node), ds->device_bytes,
+            ds->split_tables);
     fprintf(f, "  \"kernel_options\": ");
     json_string(f, prog->options);
     fprintf(f,

@@ -93,24 +93,24 @@ static lvcl_error describe(device_ref r, int index, lvcl_device *dev, lvcl_statu
     lvcl_error e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_NAME, sizeof dev->name - 1, dev->name, NULL),
                                  "asking a device's name", st);
     if (!e)
-        e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DRIVER_VERSION, sizeof dev->driver_version - 1,
-                                          dev->driver_version, NULL),
-                          "asking a device's driver version", st);
+        e = lvcl_cl_check(
+            clGetDeviceInfo(r.device, CL_DRIVER_VERSION, sizeof dev->driver_version - 1, dev->driver_version, NULL),
+            "asking a device's driver version", st);
     if (!e)
-        e = lvcl_cl_check(clGetPlatformInfo(r.platform, CL_PLATFORM_NAME, sizeof dev->platform_name - 1,
-                                            dev->platform_name, NULL),
-                          "asking a platform's name", st);
+        e = lvcl_cl_check(
+            clGetPlatformInfo(r.platform, CL_PLATFORM_NAME, sizeof dev->platform_name - 1, dev->platform_name, NULL),
+            "asking a platform's name", st);
     if (!e)
         e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_TYPE, sizeof dev->type, &dev->type, NULL),
                           "asking a device's type", st);
     if (!e)
-        e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof dev->global_mem,
-                                          &dev->global_mem, NULL),
-                          "asking a device's memory", st);
+        e = lvcl_cl_check(
+            clGetDeviceInfo(r.device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof dev->global_mem, &dev->global_mem, NULL),
+            "asking a device's memory", st);
     if (!e)
-        e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof dev->max_alloc,
-                                          &dev->max_alloc, NULL),
-                          "asking a device's largest allocation", st);
+        e = lvcl_cl_check(
+            clGetDeviceInfo(r.device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof dev->max_alloc, &dev->max_alloc, NULL),
+            "asking a device's largest allocation", st);
     if (!e)
         e = lvcl_cl_check(clGetDeviceInfo(r.device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof dev->compute_units,
                                           &dev->compute_units, NULL),
@@ -130,13 +130,14 @@ lvcl_error lvcl_device_list(FILE *out, lvcl_status *st)
 {
     device_ref refs[MAX_DEVICES];
     int n = enumerate(refs, MAX_DEVICES);
-    if (n == 0) return lvcl_fail(st, LVCL_ERR_DEVICE, "no OpenCL device found (is an ICD such as pocl-opencl-icd installed?)");
+    if (n == 0)
+        return lvcl_fail(st, LVCL_ERR_DEVICE, "no OpenCL device found (is an ICD such as pocl-opencl-icd installed?)");
     for (int i = 0; i < n; i++) {
         lvcl_device d;
         lvcl_error e = describe(refs[i], i, &d, st);
         if (e) return e;
-        fprintf(out, "%d  %-4s  %s  [%s, %u compute units, %.1f GiB]\n", i, type_name(d.type), d.name,
-                d.platform_name, d.compute_units, (double)d.global_mem / (1u << 30));
+        fprintf(out, "%d  %-4s  %s  [%s, %u compute units, %.1f GiB]\n", i, type_name(d.type), d.name, d.platform_name,
+                d.compute_units, (double)d.global_mem / (1u << 30));
     }
     return LVCL_OK;
 }
@@ -145,7 +146,8 @@ lvcl_error lvcl_device_open(const char *spec, lvcl_device *dev, lvcl_status *st)
 {
     device_ref refs[MAX_DEVICES];
     int n = enumerate(refs, MAX_DEVICES);
-    if (n == 0) return lvcl_fail(st, LVCL_ERR_DEVICE, "no OpenCL device found (is an ICD such as pocl-opencl-icd installed?)");
+    if (n == 0)
+        return lvcl_fail(st, LVCL_ERR_DEVICE, "no OpenCL device found (is an ICD such as pocl-opencl-icd installed?)");
 
     int chosen = -1;
     if (spec == NULL || !strcmp(spec, "gpu") || !strcmp(spec, "cpu")) {
@@ -164,9 +166,11 @@ lvcl_error lvcl_device_open(const char *spec, lvcl_device *dev, lvcl_status *st)
         char *end;
         long v = strtol(spec, &end, 10);
         if (*spec == 0 || *end != 0 || v < 0)
-            return lvcl_fail(st, LVCL_ERR_USAGE, "unknown device '%s' (expected cpu, gpu or an index from --list-devices)", spec);
+            return lvcl_fail(st, LVCL_ERR_USAGE,
+                             "unknown device '%s' (expected cpu, gpu or an index from --list-devices)", spec);
         if (v >= n)
-            return lvcl_fail(st, LVCL_ERR_DEVICE, "device %ld does not exist: there are %d OpenCL devices (see --list-devices)", v, n);
+            return lvcl_fail(st, LVCL_ERR_DEVICE,
+                             "device %ld does not exist: there are %d OpenCL devices (see --list-devices)", v, n);
         chosen = (int)v;
     }
 
@@ -176,11 +180,13 @@ lvcl_error lvcl_device_open(const char *spec, lvcl_device *dev, lvcl_status *st)
     cl_context_properties props[] = {CL_CONTEXT_PLATFORM, (cl_context_properties)dev->platform, 0};
     dev->context = clCreateContext(props, 1, &dev->id, NULL, NULL, &err);
     if (err != CL_SUCCESS)
-        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot create an OpenCL context on %s: %s", dev->name, lvcl_cl_error_name(err));
+        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot create an OpenCL context on %s: %s", dev->name,
+                         lvcl_cl_error_name(err));
     dev->queue = clCreateCommandQueue(dev->context, dev->id, 0, &err);
     if (err != CL_SUCCESS) {
         clReleaseContext(dev->context);
-        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot create an OpenCL queue on %s: %s", dev->name, lvcl_cl_error_name(err));
+        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot create an OpenCL queue on %s: %s", dev->name,
+                         lvcl_cl_error_name(err));
     }
     return LVCL_OK;
 }
@@ -201,28 +207,42 @@ void lvcl_device_close(lvcl_device *dev)
 lvcl_error lvcl_cl_check(cl_int err, const char *what, lvcl_status *st)
 {
     if (err == CL_SUCCESS) return LVCL_OK;
-    lvcl_error code = err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ? LVCL_ERR_TOO_LARGE
-                                                                                           : LVCL_ERR_DEVICE;
+    lvcl_error code =
+        err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ? LVCL_ERR_TOO_LARGE : LVCL_ERR_DEVICE;
     return lvcl_fail(st, code, "%s failed: %s", what, lvcl_cl_error_name(err));
 }
 
 const char *lvcl_cl_error_name(cl_int err)
 {
     switch (err) {
-    case CL_DEVICE_NOT_FOUND: return "CL_DEVICE_NOT_FOUND";
-    case CL_DEVICE_NOT_AVAILABLE: return "CL_DEVICE_NOT_AVAILABLE";
-    case CL_COMPILER_NOT_AVAILABLE: return "CL_COMPILER_NOT_AVAILABLE";
-    case CL_MEM_OBJECT_ALLOCATION_FAILURE: return "CL_MEM_OBJECT_ALLOCATION_FAILURE";
-    case CL_OUT_OF_RESOURCES: return "CL_OUT_OF_RESOURCES";
-    case CL_OUT_OF_HOST_MEMORY: return "CL_OUT_OF_HOST_MEMORY";
-    case CL_BUILD_PROGRAM_FAILURE: return "CL_BUILD_PROGRAM_FAILURE";
-    case CL_INVALID_VALUE: return "CL_INVALID_VALUE";
-    case CL_INVALID_BINARY: return "CL_INVALID_BINARY";
-    case CL_INVALID_BUILD_OPTIONS: return "CL_INVALID_BUILD_OPTIONS";
-    case CL_INVALID_KERNEL_ARGS: return "CL_INVALID_KERNEL_ARGS";
-    case CL_INVALID_ARG_SIZE: return "CL_INVALID_ARG_SIZE";
-    case CL_INVALID_WORK_GROUP_SIZE: return "CL_INVALID_WORK_GROUP_SIZE";
-    case CL_INVALID_BUFFER_SIZE: return "CL_INVALID_BUFFER_SIZE";
+    case CL_DEVICE_NOT_FOUND:
+        return "CL_DEVICE_NOT_FOUND";
+    case CL_DEVICE_NOT_AVAILABLE:
+        return "CL_DEVICE_NOT_AVAILABLE";
+    case CL_COMPILER_NOT_AVAILABLE:
+        return "CL_COMPILER_NOT_AVAILABLE";
+    case CL_MEM_OBJECT_ALLOCATION_FAILURE:
+        return "CL_MEM_OBJECT_ALLOCATION_FAILURE";
+    case CL_OUT_OF_RESOURCES:
+        return "CL_OUT_OF_RESOURCES";
+    case CL_OUT_OF_HOST_MEMORY:
+        return "CL_OUT_OF_HOST_MEMORY";
+    case CL_BUILD_PROGRAM_FAILURE:
+        return "CL_BUILD_PROGRAM_FAILURE";
+    case CL_INVALID_VALUE:
+        return "CL_INVALID_VALUE";
+    case CL_INVALID_BINARY:
+        return "CL_INVALID_BINARY";
+    case CL_INVALID_BUILD_OPTIONS:
+        return "CL_INVALID_BUILD_OPTIONS";
+    case CL_INVALID_KERNEL_ARGS:
+        return "CL_INVALID_KERNEL_ARGS";
+    case CL_INVALID_ARG_SIZE:
+        return "CL_INVALID_ARG_SIZE";
+    case CL_INVALID_WORK_GROUP_SIZE:
+        return "CL_INVALID_WORK_GROUP_SIZE";
+    case CL_INVALID_BUFFER_SIZE:
+        return "CL_INVALID_BUFFER_SIZE";
     default: {
         static char buf[32];
         snprintf(buf, sizeof buf, "OpenCL error %d", err);

@@ -15,7 +15,7 @@ typedef struct {
     cl_device_id id;
     cl_context context;
     cl_command_queue queue;
-    int index;               /* position in the --list-devices order */
+    int index; /* position in the --list-devices order */
     char name[256];
     char platform_name[256];
     char driver_version[128];

@@ -44,7 +44,8 @@ static lvcl_error upload_table(const lvcl_device *dev, const table *t, lvcl_stat
         t->parts[k] = clCreateBuffer(dev->context, flags, n * t->size, host, &err);
         if (err != CL_SUCCESS) {
             char what[200];
-            snprintf(what, sizeof what, "allocating %.1f MiB for %s on %s", n * t->size / 1048576.0, t->what, dev->name);
+            snprintf(what, sizeof what, "allocating %.1f MiB for %s on %s", n * t->size / 1048576.0, t->what,
+                     dev->name);
             return lvcl_cl_check(err, what, st);
         }
     }
@@ -77,8 +78,9 @@ static lvcl_error upload_table(const lvcl_device *dev, const table *t, lvcl_stat
     if ((stride) * sizeof(type) > largest.per_part) largest.per_part = (lv_u32)((stride) * sizeof(type));
 #define PER_PART(type, name, stride, per_part, what) \
     in->per_part = elements_per_part(COUNT(name), largest.per_part, dev->max_alloc);
-#define TABLE_SPLIT(type, name, stride, per_part, what) \
-    {ds->buffers.name, LV_SCENE_PARTS, EXPAND(DATA_AND_COUNT SOURCE_##name), (stride) * sizeof(type), in->per_part, what},
+#define TABLE_SPLIT(type, name, stride, per_part, what)                             \
+    {ds->buffers.name,        LV_SCENE_PARTS, EXPAND(DATA_AND_COUNT SOURCE_##name), \
+     (stride) * sizeof(type), in->per_part,   what},
 #define TABLE_ONE(type, name, what) {&ds->buffers.name, 1, EXPAND(DATA_AND_COUNT SOURCE_##name), sizeof(type), 0, what},
 
 lvcl_error lvcl_device_scene_upload(const lvcl_device *dev, const lvcl_scene *scene, const lvcl_packed_scene *p,

@@ -46,7 +46,10 @@ void lvcl_volume_buffers_release(lvcl_volume_buffers *b);
 #define LVCL_ARG_FIELD_VOLUME(type, name) const lvcl_volume_buffers *name;
 #define LVCL_ARG_FIELD_VALUE(type, name) type name;
 #define LVCL_ARG_FIELD_BUFFER(type, name) cl_mem name;
-#define LVCL_KERNEL_ARGS(LIST) struct { LIST(LVCL_ARG_FIELD, LV_SEP_NONE) }
+#define LVCL_KERNEL_ARGS(LIST)            \
+    struct {                              \
+        LIST(LVCL_ARG_FIELD, LV_SEP_NONE) \
+    }
 
 typedef LVCL_KERNEL_ARGS(LV_PT_PASS_ARGS) lvcl_pt_pass_args;
 typedef LVCL_KERNEL_ARGS(LV_GATHER_PASS_ARGS) lvcl_gather_pass_args;
@@ -69,14 +72,13 @@ lvcl_error lvcl_bind_lv_bin_directions(cl_kernel k, const lvcl_bin_directions_ar
 #define LVCL_BIND_ARG_VOLUME(k, index, v, what, st) lvcl_volume_buffers_bind(v, k, index, st)
 #define LVCL_BIND_ARG_VALUE(k, index, v, what, st) lvcl_kernel_arg(k, index, sizeof(v), &(v), what, st)
 #define LVCL_BIND_ARG_BUFFER(k, index, v, what, st) lvcl_kernel_arg(k, index, sizeof(cl_mem), &(v), what, st)
-#define LVCL_DEFINE_BINDER(kernel, LIST, args_type)                                                 \
-    lvcl_error lvcl_bind_##kernel(cl_kernel k, const args_type *a, lvcl_status *st)            \
-    {                                                                                          \
-        lvcl_error e = LVCL_OK;                                                                \
-        LIST(LVCL_BIND_ARG, LV_SEP_NONE)                                                          \
-        return e;                                                                              \
+#define LVCL_DEFINE_BINDER(kernel, LIST, args_type)                                 \
+    lvcl_error lvcl_bind_##kernel(cl_kernel k, const args_type *a, lvcl_status *st) \
+    {                                                                               \
+        lvcl_error e = LVCL_OK;                                                     \
+        LIST(LVCL_BIND_ARG, LV_SEP_NONE)                                            \
+        return e;                                                                   \
     }
-
 
 /* The indices of the camera passes' pixel arguments (LV_PIXEL_ARGS) in
  * `kernel`: LVCL_PIXEL_ARG_INDICES(lv_pt_pass). */

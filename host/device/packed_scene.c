@@ -27,7 +27,8 @@ static float triangle_area(const float v[9])
 void lvcl_packed_triangle_world(const lvcl_packed_scene *p, size_t instance, size_t tri, float v[9])
 {
     const lv_instance *in = &p->instances[instance];
-    for (int c = 0; c < 3; c++) lvcl_transform_point(in->world_from_object, &p->tri_vertices[12 * tri + 4 * c], 1.0f, &v[3 * c]);
+    for (int c = 0; c < 3; c++)
+        lvcl_transform_point(in->world_from_object, &p->tri_vertices[12 * tri + 4 * c], 1.0f, &v[3 * c]);
 }
 
 /* Power (luminance watts) of a punctual light: 4 pi I for a point light,

@@ -9,20 +9,20 @@
 
 /* The kernels' arrays, packed on the host (also used by host-side checks). */
 typedef struct {
-    lv_bvh_node *nodes;        /* the top level, then every mesh's tree */
+    lv_bvh_node *nodes; /* the top level, then every mesh's tree */
     size_t node_count;
-    lv_instance *instances;    /* in the top level's leaf order */
+    lv_instance *instances; /* in the top level's leaf order */
     size_t instance_count;
     size_t *mesh_first, *mesh_size; /* each mesh's range of the leaf-ordered triangles */
     size_t mesh_count;
-    float *tri_vertices;       /* 12 floats (3 x float4) per triangle, leaf order, object space */
-    lv_triangle *triangles;    /* leaf order */
+    float *tri_vertices;    /* 12 floats (3 x float4) per triangle, leaf order, object space */
+    lv_triangle *triangles; /* leaf order */
     size_t triangle_count;
     lv_material *materials;
     size_t material_count;
     lv_texture *textures;
     size_t texture_count;
-    uint32_t *texels;          /* RGBA8 */
+    uint32_t *texels; /* RGBA8 */
     size_t texel_count;
     lv_light *lights;
     size_t light_count;

@@ -66,8 +66,7 @@ static void write_cache(const char *path, const unsigned char *data, size_t size
 static void save_binary(cl_program program, const char *path)
 {
     size_t size = 0;
-    if (clGetProgramInfo(program, CL_PROGRAM_BINARY_SIZES, sizeof size, &size, NULL) != CL_SUCCESS || size == 0)
-        return;
+    if (clGetProgramInfo(program, CL_PROGRAM_BINARY_SIZES, sizeof size, &size, NULL) != CL_SUCCESS || size == 0) return;
     unsigned char *data = malloc(size);
     if (!data) return;
     unsigned char *ptrs[1] = {data};
@@ -94,8 +93,8 @@ void lvcl_program_feature_defines(unsigned features, char *defines, size_t size)
              features & LVCL_BUILD_EMULATED_INT64_ATOMICS ? " -DLV_EMULATE_INT64_ATOMICS" : "");
 }
 
-lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math,
-                              lvcl_program *prog, lvcl_status *st)
+lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math, lvcl_program *prog,
+                              lvcl_status *st)
 {
     char defines[160];
     lvcl_program_feature_defines(features, defines, sizeof defines);
@@ -157,7 +156,8 @@ lvcl_error lvcl_kernel_create(const lvcl_program *prog, const char *name, cl_ker
 {
     cl_int err;
     *kernel = clCreateKernel(prog->program, name, &err);
-    if (err != CL_SUCCESS) return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot create kernel %s: %s", name, lvcl_cl_error_name(err));
+    if (err != CL_SUCCESS)
+        return lvcl_fail(st, LVCL_ERR_DEVICE, "cannot create kernel %s: %s", name, lvcl_cl_error_name(err));
     return LVCL_OK;
 }
 
@@ -168,8 +168,7 @@ lvcl_error lvcl_kernel_enqueue(const lvcl_device *dev, cl_kernel k, size_t count
     /* A GPU driver may allow a register-hungry kernel fewer work-items per
      * group; a power of two below 64 still divides the padded size. */
     size_t allowed = 0;
-    if (clGetKernelWorkGroupInfo(k, dev->id, CL_KERNEL_WORK_GROUP_SIZE, sizeof allowed, &allowed, NULL) ==
-            CL_SUCCESS &&
+    if (clGetKernelWorkGroupInfo(k, dev->id, CL_KERNEL_WORK_GROUP_SIZE, sizeof allowed, &allowed, NULL) == CL_SUCCESS &&
         allowed > 0)
         while (local > allowed) local /= 2;
     return lvcl_cl_check(clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, &local, 0, NULL, NULL), what, st);

@@ -15,14 +15,14 @@
 typedef struct {
     cl_program program;
     double build_seconds;
-    int from_cache;         /* 1 if loaded from lvcl's binary cache */
+    int from_cache; /* 1 if loaded from lvcl's binary cache */
     char options[256];
 } lvcl_program;
 
 /* Builds (or loads from the cache) the program with the given features.
  * fast_math selects -cl-fast-relaxed-math. */
-lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math,
-                              lvcl_program *prog, lvcl_status *st);
+lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math, lvcl_program *prog,
+                              lvcl_status *st);
 
 /* The -D options that turn on the kernels' code for `features`. */
 void lvcl_program_feature_defines(unsigned features, char *defines, size_t size);

@@ -10,7 +10,8 @@
 #include <string>
 #include <vector>
 
-namespace {
+namespace
+{
 
 bool keeps_floats(const std::string &path)
 {
@@ -26,7 +27,7 @@ float linear_to_srgb(float v)
     return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
-}  // namespace
+} // namespace
 
 extern "C" lvcl_error lvcl_image_write(const char *path, const float *rgb, int width, int height, float exposure,
                                        lvcl_status *st)

@@ -11,8 +11,7 @@ extern "C" {
 
 /* Writes width x height RGB floats (row 0 at the top). The format follows
  * the file extension: .exr or .hdr keep linear floats; others get sRGB 8-bit. */
-lvcl_error lvcl_image_write(const char *path, const float *rgb, int width, int height, float exposure,
-                            lvcl_status *st);
+lvcl_error lvcl_image_write(const char *path, const float *rgb, int width, int height, float exposure, lvcl_status *st);
 
 /* Reads an image as linear RGB floats (malloc'ed; the caller frees *rgb).
  * 8-bit images are decoded from sRGB. */

@@ -19,13 +19,13 @@ typedef struct {
     const lvcl_pass_settings *settings;
     size_t pixels, band_pixels;
     int bands, next_band;
-    int *owner;           /* device that rendered each band */
-    int failed;           /* a device failed: the others stop */
+    int *owner; /* device that rendered each band */
+    int failed; /* a device failed: the others stop */
     lvcl_progress bar;
     long launches_done, launches_total;
-    const char *unit;     /* what the progress bar counts */
+    const char *unit; /* what the progress bar counts */
     double start, first_launch_seconds;
-    int samples;          /* samples per pixel taken (one device: may stop at the time limit) */
+    int samples; /* samples per pixel taken (one device: may stop at the time limit) */
 } pass_state;
 
 typedef struct {
@@ -108,8 +108,8 @@ static lvcl_error gather_image(worker *workers, int n, const pass_state *ps, lvc
     lvcl_error e = LVCL_OK;
     for (int d = 0; d < n && !e; d++) {
         e = lvcl_cl_check(clEnqueueReadBuffer(workers[d].pd->device->queue, workers[d].sum, CL_TRUE, 0,
-                                         ps->pixels * 4 * sizeof(float), acc, 0, NULL, NULL),
-                     "reading the image", st);
+                                              ps->pixels * 4 * sizeof(float), acc, 0, NULL, NULL),
+                          "reading the image", st);
         for (int b = 0; !e && b < ps->bands; b++) {
             if (ps->owner[b] != d) continue;
             size_t end = (size_t)(b + 1) * ps->band_pixels;
@@ -155,12 +155,12 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
         devices[d].bands = 0;
         devices[d].pixels = 0;
         devices[d].busy_seconds = 0;
-        workers[d].sum = clCreateBuffer(devices[d].device->context, CL_MEM_READ_WRITE, ps.pixels * 4 * sizeof(float),
-                                        NULL, &err);
+        workers[d].sum =
+            clCreateBuffer(devices[d].device->context, CL_MEM_READ_WRITE, ps.pixels * 4 * sizeof(float), NULL, &err);
         if (!(e = lvcl_cl_check(err, "allocating the image", st)))
             e = lvcl_cl_check(clEnqueueFillBuffer(devices[d].device->queue, workers[d].sum, &zero, sizeof zero, 0,
-                                             ps.pixels * 4 * sizeof(float), 0, NULL, NULL),
-                         "clearing the image", st);
+                                                  ps.pixels * 4 * sizeof(float), 0, NULL, NULL),
+                              "clearing the image", st);
     }
     if (!e) {
         lvcl_progress_start(&ps.bar, "render", settings->progress);

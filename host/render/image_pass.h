@@ -15,9 +15,9 @@ typedef struct {
 } lvcl_pass_settings;
 
 typedef struct {
-    float *rgb;  /* width x height x 3, malloc'ed; the caller frees it */
+    float *rgb; /* width x height x 3, malloc'ed; the caller frees it */
     int width, height;
-    int samples;        /* samples per pixel actually taken */
+    int samples;                 /* samples per pixel actually taken */
     double first_launch_seconds; /* first launch, which may compile machine code */
     double render_seconds;
 } lvcl_render_result;

@@ -57,16 +57,18 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     vol->buf.cell_slot = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                         vol->cell_count * sizeof(uint32_t), vol->cell_slot, &err);
     for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS; i++)
-        vol->buf.tallies[i] = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, lvcl_volume_part_bytes(vol, i), NULL, &err);
+        vol->buf.tallies[i] =
+            clCreateBuffer(dev->context, CL_MEM_READ_WRITE, lvcl_volume_part_bytes(vol, i), NULL, &err);
     if (err == CL_SUCCESS)
-        vol->buf.subcells = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
-                                          ((size_t)g->slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(cl_uint), NULL, &err);
+        vol->buf.subcells =
+            clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
+                           ((size_t)g->slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(cl_uint), NULL, &err);
     if (err == CL_SUCCESS)
-        vol->buf.lit_volume = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, ((size_t)g->slot_count + 1) * sizeof(float),
-                                             NULL, &err);
+        vol->buf.lit_volume =
+            clCreateBuffer(dev->context, CL_MEM_READ_WRITE, ((size_t)g->slot_count + 1) * sizeof(float), NULL, &err);
     if (err == CL_SUCCESS)
-        vol->bin_directions_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, g->bins * 4 * sizeof(float), NULL,
-                                                 &err);
+        vol->bin_directions_buf =
+            clCreateBuffer(dev->context, CL_MEM_READ_WRITE, g->bins * 4 * sizeof(float), NULL, &err);
     if (err != CL_SUCCESS) {
         char what[300];
         snprintf(what, sizeof what, "allocating the light volume on %s", dev->name);

@@ -29,15 +29,15 @@ void lvcl_particle_source_destroy(lvcl_particle_source *src);
 #define LVCL_VISIBILITY_RATE 0.25
 
 typedef struct {
-    int cells;            /* cells along the longest axis (used if cell_size is 0) */
-    double cell_size;     /* metres; 0 = from `cells` */
-    double offset;        /* shift of the grid against the bounds, in cells, [0, 1) */
-    int dirs;             /* n: n x n bins per hemisphere */
-    int subcells;         /* k: k x k x k subcells per cell (0 to 4), 0 = the lit volume is the whole cell */
-    double visibility_rate; /* share of surface hits that cast a visibility ray; 0 = LVCL_VISIBILITY_RATE */
-    uint64_t particles;   /* in all, over every device */
+    int cells;                    /* cells along the longest axis (used if cell_size is 0) */
+    double cell_size;             /* metres; 0 = from `cells` */
+    double offset;                /* shift of the grid against the bounds, in cells, [0, 1) */
+    int dirs;                     /* n: n x n bins per hemisphere */
+    int subcells;                 /* k: k x k x k subcells per cell (0 to 4), 0 = the lit volume is the whole cell */
+    double visibility_rate;       /* share of surface hits that cast a visibility ray; 0 = LVCL_VISIBILITY_RATE */
+    uint64_t particles;           /* in all, over every device */
     lvcl_particle_source *source; /* several devices: take batches from here; NULL: trace them all */
-    int store_emitted;    /* lv-all: tally the segments leaving the lights too */
+    int store_emitted;            /* lv-all: tally the segments leaving the lights too */
     int progress;
 } lvcl_volume_settings;
 

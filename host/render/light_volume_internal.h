@@ -8,15 +8,15 @@
 #include "light_volume.h"
 
 struct lvcl_light_volume {
-    const lvcl_device *dev;   /* borrowed */
-    lvcl_volume_buffers buf;  /* the grid and the buffers the kernels take (tallies: info.slots_per_part
+    const lvcl_device *dev;  /* borrowed */
+    lvcl_volume_buffers buf; /* the grid and the buffers the kernels take (tallies: info.slots_per_part
                                  slots each, unused parts NULL) */
-    uint32_t *cell_slot;      /* host copy of the index grid */
-    size_t cell_count;        /* dims[0] * dims[1] * dims[2] */
+    uint32_t *cell_slot;     /* host copy of the index grid */
+    size_t cell_count;       /* dims[0] * dims[1] * dims[2] */
     int tally_parts;
     cl_mem bin_directions_buf; /* float4 per bin, filled by lvcl_volume_trace */
-    size_t tally_bytes;       /* all parts */
-    size_t device_bytes;      /* everything the volume holds on the device */
+    size_t tally_bytes;        /* all parts */
+    size_t device_bytes;       /* everything the volume holds on the device */
     double trace_seconds;
     uint64_t particles;
     uint64_t segments;

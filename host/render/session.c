@@ -8,8 +8,8 @@
 #include "../util/timer.h"
 
 /* Opens one device and makes the packed scene ready on it. */
-static lvcl_error open_device(lvcl_session *s, const char *spec, const lvcl_session_config *cfg,
-                              session_device *sd, lvcl_status *st)
+static lvcl_error open_device(lvcl_session *s, const char *spec, const lvcl_session_config *cfg, session_device *sd,
+                              lvcl_status *st)
 {
     lvcl_error e;
     if ((e = lvcl_device_open(spec, &sd->device, st))) return e;
@@ -26,7 +26,8 @@ static lvcl_error open_devices(lvcl_session *s, const lvcl_session_config *cfg, 
     double t = lvcl_seconds();
     if ((e = lvcl_accel_build(&s->scene, &s->accel, st))) return e;
     s->bvh_build_seconds = lvcl_seconds() - t;
-    if (s->accel.skipped) lvcl_warn("%zu triangles of zero area or with non-finite vertices left out", s->accel.skipped);
+    if (s->accel.skipped)
+        lvcl_warn("%zu triangles of zero area or with non-finite vertices left out", s->accel.skipped);
     if ((e = lvcl_pack_scene(&s->scene, &s->accel, cfg->seed, (uint32_t)cfg->max_depth, &s->packed, st))) return e;
     s->features = lvcl_scene_features(&s->scene);
     if (n == 0) {

@@ -19,7 +19,7 @@
 typedef struct lvcl_session lvcl_session;
 
 typedef struct {
-    const char *device;  /* --device value: cpu, gpu, an index, a list "0,2" or "all"; NULL for the default */
+    const char *device; /* --device value: cpu, gpu, an index, a list "0,2" or "all"; NULL for the default */
     unsigned seed;
     int max_depth;
     int fast_math;
@@ -31,11 +31,11 @@ typedef enum { LVCL_MODE_PT, LVCL_MODE_LV, LVCL_MODE_LV_ALL } lvcl_mode;
 
 typedef struct {
     lvcl_mode mode;
-    int width, height;          /* 0 = from the camera's aspect */
+    int width, height; /* 0 = from the camera's aspect */
     lvcl_pass_settings pass;
     lvcl_volume_settings volume;
-    int integrate;              /* the gather integrates over all bins instead of sampling one */
-    double threshold;           /* near-hit distance in metres; 0 = the cell diagonal */
+    int integrate;    /* the gather integrates over all bins instead of sampling one */
+    double threshold; /* near-hit distance in metres; 0 = the cell diagonal */
 } lvcl_render_request;
 
 /* One device's share of the last camera pass. */

@@ -68,4 +68,3 @@ lvcl_error lvcl_session_render_pt(lvcl_session *s, int width, int height, const 
     lvcl_render_request req = {.mode = LVCL_MODE_PT, .width = width, .height = height, .pass = *settings};
     return lvcl_session_render(s, &req, out, st);
 }
-

@@ -56,8 +56,6 @@ lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings
         if ((e = lvcl_volume_merge(vols, n, st))) return e;
         s->merge_seconds = lvcl_seconds() - t;
     }
-    for (int d = 0; d < n && !e; d++)
-        e = lvcl_volume_finish(s->devices[d].volume, &s->devices[d].program, st);
+    for (int d = 0; d < n && !e; d++) e = lvcl_volume_finish(s->devices[d].volume, &s->devices[d].program, st);
     return e;
 }
-

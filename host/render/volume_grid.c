@@ -106,7 +106,8 @@ lvcl_error lvcl_volume_grid_choose(const lvcl_packed_scene *p, const lvcl_volume
         longest = fmaxf(longest, extent[k]);
     }
     g->cell_size = s->cell_size > 0 ? (float)s->cell_size : longest / (float)(s->cells > 0 ? s->cells : 1);
-    if (!(g->cell_size > 0.0f)) return lvcl_fail(st, LVCL_ERR_UNSUPPORTED, "the scene has no extent for a light volume");
+    if (!(g->cell_size > 0.0f))
+        return lvcl_fail(st, LVCL_ERR_UNSUPPORTED, "the scene has no extent for a light volume");
     /* One spare cell on every side holds lookups jittered off the bounds;
      * an offset shifts the grid by a fraction of a cell (one more cell). */
     double cells = 1.0;

@@ -41,9 +41,9 @@ lvcl_error lvcl_volume_read_lit(const lvcl_light_volume *vol, float **lit, lvcl_
     size_t bytes = ((size_t)vol->buf.info.slot_count + 1) * sizeof(float);
     *lit = malloc(bytes);
     if (!*lit) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory reading the lit volumes");
-    lvcl_error e = lvcl_cl_check(clEnqueueReadBuffer(vol->dev->queue, vol->buf.lit_volume, CL_TRUE, 0, bytes, *lit, 0,
-                                                     NULL, NULL),
-                                 "reading the lit volumes", st);
+    lvcl_error e =
+        lvcl_cl_check(clEnqueueReadBuffer(vol->dev->queue, vol->buf.lit_volume, CL_TRUE, 0, bytes, *lit, 0, NULL, NULL),
+                      "reading the lit volumes", st);
     if (e) {
         free(*lit);
         *lit = NULL;
@@ -56,7 +56,8 @@ lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_sta
     int64_t *sum = NULL, *t = NULL;
     uint32_t *rec_sum = NULL, *rec = NULL;
     const lv_grid_info *g = &vols[0]->buf.info;
-    size_t words = ((size_t)g->slot_count + 1) * LV_SUBCELL_STRIDE, tally_count = vols[0]->tally_bytes / sizeof(int64_t);
+    size_t words = ((size_t)g->slot_count + 1) * LV_SUBCELL_STRIDE,
+           tally_count = vols[0]->tally_bytes / sizeof(int64_t);
     lvcl_error e = lvcl_volume_read(vols[0], &sum, &rec_sum, st);
     for (int d = 1; d < count && !e; d++) {
         if ((e = lvcl_volume_read(vols[d], &t, &rec, st))) break;
@@ -66,7 +67,8 @@ lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_sta
             a[0] |= b[0]; /* the masks */
             a[1] |= b[1];
             for (size_t w = 2; w < LV_SUBCELL_LIT_POINT; w++) a[w] += b[w]; /* the ray counters */
-            for (size_t w = LV_SUBCELL_LIT_POINT; w < LV_SUBCELL_STRIDE; w++) /* the largest lit point, as on one device */
+            for (size_t w = LV_SUBCELL_LIT_POINT; w < LV_SUBCELL_STRIDE;
+                 w++) /* the largest lit point, as on one device */
                 if (b[w] > a[w]) a[w] = b[w];
         }
         free(t);
@@ -91,4 +93,3 @@ lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_sta
     free(rec_sum);
     return e;
 }
-

@@ -80,13 +80,13 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
     cl_long zero = 0;
     for (int i = 0; i < vol->tally_parts; i++)
         if ((e = lvcl_cl_check(clEnqueueFillBuffer(dev->queue, vol->buf.tallies[i], &zero, sizeof zero, 0,
-                                           lvcl_volume_part_bytes(vol, i), 0, NULL, NULL),
-                       "clearing the light volume", st)))
+                                                   lvcl_volume_part_bytes(vol, i), 0, NULL, NULL),
+                               "clearing the light volume", st)))
             return e;
     cl_uint none = 0;
     if ((e = lvcl_cl_check(clEnqueueFillBuffer(dev->queue, vol->buf.subcells, &none, sizeof none, 0,
-                                       lvcl_volume_record_bytes(vol), 0, NULL, NULL),
-                   "clearing the subcells", st)))
+                                               lvcl_volume_record_bytes(vol), 0, NULL, NULL),
+                           "clearing the subcells", st)))
         return e;
     vol->buf.info.particles = (float)s->particles;
     cl_int err;
@@ -118,13 +118,16 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
         /* 32-bit counts per batch cannot overflow; the totals are 64-bit. */
         cl_uint counts[2] = {0, 0};
         cl_uint f = (cl_uint)first;
-        if ((e = lvcl_kernel_arg(k, LV_ARG(lv_particle_trace, first), sizeof f, &f, "the batch's first particle", st)) ||
+        if ((e = lvcl_kernel_arg(k, LV_ARG(lv_particle_trace, first), sizeof f, &f, "the batch's first particle",
+                                 st)) ||
             (e = lvcl_kernel_arg(k, LV_ARG(lv_particle_trace, count), sizeof count, &count, "the batch's size", st)) ||
-            (e = lvcl_cl_check(clEnqueueWriteBuffer(dev->queue, counter, CL_FALSE, 0, sizeof counts, counts, 0, NULL, NULL),
-                       "clearing the ray counters", st)) ||
+            (e = lvcl_cl_check(
+                 clEnqueueWriteBuffer(dev->queue, counter, CL_FALSE, 0, sizeof counts, counts, 0, NULL, NULL),
+                 "clearing the ray counters", st)) ||
             (e = lvcl_kernel_enqueue(dev, k, count, "launching the particle trace", st)) ||
-            (e = lvcl_cl_check(clEnqueueReadBuffer(dev->queue, counter, CL_TRUE, 0, sizeof counts, counts, 0, NULL, NULL),
-                       "running the particle trace", st)))
+            (e = lvcl_cl_check(
+                 clEnqueueReadBuffer(dev->queue, counter, CL_TRUE, 0, sizeof counts, counts, 0, NULL, NULL),
+                 "running the particle trace", st)))
             break;
         vol->segments += counts[0];
         vol->visibility_rays += counts[1];
@@ -137,4 +140,3 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
     vol->trace_seconds = lvcl_seconds() - start;
     return e;
 }
-

@@ -12,8 +12,7 @@ void lvcl_image_size(const lvcl_camera_desc *cam, int width, int height, int *ou
     *out_h = height > 0 ? height : 1;
 }
 
-lv_camera lvcl_camera_make(const lvcl_camera_desc *cam, const float bmin[3], const float bmax[3], int width,
-                           int height)
+lv_camera lvcl_camera_make(const lvcl_camera_desc *cam, const float bmin[3], const float bmax[3], int width, int height)
 {
     lv_camera c = {0};
     c.width = (lv_u32)width;

@@ -3,7 +3,6 @@
 #include <math.h>
 #include <string.h>
 
-
 void lvcl_material_from_desc(const lvcl_material_desc *d, size_t index, lv_material *m)
 {
     memset(m, 0, sizeof *m);

@@ -12,9 +12,9 @@ void lvcl_material_from_desc(const lvcl_material_desc *desc, size_t index, lv_ma
 
 /* Feature switches: kernel code a scene does not use is left out of the
  * build (host/device/program.c turns them into -D options). */
-#define LVCL_FEATURE_GLASS 1u     /* solid and thin dielectrics */
-#define LVCL_FEATURE_TEXTURES 2u  /* base-colour textures */
-#define LVCL_FEATURE_PUNCTUAL 4u  /* point and spot lights */
+#define LVCL_FEATURE_GLASS 1u    /* solid and thin dielectrics */
+#define LVCL_FEATURE_TEXTURES 2u /* base-colour textures */
+#define LVCL_FEATURE_PUNCTUAL 4u /* point and spot lights */
 
 /* LVCL_FEATURE_* bits the scene needs. */
 unsigned lvcl_scene_features(const lvcl_scene *scene);

@@ -15,8 +15,7 @@ void lvcl_scene_free(lvcl_scene *scene)
     free(scene->meshes);
     free(scene->instances);
     free(scene->materials);
-    for (size_t i = 0; i < scene->texture_count; i++)
-        free(scene->textures[i].rgba);
+    for (size_t i = 0; i < scene->texture_count; i++) free(scene->textures[i].rgba);
     free(scene->textures);
     free(scene->punctuals);
     memset(scene, 0, sizeof *scene);
@@ -53,7 +52,7 @@ void lvcl_transform_invert(const float m[12], float out[12], int *mirrored)
         t[r] = m[4 * r + 3];
     }
     double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-                 a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+        a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
     double inv[3][3];
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++) {
@@ -141,7 +140,8 @@ lvcl_error lvcl_scene_flatten(lvcl_scene *s, lvcl_status *st)
     }
     free(lo);
     free(hi);
-    void *old[] = {s->positions, s->normals, s->uvs, s->indices, s->tri_material, s->tri_flags, s->meshes, s->instances};
+    void *old[] = {s->positions,    s->normals,   s->uvs,    s->indices,
+                   s->tri_material, s->tri_flags, s->meshes, s->instances};
     for (size_t k = 0; k < sizeof old / sizeof old[0]; k++) free(old[k]);
     s->positions = pos;
     s->normals = nrm;

@@ -19,16 +19,16 @@ extern "C" {
  * mapped to a BSDF. Absent extensions keep their glTF defaults. */
 typedef struct {
     float base_color[4];
-    int base_color_texture;      /* index into scene textures, -1 if none */
+    int base_color_texture; /* index into scene textures, -1 if none */
     float metallic;
     float roughness;
-    float emissive[3];           /* emissiveFactor x KHR_materials_emissive_strength */
-    float transmission;          /* KHR_materials_transmission, 0 if absent */
-    float ior;                   /* KHR_materials_ior, 1.5 if absent */
-    float specular;              /* KHR_materials_specular specularFactor, 1 if absent */
-    int has_volume;              /* KHR_materials_volume present with thickness > 0 */
-    float attenuation_color[3];  /* KHR_materials_volume, (1,1,1) if absent */
-    float attenuation_distance;  /* metres; INFINITY if absent */
+    float emissive[3];          /* emissiveFactor x KHR_materials_emissive_strength */
+    float transmission;         /* KHR_materials_transmission, 0 if absent */
+    float ior;                  /* KHR_materials_ior, 1.5 if absent */
+    float specular;             /* KHR_materials_specular specularFactor, 1 if absent */
+    int has_volume;             /* KHR_materials_volume present with thickness > 0 */
+    float attenuation_color[3]; /* KHR_materials_volume, (1,1,1) if absent */
+    float attenuation_distance; /* metres; INFINITY if absent */
     int double_sided;
 } lvcl_material_desc;
 
@@ -61,9 +61,9 @@ typedef struct {
 
 typedef struct {
     /* Vertex attributes, one entry per vertex. */
-    float *positions;   /* 3 floats per vertex, world space */
-    float *normals;     /* 3 per vertex (zero where the mesh has none) */
-    float *uvs;         /* 2 per vertex (zero where the mesh has none) */
+    float *positions; /* 3 floats per vertex, world space */
+    float *normals;   /* 3 per vertex (zero where the mesh has none) */
+    float *uvs;       /* 2 per vertex (zero where the mesh has none) */
     size_t vertex_count;
 
     /* Triangles in glTF order (nodes depth-first, primitives, index order). */
@@ -97,8 +97,8 @@ typedef struct {
 lvcl_error lvcl_scene_load_gltf_file(const char *path, lvcl_scene *scene, lvcl_status *st);
 
 /* Loads a glTF from memory; `base_dir` resolves relative URIs (may be ""). */
-lvcl_error lvcl_scene_load_gltf_memory(const void *data, size_t size, const char *base_dir,
-                                       lvcl_scene *scene, lvcl_status *st);
+lvcl_error lvcl_scene_load_gltf_memory(const void *data, size_t size, const char *base_dir, lvcl_scene *scene,
+                                       lvcl_status *st);
 
 /* Bakes every instance into world space (a mirroring transform reverses
  * the winding, as glTF says), leaving a flat scene; no-op on a flat one. */
@@ -119,7 +119,6 @@ void lvcl_transform_invert(const float m[12], float out[12], int *mirrored);
 
 /* Frees every array and zeroes the scene. Safe on a zeroed scene. */
 void lvcl_scene_free(lvcl_scene *scene);
-
 
 #ifdef __cplusplus
 }

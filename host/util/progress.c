@@ -28,8 +28,8 @@ void lvcl_progress_update(lvcl_progress *p, double done, double total, const cha
     bar[BAR_WIDTH] = 0;
     double elapsed = now - p->start;
     double eta = f > 0 ? elapsed * (1.0 - f) / f : 0.0;
-    fprintf(stderr, "\r%-8s [%s] %3.0f%%  %.0f/%.0f %s  %.1fs, %.1fs left ", p->label, bar, 100.0 * f, done, total, unit,
-            elapsed, eta);
+    fprintf(stderr, "\r%-8s [%s] %3.0f%%  %.0f/%.0f %s  %.1fs, %.1fs left ", p->label, bar, 100.0 * f, done, total,
+            unit, elapsed, eta);
     fflush(stderr);
 }
 

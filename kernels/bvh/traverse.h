@@ -17,10 +17,10 @@
 
 typedef struct {
     float3 origin;
-    float3 dir;      /* need not be unit; t is in units of |dir| */
+    float3 dir; /* need not be unit; t is in units of |dir| */
     float tmax;
-    uint skip;       /* the triangle the ray leaves from, or LV_NO_HIT */
-    uint skip_inst;  /* and its instance */
+    uint skip;      /* the triangle the ray leaves from, or LV_NO_HIT */
+    uint skip_inst; /* and its instance */
 } lv_ray;
 
 /* A ray leaving a surface ignores the triangle (of the instance) it starts
@@ -80,8 +80,8 @@ inline lv_sheared_ray lv_shear_ray(lv_ray r)
 
 /* Tests one triangle; on a hit closer than *tmax updates *tmax and the
  * barycentrics and returns 1. */
-inline int lv_intersect_triangle(const lv_sheared_ray *s, float4 v0, float4 v1, float4 v2,
-                                 float *tmax, float *b1, float *b2)
+inline int lv_intersect_triangle(const lv_sheared_ray *s, float4 v0, float4 v1, float4 v2, float *tmax, float *b1,
+                                 float *b2)
 {
     float4 a = shuffle(v0 - s->origin, s->perm);
     float4 b = shuffle(v1 - s->origin, s->perm);
@@ -130,8 +130,7 @@ inline float3 lv_safe_inverse(float3 d)
 /* p transformed by a 3 x 4 row-major matrix; w = 0 leaves out the translation. */
 inline float3 lv_transform(__global const float *m, float3 p, float w)
 {
-    return (float3)(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3] * w,
-                    m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7] * w,
+    return (float3)(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3] * w, m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7] * w,
                     m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11] * w);
 }
 
@@ -167,8 +166,9 @@ inline lv_hit lv_trace(const lv_scene *sc, lv_ray r, int any_hit)
             /* A top-level leaf holds one instance: enter its mesh. */
             inst = (uint)n->index;
             __global const lv_instance *placed = &sc->instances[inst];
-            lv_ray object_ray = lv_ray_make(lv_transform(placed->object_from_world, r.origin, 1.0f),
-                                       lv_transform(placed->object_from_world, r.dir, 0.0f), hit.t, LV_NO_HIT, LV_NO_HIT);
+            lv_ray object_ray =
+                lv_ray_make(lv_transform(placed->object_from_world, r.origin, 1.0f),
+                            lv_transform(placed->object_from_world, r.dir, 0.0f), hit.t, LV_NO_HIT, LV_NO_HIT);
             origin = object_ray.origin;
             dir = object_ray.dir;
             s = lv_shear_ray(object_ray);

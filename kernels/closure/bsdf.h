@@ -29,9 +29,9 @@
 #define LV_SMOOTH_ALPHA 1e-3f
 
 typedef struct {
-    uint type;     /* LV_BSDF_* */
-    float3 base;   /* base colour, textured */
-    float alpha;   /* GGX roughness */
+    uint type;   /* LV_BSDF_* */
+    float3 base; /* base colour, textured */
+    float alpha; /* GGX roughness */
     float ior;
     float specular;
 } lv_bsdf;
@@ -71,10 +71,10 @@ inline int lv_bsdf_sample_lobe(float3 wi, float3 fcos, float pdf, lv_bsdf_sample
 
 /* ---- what each family is, as data ---- */
 
-#define LV_TRAIT_LOBE 1u            /* a non-delta lobe at any roughness */
-#define LV_TRAIT_LOBE_IF_ROUGH 2u   /* a non-delta lobe from LV_SMOOTH_ALPHA on, delta below */
-#define LV_TRAIT_TRANSMITS 4u       /* lets light through (opaque ones reflect only) */
-#define LV_TRAIT_GATHER 8u          /* the light volume may answer for the light it reflects */
+#define LV_TRAIT_LOBE 1u             /* a non-delta lobe at any roughness */
+#define LV_TRAIT_LOBE_IF_ROUGH 2u    /* a non-delta lobe from LV_SMOOTH_ALPHA on, delta below */
+#define LV_TRAIT_TRANSMITS 4u        /* lets light through (opaque ones reflect only) */
+#define LV_TRAIT_GATHER 8u           /* the light volume may answer for the light it reflects */
 #define LV_TRAIT_GATHER_IF_ROUGH 16u /* the same from LV_GATHER_MIN_ALPHA on */
 
 /* Rough enough that the light volume answers for the light a coat or metal

@@ -31,8 +31,8 @@ inline float3 lv_plastic_value(const lv_bsdf *b, float3 wo, float3 wi)
      * is weighted by (1 - F) at both angles: reciprocal, and it never
      * reflects more than the coat lets through (the glTF formula, which
      * uses (1 - F) at the half vector, exceeds 1 at grazing angles). */
-    float3 r = (1.0f - lv_plastic_fresnel(b, wo.z)) * (1.0f - lv_plastic_fresnel(b, wi.z)) * b->base *
-               (wi.z * LV_INV_PI);
+    float3 r =
+        (1.0f - lv_plastic_fresnel(b, wo.z)) * (1.0f - lv_plastic_fresnel(b, wi.z)) * b->base * (wi.z * LV_INV_PI);
     if (b->alpha >= LV_SMOOTH_ALPHA) {
         float3 m = normalize(wo + wi);
         r += lv_plastic_fresnel(b, dot(wo, m)) * lv_ggx_reflection(wo, wi, b->alpha);

@@ -20,10 +20,9 @@
 typedef struct {
     lv_grid grid;
     __global const float4 *bin_directions; /* central direction of each bin */
-    uint flags;      /* LV_GATHER_* (shared_types.h) */
-    float threshold; /* a BSDF ray hitting closer than this continues as a path */
+    uint flags;                            /* LV_GATHER_* (shared_types.h) */
+    float threshold;                       /* a BSDF ray hitting closer than this continues as a path */
 } lv_gather;
-
 
 /* The BSDF-weighted sum of the volume's radiance over every bin of the cell
  * at p (each bin read at its central direction). */

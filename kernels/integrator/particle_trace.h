@@ -39,8 +39,8 @@ inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray 
 /* Traces one particle, drawing from rng, into grid. store_emitted: tally
  * the first segment (emitted light) too, which lv mode leaves to shadow
  * rays. */
-inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *grid, lv_rng *rng, float inv_total_particles,
-                                          uint store_emitted)
+inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *grid, lv_rng *rng,
+                                          float inv_total_particles, uint store_emitted)
 {
     lv_particle_rays n = {0u, 0u};
     lv_emission_sample es;

@@ -29,8 +29,7 @@ inline float3 lv_path_trace(const lv_scene *sc, lv_ray r, lv_rng *rng, uint max_
 
         lv_shading sh;
         if (!lv_shading_at(sc, &s, r.dir, &sh)) break;
-        if (depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b))
-            radiance += beta * lv_direct_light(sc, &s, h, &sh, rng);
+        if (depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b)) radiance += beta * lv_direct_light(sc, &s, h, &sh, rng);
         if (!lv_scatter(sc, &s, h, &sh, walk, depth, rng, &beta, &r, &bs)) break;
     }
     return lv_finite3(radiance) ? radiance : (float3)(0.0f);

@@ -62,8 +62,9 @@ inline float lv_shading_normal_adjoint(const lv_surface *s, float3 wo, float3 wi
  * constant lv_walk then folds away, and out of line (fast-math) the
  * particle trace's arithmetic rounds differently from the images that
  * tests/data/golden.txt pins. */
-__attribute__((always_inline)) inline int lv_scatter(const lv_scene *sc, const lv_surface *s, lv_hit h, const lv_shading *sh, lv_walk w,
-                      uint depth, lv_rng *rng, float3 *beta, lv_ray *r, lv_bsdf_sample *bs)
+__attribute__((always_inline)) inline int lv_scatter(const lv_scene *sc, const lv_surface *s, lv_hit h,
+                                                     const lv_shading *sh, lv_walk w, uint depth, lv_rng *rng,
+                                                     float3 *beta, lv_ray *r, lv_bsdf_sample *bs)
 {
     float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
     if (!lv_bsdf_sample_dir(&sh->b, sh->wo, u, w.mode, bs)) return 0;

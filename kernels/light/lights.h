@@ -7,11 +7,11 @@
 #include "../scene/surface.h"
 
 typedef struct {
-    float3 wi;       /* unit direction from the shading point to the light */
-    float3 target;   /* the point on the light, for the shadow ray */
-    float3 li;       /* incident radiance (area) or irradiance-like I / d^2 (punctual) */
-    float pdf;       /* solid-angle density, including the selection probability */
-    int delta;       /* punctual: no MIS, pdf holds only the selection probability */
+    float3 wi;     /* unit direction from the shading point to the light */
+    float3 target; /* the point on the light, for the shadow ray */
+    float3 li;     /* incident radiance (area) or irradiance-like I / d^2 (punctual) */
+    float pdf;     /* solid-angle density, including the selection probability */
+    int delta;     /* punctual: no MIS, pdf holds only the selection probability */
 } lv_light_sample;
 
 /* Index of the light whose cumulative-probability interval holds u. */

@@ -7,18 +7,17 @@
 
 typedef struct {
     float3 p;
-    float3 ng;        /* geometric normal of the front face (counter-clockwise winding), unit */
-    float3 ns;        /* shading normal on the same side as ng, unit */
+    float3 ng; /* geometric normal of the front face (counter-clockwise winding), unit */
+    float3 ns; /* shading normal on the same side as ng, unit */
     float2 uv;
     uint material;
-    int front;        /* the ray arrived on the front face */
+    int front; /* the ray arrived on the front face */
 } lv_surface;
 
 #ifdef LV_FEATURE_TEXTURES
 inline float3 lv_srgb_to_linear(float3 c)
 {
-    return select(pow((c + 0.055f) * (1.0f / 1.055f), (float3)(2.4f)), c * (1.0f / 12.92f),
-                  c <= 0.04045f);
+    return select(pow((c + 0.055f) * (1.0f / 1.055f), (float3)(2.4f)), c * (1.0f / 12.92f), c <= 0.04045f);
 }
 
 inline float4 lv_texel(const lv_scene *sc, lv_texture t, int x, int y)
@@ -85,7 +84,7 @@ inline lv_surface lv_surface_at(const lv_scene *sc, lv_ray r, lv_hit h)
     s.ns = s.ng;
     if (tri.flags & LV_TRI_HAS_NORMALS) {
         float3 n = b0 * lv_vertex_normal(sc, tri.v[0]) + h.b1 * lv_vertex_normal(sc, tri.v[1]) +
-                   h.b2 * lv_vertex_normal(sc, tri.v[2]);
+            h.b2 * lv_vertex_normal(sc, tri.v[2]);
         n = lv_normal_to_world(sc, h.inst, n);
         float len2 = dot(n, n);
         if (len2 > 0.0f && isfinite(len2)) {
@@ -95,8 +94,7 @@ inline lv_surface lv_surface_at(const lv_scene *sc, lv_ray r, lv_hit h)
     }
     s.uv = (float2)(0.0f);
     if (tri.flags & LV_TRI_HAS_UVS)
-        s.uv = b0 * lv_vertex_uv(sc, tri.v[0]) + h.b1 * lv_vertex_uv(sc, tri.v[1]) +
-               h.b2 * lv_vertex_uv(sc, tri.v[2]);
+        s.uv = b0 * lv_vertex_uv(sc, tri.v[0]) + h.b1 * lv_vertex_uv(sc, tri.v[1]) + h.b2 * lv_vertex_uv(sc, tri.v[2]);
     return s;
 }
 

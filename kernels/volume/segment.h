@@ -37,8 +37,8 @@ inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float
  * carrying `weight` (power over total power, over particle count) at t0, to
  * every stored cell it crosses, in bin `bin`. sigma > 0 absorbs along the
  * segment (inside glass). A 3-D DDA (Amanatides and Woo) walks the cells. */
-inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, float t0,
-                             float t1, uint bin, float3 weight, float3 sigma)
+inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, float t0, float t1, uint bin,
+                             float3 weight, float3 sigma)
 {
     const float h = grid->g.cell_size;
     float3 dims = (float3)((float)grid->g.dims[0], (float)grid->g.dims[1], (float)grid->g.dims[2]);

@@ -38,7 +38,8 @@ static void test_random_soups(void)
               m.differ, m.rounding, hits, rays.count, m.first);
         snprintf(name, sizeof name, "bvh depth within LVCL_BVH_MAX_DEPTH: soup seed %llu",
                  (unsigned long long)cases[c].seed);
-        CHECK(name, g.accel.mesh_bvh[0].depth <= LVCL_BVH_MAX_DEPTH, "depth %d > %d", g.accel.mesh_bvh[0].depth, LVCL_BVH_MAX_DEPTH);
+        CHECK(name, g.accel.mesh_bvh[0].depth <= LVCL_BVH_MAX_DEPTH, "depth %d > %d", g.accel.mesh_bvh[0].depth,
+              LVCL_BVH_MAX_DEPTH);
         free(bvh);
         free(brute);
         gpu_scene_free(&g);
@@ -98,12 +99,13 @@ static void test_split_tables(void)
     CHECK("split tables: nodes, triangles and vertices each take several buffers",
           split.ds.split_tables == 5 && whole.ds.split_tables == 0 && in->triangles_per_part < 10000 &&
               in->vertices_per_part < 30000 && in->nodes_per_part < split.packed.node_count,
-          "%d tables split (one buffer: %d); per part: %u nodes of %zu, %u triangles, %u vertices", split.ds.split_tables,
-          whole.ds.split_tables, in->nodes_per_part, split.packed.node_count, in->triangles_per_part,
-          in->vertices_per_part);
+          "%d tables split (one buffer: %d); per part: %u nodes of %zu, %u triangles, %u vertices",
+          split.ds.split_tables, whole.ds.split_tables, in->nodes_per_part, split.packed.node_count,
+          in->triangles_per_part, in->vertices_per_part);
 
     float *hits_whole = trace(&whole, &rays), *hits_split = trace(&split, &rays);
-    float *surf_whole = run_rays(&whole, "t_surface", &rays, NULL), *surf_split = run_rays(&split, "t_surface", &rays, NULL);
+    float *surf_whole = run_rays(&whole, "t_surface", &rays, NULL),
+          *surf_split = run_rays(&split, "t_surface", &rays, NULL);
     size_t n = 4 * rays.count * sizeof(float);
     size_t hits = count_hits(hits_whole, rays.count);
     CHECK("split tables: hits and surfaces (normals, uvs) equal one buffer's bit for bit",

@@ -31,10 +31,18 @@ static void add_bad_triangle(rng *r, int kind, tri_list *l)
         add_tri(l, q[first], q[(first + 1) % 3], q[(first + 2) % 3]);
         return;
     }
-    case 1: add_tri(l, a, a, b); return;
-    case 2: add_tri(l, a, b, b); return;
-    case 3: add_tri(l, a, b, a); return;
-    case 4: add_tri(l, a, a, a); return;
+    case 1:
+        add_tri(l, a, a, b);
+        return;
+    case 2:
+        add_tri(l, a, b, b);
+        return;
+    case 3:
+        add_tri(l, a, b, a);
+        return;
+    case 4:
+        add_tri(l, a, a, a);
+        return;
     default: { /* a proper triangle with one coordinate NaN, +Inf or -Inf */
         static const float bad[3] = {NAN, INFINITY, -INFINITY};
         float f[9] = {(float)a.x, (float)a.y, (float)a.z, (float)b.x, (float)b.y,

@@ -21,7 +21,8 @@ static void cube_triangles(float out[108])
 {
     /* Each face: its normal axis, sign, and two in-plane axes with
      * u x v = the outward normal. */
-    static const int faces[6][4] = {{0, 1, 1, 2}, {0, -1, 2, 1}, {1, 1, 2, 0}, {1, -1, 0, 2}, {2, 1, 0, 1}, {2, -1, 1, 0}};
+    static const int faces[6][4] = {{0, 1, 1, 2},  {0, -1, 2, 1}, {1, 1, 2, 0},
+                                    {1, -1, 0, 2}, {2, 1, 0, 1},  {2, -1, 1, 0}};
     static const float corners[4][2] = {{-0.5f, -0.5f}, {0.5f, -0.5f}, {0.5f, 0.5f}, {-0.5f, 0.5f}};
     static const int tri_corners[6] = {0, 1, 2, 0, 2, 3};
     float *o = out;
@@ -56,7 +57,8 @@ static void placement(int i, float scale_all, const float offset[3], float m[12]
     static const float axes[PLACEMENTS][3] = {{0, 1, 0}, {0.70710678f, 0.70710678f, 0}, {0, 0, 1}, {0, 1, 0}};
     static const float angles[PLACEMENTS] = {0.0f, 0.5236f, 0.3f, 0.7854f};
     static const float scales[PLACEMENTS][3] = {{1, 1, 1}, {1, 1, 1}, {2, 0.5f, 1}, {-1, 1, 1.5f}};
-    static const float moves[PLACEMENTS][3] = {{-1.2f, 0.5f, 0}, {0, 0.6f, 0.3f}, {1.3f, 0.3f, -0.5f}, {0.2f, 0.6f, -1.6f}};
+    static const float moves[PLACEMENTS][3] = {
+        {-1.2f, 0.5f, 0}, {0, 0.6f, 0.3f}, {1.3f, 0.3f, -0.5f}, {0.2f, 0.6f, -1.6f}};
     float s[3], t[3];
     for (int k = 0; k < 3; k++) {
         s[k] = scales[i][k] * scale_all;
@@ -143,7 +145,8 @@ static void test_hits(void)
             lvcl_transform_invert(inst->world_from_object, unused, &mirrored);
             for (size_t t = mesh->first_triangle; t < mesh->first_triangle + mesh->triangle_count; t++) {
                 float w[3][3];
-                for (int c = 0; c < 3; c++) lvcl_transform_point(inst->world_from_object, &tris[9 * t + 3 * c], 1.0f, w[c]);
+                for (int c = 0; c < 3; c++)
+                    lvcl_transform_point(inst->world_from_object, &tris[9 * t + 3 * c], 1.0f, w[c]);
                 double h = brute_hit(o, d, w[0], w[1], w[2]);
                 if (h < 0 || h >= best) continue;
                 best = h;
@@ -167,7 +170,8 @@ static void test_hits(void)
             ok = (long)r[1] == prim && fabs(r[0] - best) <= 1e-4 * best + 1e-6 && (int)r[3] == front;
         }
         if (!ok && wrong++ == 0)
-            snprintf(first, sizeof first, "ray %d: brute force t %.6g prim %ld front %d, kernel t %.6g prim %g front %g", i,
+            snprintf(first, sizeof first,
+                     "ray %d: brute force t %.6g prim %ld front %d, kernel t %.6g prim %g front %g", i,
                      prim < 0 ? -1.0 : best, prim, front, r[0], r[1], r[3]);
     }
     printf("  hits: %zu of %d rays hit (%zu the mirrored instance), %zu disagree with brute force\n", hits, COUNT,
@@ -197,7 +201,8 @@ static int instanced_cornell(lvcl_scene *s)
     size_t base_tris = s->triangle_count, base_verts = s->vertex_count;
     float cube[108];
     cube_triangles(cube);
-    const float lamp[18] = {-0.5f, 0, -0.5f, 0.5f, 0, -0.5f, 0.5f, 0, 0.5f, -0.5f, 0, -0.5f, 0.5f, 0, 0.5f, -0.5f, 0, 0.5f};
+    const float lamp[18] = {-0.5f, 0, -0.5f, 0.5f, 0, -0.5f, 0.5f,  0, 0.5f,
+                            -0.5f, 0, -0.5f, 0.5f, 0, 0.5f,  -0.5f, 0, 0.5f};
     size_t tris = base_tris + 14, verts = base_verts + 42;
     s->positions = realloc(s->positions, verts * 3 * sizeof(float));
     s->normals = realloc(s->normals, verts * 3 * sizeof(float));

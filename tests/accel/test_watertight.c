@@ -34,10 +34,9 @@ static void grid_cube(int n, vec3 centre, double half, tri_list *l)
 {
     vec3 axis = normalized(v3(1, 2, 3));
     double c = cos(0.7), s = sin(0.7), t = 1 - c;
-    vec3 rot[3] = {
-        v3(t * axis.x * axis.x + c, t * axis.x * axis.y - s * axis.z, t * axis.x * axis.z + s * axis.y),
-        v3(t * axis.x * axis.y + s * axis.z, t * axis.y * axis.y + c, t * axis.y * axis.z - s * axis.x),
-        v3(t * axis.x * axis.z - s * axis.y, t * axis.y * axis.z + s * axis.x, t * axis.z * axis.z + c)};
+    vec3 rot[3] = {v3(t * axis.x * axis.x + c, t * axis.x * axis.y - s * axis.z, t * axis.x * axis.z + s * axis.y),
+                   v3(t * axis.x * axis.y + s * axis.z, t * axis.y * axis.y + c, t * axis.y * axis.z - s * axis.x),
+                   v3(t * axis.x * axis.z - s * axis.y, t * axis.y * axis.z + s * axis.x, t * axis.z * axis.z + c)};
     for (int a = 0; a < 3; a++)
         for (int side = 0; side <= n; side += n)
             for (int u = 0; u < n; u++)
@@ -158,10 +157,8 @@ static void test_watertight(void)
     for (size_t m = 0; m < sizeof meshes / sizeof meshes[0]; m++) {
         tri_list mesh = {0};
         vec3 centre = v3(meshes[m].x, meshes[m].y, meshes[m].z);
-        if (meshes[m].cube)
-            grid_cube(meshes[m].detail, centre, meshes[m].size, &mesh);
-        else
-            icosphere(meshes[m].detail, centre, meshes[m].size, &mesh);
+        if (meshes[m].cube) grid_cube(meshes[m].detail, centre, meshes[m].size, &mesh);
+        else icosphere(meshes[m].detail, centre, meshes[m].size, &mesh);
         check_closed_mesh(meshes[m].name, &mesh, centre, meshes[m].size, 100 + m);
         free(mesh.v);
     }
@@ -208,8 +205,8 @@ static int sane(const float *q, const float *res)
 
 static void describe(char *why, size_t size, size_t i, const float *q, const float *res)
 {
-    snprintf(why, size, "ray %zu (origin %.9g %.9g %.9g, dir %.9g %.9g %.9g): t %.9g prim %g, plane at t %.9g", i,
-             q[0], q[1], q[2], q[4], q[5], q[6], res[0], res[1], -(double)q[2] / q[6]);
+    snprintf(why, size, "ray %zu (origin %.9g %.9g %.9g, dir %.9g %.9g %.9g): t %.9g prim %g, plane at t %.9g", i, q[0],
+             q[1], q[2], q[4], q[5], q[6], res[0], res[1], -(double)q[2] / q[6]);
 }
 
 /* Unit direction at `angle` below the horizontal, heading `heading`. */
@@ -275,8 +272,8 @@ static void test_grazing(void)
         if (err > 16 && bad++ == 0) describe(why, sizeof why, i, &above.v[8 * i], &res[4 * i]);
     }
     CHECK("grazing: rays at 1e-3..1e-6 rad hit the plane at its distance", bad == 0,
-          "%zu of %zu rays missed or were off by more than 16 eps (t + R/|d|), worst %.3g; first: %s", bad,
-          above.count, worst, why);
+          "%zu of %zu rays missed or were off by more than 16 eps (t + R/|d|), worst %.3g; first: %s", bad, above.count,
+          worst, why);
     free(res);
 
     const struct {

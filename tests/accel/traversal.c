@@ -110,7 +110,8 @@ float *run_rays(const gpu_scene *g, const char *kernel_name, const ray_list *ray
     lvcl_error e;
     if (reshoot4) {
         ebuf = harness_buffer(&dev, reshoot4, 4 * n * sizeof(float));
-        t_offset_rays_args a = {.scene = &g->ds.buffers, .rays = rbuf, .count = (cl_uint)n, .reshoot = ebuf, .results = obuf};
+        t_offset_rays_args a = {
+            .scene = &g->ds.buffers, .rays = rbuf, .count = (cl_uint)n, .reshoot = ebuf, .results = obuf};
         e = lvcl_bind_t_offset_rays(k, &a, &st);
     } else {
         t_trace_args a = {.scene = &g->ds.buffers, .rays = rbuf, .count = (cl_uint)n, .results = obuf};
@@ -193,19 +194,14 @@ void make_soup(rng *r, size_t n, int slivers, tri_list *l)
     for (int i = 0; i < 8; i++) clusters[i] = random_in_box(r, -0.9, 0.9);
     while (l->count < n) {
         double kind = uniform(r);
-        if (kind < 0.30)
-            add_random_triangle(r, l, random_in_box(r, -1, 1), log_range(r, 1e-3, 0.1));
-        else if (kind < 0.38)
-            add_random_triangle(r, l, random_in_box(r, -1, 1), range(r, 0.3, 1.5));
-        else if (kind < 0.53 && slivers)
-            add_sliver(r, l);
+        if (kind < 0.30) add_random_triangle(r, l, random_in_box(r, -1, 1), log_range(r, 1e-3, 0.1));
+        else if (kind < 0.38) add_random_triangle(r, l, random_in_box(r, -1, 1), range(r, 0.3, 1.5));
+        else if (kind < 0.53 && slivers) add_sliver(r, l);
         else if (kind < 0.73)
             add_random_triangle(r, l, add(clusters[(int)(8 * uniform(r))], mul(random_unit(r), 0.01)),
                                 log_range(r, 1e-4, 5e-3));
-        else if (kind < 0.76)
-            add_patch(r, l); /* 32 triangles at once */
-        else
-            add_axis_aligned(r, l);
+        else if (kind < 0.76) add_patch(r, l); /* 32 triangles at once */
+        else add_axis_aligned(r, l);
     }
 }
 

@@ -45,13 +45,34 @@ static inline vec3 v3(double x, double y, double z)
     vec3 v = {x, y, z};
     return v;
 }
-static inline vec3 add(vec3 a, vec3 b) { return v3(a.x + b.x, a.y + b.y, a.z + b.z); }
-static inline vec3 sub(vec3 a, vec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
-static inline vec3 mul(vec3 a, double s) { return v3(a.x * s, a.y * s, a.z * s); }
-static inline double dot(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-static inline double length(vec3 a) { return sqrt(dot(a, a)); }
-static inline vec3 normalized(vec3 a) { return mul(a, 1.0 / length(a)); }
-static inline vec3 lerp(vec3 a, vec3 b, double s) { return add(a, mul(sub(b, a), s)); }
+static inline vec3 add(vec3 a, vec3 b)
+{
+    return v3(a.x + b.x, a.y + b.y, a.z + b.z);
+}
+static inline vec3 sub(vec3 a, vec3 b)
+{
+    return v3(a.x - b.x, a.y - b.y, a.z - b.z);
+}
+static inline vec3 mul(vec3 a, double s)
+{
+    return v3(a.x * s, a.y * s, a.z * s);
+}
+static inline double dot(vec3 a, vec3 b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+static inline double length(vec3 a)
+{
+    return sqrt(dot(a, a));
+}
+static inline vec3 normalized(vec3 a)
+{
+    return mul(a, 1.0 / length(a));
+}
+static inline vec3 lerp(vec3 a, vec3 b, double s)
+{
+    return add(a, mul(sub(b, a), s));
+}
 
 static inline vec3 cross(vec3 a, vec3 b)
 {

@@ -14,11 +14,11 @@ static lvcl_program prog;
 typedef LVCL_KERNEL_ARGS(T_BSDF_MOMENTS_ARGS) t_bsdf_moments_args;
 static LVCL_DEFINE_BINDER(t_bsdf_moments, T_BSDF_MOMENTS_ARGS, t_bsdf_moments_args)
 
-typedef struct {
+    typedef struct {
     const char *name;
     float type, r, g, b, alpha, ior, specular, mode;
-    int delta_only;  /* no smooth lobe: pdf and eval are zero everywhere */
-    int transmits;   /* reciprocity is checked for reflection only */
+    int delta_only; /* no smooth lobe: pdf and eval are zero everywhere */
+    int transmits;  /* reciprocity is checked for reflection only */
 } bsdf_case;
 
 static void test_bsdfs(void)

@@ -191,8 +191,8 @@ __kernel void t_offset_rays(LV_KERNEL_PARAMS(T_OFFSET_RAYS_ARGS))
     float3 ng_in = dot(r.dir, s.ng) < 0.0f ? s.ng : -s.ng; /* towards the arriving ray */
     float4 l = reshoot[i];
     float3 n = l.w > 0.0f ? ng_in : -ng_in;
-    lv_ray r2 = lv_ray_make(lv_offset_origin(s.p, n, sc.info.scene_scale), lv_to_world(lv_frame_make(n), l.xyz),
-                            LV_FAR, h.inst, fabs(l.w) > 1.5f ? h.tri : LV_NO_HIT);
+    lv_ray r2 = lv_ray_make(lv_offset_origin(s.p, n, sc.info.scene_scale), lv_to_world(lv_frame_make(n), l.xyz), LV_FAR,
+                            h.inst, fabs(l.w) > 1.5f ? h.tri : LV_NO_HIT);
     lv_hit h2 = lv_trace(&sc, r2, 0);
     o[0] = (float)lv_triangle_record(&sc, h.tri).prim_id;
     o[1] = h2.tri == LV_NO_HIT ? -1.0f : (float)lv_triangle_record(&sc, h2.tri).prim_id;

@@ -23,8 +23,8 @@ void *copy_of(const void *data, size_t bytes)
     return p;
 }
 
-void quad_scene(const quad *quads, size_t quad_count, const lvcl_material_desc *materials,
-                       size_t material_count, const lv_punctual_light *lights, size_t light_count, lvcl_scene *s)
+void quad_scene(const quad *quads, size_t quad_count, const lvcl_material_desc *materials, size_t material_count,
+                const lv_punctual_light *lights, size_t light_count, lvcl_scene *s)
 {
     memset(s, 0, sizeof *s);
     s->vertex_count = 4 * quad_count;
@@ -173,7 +173,8 @@ float *render(const char *what, lvcl_scene *scene, unsigned seed, int max_depth,
 {
     lvcl_status st = {0};
     lvcl_session *s = NULL;
-    lvcl_session_config cfg = {.device = getenv("LVCL_TEST_DEVICE"), .seed = seed, .max_depth = max_depth, .fast_math = 1};
+    lvcl_session_config cfg = {
+        .device = getenv("LVCL_TEST_DEVICE"), .seed = seed, .max_depth = max_depth, .fast_math = 1};
     lvcl_render_result r = {0};
     lvcl_pass_settings ps = {.spp = spp};
     scene->camera = v->cam;
@@ -249,14 +250,13 @@ double area_radiance(const void *ctx, const double p[3])
     return g->albedo / PI * g->le * polygon_irradiance(g->light->p, 4, p);
 }
 
-
 quad ground(void)
 {
     return horizontal_quad(0, 0, 0, 20, 1, 0);
 }
 
 comparison compare_pixels(const float *rgb, const view *v, int spp, ground_radiance f, const void *ctx,
-                                 const double intensity[3], double abs_floor, pixel_filter select, const void *select_ctx)
+                          const double intensity[3], double abs_floor, pixel_filter select, const void *select_ctx)
 {
     comparison r = {.worst = -1.0};
     double max_ref = 0.0;

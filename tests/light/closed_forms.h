@@ -136,11 +136,11 @@ double area_radiance(const void *ctx, const double p[3]);
 typedef int (*pixel_filter)(const view *v, int x, int y, const void *ctx);
 
 typedef struct {
-    int compared, failed;   /* pixels compared, channel values out of tolerance */
-    double worst;           /* largest error over its tolerance */
+    int compared, failed; /* pixels compared, channel values out of tolerance */
+    double worst;         /* largest error over its tolerance */
     double worst_ref, worst_got, worst_tol;
     int worst_x, worst_y;
-    double max_rel;         /* largest relative error where ref > 1% of the largest ref */
+    double max_rel; /* largest relative error where ref > 1% of the largest ref */
 } comparison;
 
 comparison compare_pixels(const float *rgb, const view *v, int spp, ground_radiance f, const void *ctx,

@@ -88,8 +88,7 @@ static void image_range(const float *rgb, const view *v, double *lo, double *hi)
 static void test_emitter_sides(void)
 {
     const double le = 4.0;
-    static const char *names[2] = {"area light: its front face shows Le exactly",
-                                   "area light: its back face is black"};
+    static const char *names[2] = {"area light: its front face shows Le exactly", "area light: its back face is black"};
     for (int from_front = 1; from_front >= 0; from_front--) {
         quad quads[2];
         lvcl_scene scene;
@@ -102,12 +101,11 @@ static void test_emitter_sides(void)
         image_range(rgb, &v, &lo, &hi);
         printf("  emitter seen from its %s: pixels in [%g, %g], expected %g\n", from_front ? "front" : "back", lo, hi,
                want);
-        CHECK(name, fabs(lo - want) <= 1e-6 * le && fabs(hi - want) <= 1e-6 * le, "pixels in [%g, %g], expected %g",
-              lo, hi, want);
+        CHECK(name, fabs(lo - want) <= 1e-6 * le && fabs(hi - want) <= 1e-6 * le, "pixels in [%g, %g], expected %g", lo,
+              hi, want);
         free(rgb);
     }
 }
-
 
 /* 2. A large emitter close over the plane, where BSDF sampling and light
  * sampling both matter under MIS: two seeds agree within noise, and both

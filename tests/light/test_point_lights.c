@@ -142,7 +142,6 @@ static void test_spot_light(void)
     free(rgb);
 }
 
-
 /* 3. Texture: an 8 x 8 texture of 2 x 2 blocks of 4 x 4 equal texels, on a
  * 2 m square under a point light. Bilinear filtering is constant where all
  * four texels it blends lie in one block; there the rendered radiance over
@@ -151,7 +150,7 @@ static void test_spot_light(void)
 #define BLOCK 4
 
 static const uint8_t block_rgb[2][2][3] = {
-    {{255, 128, 0}, {30, 200, 90}}, /* row 0: the top of the image (v = 0) */
+    {{255, 128, 0}, {30, 200, 90}},  /* row 0: the top of the image (v = 0) */
     {{128, 128, 128}, {8, 60, 250}}, /* 8 lies on the linear segment of sRGB */
 };
 
@@ -234,10 +233,10 @@ static void test_texture(void)
             want[c] = factor * srgb_to_linear(texel[c] / 255.0);
             ok &= fabs(got[c] - want[c]) <= 0.01 * want[c] + 1e-5;
         }
-        printf("  texture block %d: %d pixels, albedo %.5f %.5f %.5f rendered, %.5f %.5f %.5f expected\n", b,
-               count[b], got[0], got[1], got[2], want[0], want[1], want[2]);
-        CHECK(name, ok, "%d pixels: albedo (%.5f, %.5f, %.5f) rendered, (%.5f, %.5f, %.5f) expected", count[b],
-              got[0], got[1], got[2], want[0], want[1], want[2]);
+        printf("  texture block %d: %d pixels, albedo %.5f %.5f %.5f rendered, %.5f %.5f %.5f expected\n", b, count[b],
+               got[0], got[1], got[2], want[0], want[1], want[2]);
+        CHECK(name, ok, "%d pixels: albedo (%.5f, %.5f, %.5f) rendered, (%.5f, %.5f, %.5f) expected", count[b], got[0],
+              got[1], got[2], want[0], want[1], want[2]);
     }
     free(rgb);
 }

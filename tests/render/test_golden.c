@@ -23,14 +23,23 @@ typedef struct {
 } golden_case;
 
 static const golden_case cases[] = {
-    {"cornell", "pt"},          {"cornell", "lv"},          {"cornell", "lv-sample"},
-    {"cornell", "lv-all"},      {"../scenes/glass-table.gltf", "pt"}, {"../scenes/glass-table.gltf", "lv"},
-    {"../scenes/glass-table.gltf", "lv-sample"}, {"../scenes/glass-table.gltf", "lv-all"},
-    {"kitchen", "pt"},          {"kitchen", "lv"},          {"kitchen", "lv-sample"},
+    {"cornell", "pt"},
+    {"cornell", "lv"},
+    {"cornell", "lv-sample"},
+    {"cornell", "lv-all"},
+    {"../scenes/glass-table.gltf", "pt"},
+    {"../scenes/glass-table.gltf", "lv"},
+    {"../scenes/glass-table.gltf", "lv-sample"},
+    {"../scenes/glass-table.gltf", "lv-all"},
+    {"kitchen", "pt"},
+    {"kitchen", "lv"},
+    {"kitchen", "lv-sample"},
     {"kitchen", "lv-all"},
     /* every BSDF family, textures, shading normals, a mirrored instance, point and spot lights */
-    {"data/golden/materials.gltf", "pt"}, {"data/golden/materials.gltf", "lv"},
-    {"data/golden/materials.gltf", "lv-sample"}, {"data/golden/materials.gltf", "lv-all"},
+    {"data/golden/materials.gltf", "pt"},
+    {"data/golden/materials.gltf", "lv"},
+    {"data/golden/materials.gltf", "lv-sample"},
+    {"data/golden/materials.gltf", "lv-all"},
 };
 #define CASE_COUNT (sizeof cases / sizeof cases[0])
 
@@ -151,8 +160,9 @@ int main(int argc, char **argv)
     uint64_t probe;
     if (!f || !recorded(f, key, &cases[0], &probe)) {
         char why[1200];
-        snprintf(why, sizeof why, "no hashes recorded for '%s' in %s (record them with: build/tests/test_golden %s --record)",
-                 key, file, tests_dir);
+        snprintf(why, sizeof why,
+                 "no hashes recorded for '%s' in %s (record them with: build/tests/test_golden %s --record)", key, file,
+                 tests_dir);
         SKIP("golden images", why);
         if (f) fclose(f);
         return 0;

@@ -76,8 +76,10 @@ static void test_furnace(void)
     double mean[3];
     lvcl_mean_rgb(im.rgb, (size_t)im.width * im.height, mean);
     for (int c = 0; c < 3; c++)
-        CHECK(c == 0 ? "white furnace: red is Le/(1-a) = 2 within 1%" : c == 1 ? "white furnace: green is 2 within 1%" : "white furnace: blue is 2 within 1%", fabs(mean[c] - 2.0) < 0.02,
-              "channel %d: %.5f", c, mean[c]);
+        CHECK(c == 0       ? "white furnace: red is Le/(1-a) = 2 within 1%"
+                  : c == 1 ? "white furnace: green is 2 within 1%"
+                           : "white furnace: blue is 2 within 1%",
+              fabs(mean[c] - 2.0) < 0.02, "channel %d: %.5f", c, mean[c]);
     CHECK("white furnace: image finite", all_finite(&im), "NaN or Inf in the image");
     free(im.rgb);
 }
@@ -85,8 +87,8 @@ static void test_furnace(void)
 /* relMSE against a Mitsuba reference at growing spp: it must fall about as
  * 1/spp (a factor of at least 6 for 16x the samples: noise dominates any
  * bias here) and reach `target` at the highest count. */
-static void test_convergence(const char *label, const char *scene_name, const char *ref_path, const int *spps,
-                             int n, double target)
+static void test_convergence(const char *label, const char *scene_name, const char *ref_path, const int *spps, int n,
+                             double target)
 {
     image ref;
     char name[160];

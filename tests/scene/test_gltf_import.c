@@ -55,7 +55,10 @@ typedef struct {
     int saved_fd;
 } capture;
 
-static int verbose(void) { return getenv("LVCL_TEST_VERBOSE") != NULL; }
+static int verbose(void)
+{
+    return getenv("LVCL_TEST_VERBOSE") != NULL;
+}
 
 static void capture_begin(capture *c)
 {
@@ -87,13 +90,15 @@ static char *capture_end(capture *c)
 
 static int sanitizer_report(const char *text)
 {
-    return text && (strstr(text, "runtime error") || strstr(text, "AddressSanitizer") ||
-                    strstr(text, "LeakSanitizer"));
+    return text && (strstr(text, "runtime error") || strstr(text, "AddressSanitizer") || strstr(text, "LeakSanitizer"));
 }
 
 /* ---- helpers ---- */
 
-static int near(float a, float b) { return fabsf(a - b) < 1e-5f; }
+static int near(float a, float b)
+{
+    return fabsf(a - b) < 1e-5f;
+}
 
 static int near3(const float *v, float x, float y, float z)
 {
@@ -125,8 +130,7 @@ static int same_scene(const lvcl_scene *a, const lvcl_scene *b)
         return 0;
     size_t v = a->vertex_count, t = a->triangle_count;
     if (memcmp(a->positions, b->positions, 3 * v * sizeof(float)) ||
-        memcmp(a->normals, b->normals, 3 * v * sizeof(float)) ||
-        memcmp(a->uvs, b->uvs, 2 * v * sizeof(float)) ||
+        memcmp(a->normals, b->normals, 3 * v * sizeof(float)) || memcmp(a->uvs, b->uvs, 2 * v * sizeof(float)) ||
         memcmp(a->indices, b->indices, 3 * t * sizeof(uint32_t)) ||
         memcmp(a->tri_material, b->tri_material, t * sizeof(uint32_t)) ||
         memcmp(a->tri_flags, b->tri_flags, t * sizeof(uint32_t)) ||
@@ -136,8 +140,7 @@ static int same_scene(const lvcl_scene *a, const lvcl_scene *b)
         return 0;
     for (size_t i = 0; i < a->texture_count; i++) {
         const lvcl_texture_data *x = &a->textures[i], *y = &b->textures[i];
-        if (x->width != y->width || x->height != y->height ||
-            memcmp(x->rgba, y->rgba, 4u * x->width * x->height))
+        if (x->width != y->width || x->height != y->height || memcmp(x->rgba, y->rgba, 4u * x->width * x->height))
             return 0;
     }
     return 1;
@@ -156,7 +159,7 @@ static int is_zeroed(const lvcl_scene *s)
 static void check_instancing(const lvcl_scene *s)
 {
     int ok = s->triangle_count == 2 && s->mesh_count == 2 && s->instance_count == 6 && s->instances[0].mesh == 0 &&
-             s->meshes[0].triangle_count == 1 && s->meshes[1].triangle_count == 1;
+        s->meshes[0].triangle_count == 1 && s->meshes[1].triangle_count == 1;
     for (size_t i = 1; ok && i < 6; i++) ok = s->instances[i].mesh == 1;
     CHECK("features: a mesh five nodes use is stored once and instanced", ok,
           "%zu triangles, %zu meshes, %zu instances", s->triangle_count, s->mesh_count, s->instance_count);
@@ -198,8 +201,8 @@ static void check_geometry(const lvcl_scene *s)
     CHECK("normals and uvs of the TRS triangle",
           near3(n0, 0, 0, 1) && near(uv1[0], 1) && near(uv1[1], 0) &&
               s->tri_flags[1] == (LV_TRI_HAS_NORMALS | LV_TRI_HAS_UVS) && s->tri_flags[0] == 0,
-          "normal (%g %g %g) uv (%g %g) flags %u %u", n0[0], n0[1], n0[2], uv1[0], uv1[1],
-          s->tri_flags[1], s->tri_flags[0]);
+          "normal (%g %g %g) uv (%g %g) flags %u %u", n0[0], n0[1], n0[2], uv1[0], uv1[1], s->tri_flags[1],
+          s->tri_flags[0]);
 }
 
 static void check_camera_and_lights(const lvcl_scene *s)
@@ -207,64 +210,53 @@ static void check_camera_and_lights(const lvcl_scene *s)
     /* Camera at (0,1,5) rotated 90 degrees about +Y. */
     const lvcl_camera_desc *c = &s->camera;
     CHECK("camera position and directions",
-          c->present && near3(c->position, 0, 1, 5) && near3(c->right, 0, 0, -1) &&
-              near3(c->up, 0, 1, 0) && near3(c->back, 1, 0, 0) && near(c->yfov, 0.8f) &&
-              near(c->aspect, 1.5f),
-          "present %d pos (%g %g %g) right (%g %g %g) back (%g %g %g) yfov %g aspect %g",
-          c->present, c->position[0], c->position[1], c->position[2], c->right[0], c->right[1],
-          c->right[2], c->back[0], c->back[1], c->back[2], c->yfov, c->aspect);
+          c->present && near3(c->position, 0, 1, 5) && near3(c->right, 0, 0, -1) && near3(c->up, 0, 1, 0) &&
+              near3(c->back, 1, 0, 0) && near(c->yfov, 0.8f) && near(c->aspect, 1.5f),
+          "present %d pos (%g %g %g) right (%g %g %g) back (%g %g %g) yfov %g aspect %g", c->present, c->position[0],
+          c->position[1], c->position[2], c->right[0], c->right[1], c->right[2], c->back[0], c->back[1], c->back[2],
+          c->yfov, c->aspect);
 
-    CHECK("two punctual lights (directional skipped)", s->punctual_count == 2, "got %zu",
-          s->punctual_count);
+    CHECK("two punctual lights (directional skipped)", s->punctual_count == 2, "got %zu", s->punctual_count);
     if (s->punctual_count != 2) return;
     const lv_punctual_light *pt = &s->punctuals[0], *sp = &s->punctuals[1];
     CHECK("point light in world space",
-          pt->type == LV_PUNCTUAL_POINT && near3(pt->position, 1, 5, 0) &&
-              near3(pt->intensity, 100, 50, 25),
-          "type %u pos (%g %g %g) intensity (%g %g %g)", pt->type, pt->position[0],
-          pt->position[1], pt->position[2], pt->intensity[0], pt->intensity[1], pt->intensity[2]);
+          pt->type == LV_PUNCTUAL_POINT && near3(pt->position, 1, 5, 0) && near3(pt->intensity, 100, 50, 25),
+          "type %u pos (%g %g %g) intensity (%g %g %g)", pt->type, pt->position[0], pt->position[1], pt->position[2],
+          pt->intensity[0], pt->intensity[1], pt->intensity[2]);
     CHECK("spot light in world space",
-          sp->type == LV_PUNCTUAL_SPOT && near3(sp->position, 1, 0, 2) &&
-              near3(sp->direction, 0, 1, 0) && near3(sp->intensity, 10, 10, 10) &&
-              near(sp->cos_outer, cosf(0.5f)) && near(sp->cos_inner, cosf(0.25f)),
-          "type %u pos (%g %g %g) dir (%g %g %g) cos %g %g", sp->type, sp->position[0],
-          sp->position[1], sp->position[2], sp->direction[0], sp->direction[1],
-          sp->direction[2], sp->cos_outer, sp->cos_inner);
+          sp->type == LV_PUNCTUAL_SPOT && near3(sp->position, 1, 0, 2) && near3(sp->direction, 0, 1, 0) &&
+              near3(sp->intensity, 10, 10, 10) && near(sp->cos_outer, cosf(0.5f)) && near(sp->cos_inner, cosf(0.25f)),
+          "type %u pos (%g %g %g) dir (%g %g %g) cos %g %g", sp->type, sp->position[0], sp->position[1],
+          sp->position[2], sp->direction[0], sp->direction[1], sp->direction[2], sp->cos_outer, sp->cos_inner);
 }
 
 static void check_materials(const lvcl_scene *s)
 {
-    CHECK("three materials (two + default)", s->material_count == 3, "got %zu",
-          s->material_count);
+    CHECK("three materials (two + default)", s->material_count == 3, "got %zu", s->material_count);
     if (s->material_count != 3 || s->triangle_count != 6) return;
     const lvcl_material_desc *g = &s->materials[0], *p = &s->materials[1], *d = &s->materials[2];
     CHECK("material extensions parsed",
           near(g->base_color[0], 0.9f) && near(g->base_color[2], 0.7f) && g->metallic == 0 &&
-              near(g->roughness, 0.1f) && near3(g->emissive, 4, 2, 0) &&
-              near(g->transmission, 0.75f) && near(g->ior, 1.33f) && near(g->specular, 0.5f) &&
-              g->has_volume == 1 && near3(g->attenuation_color, 0.5f, 0.6f, 0.7f) &&
-              near(g->attenuation_distance, 2) && g->double_sided == 1 &&
-              g->base_color_texture == 0,
-          "emissive (%g %g %g) transmission %g ior %g specular %g volume %d dist %g tex %d",
-          g->emissive[0], g->emissive[1], g->emissive[2], g->transmission, g->ior, g->specular,
-          g->has_volume, g->attenuation_distance, g->base_color_texture);
+              near(g->roughness, 0.1f) && near3(g->emissive, 4, 2, 0) && near(g->transmission, 0.75f) &&
+              near(g->ior, 1.33f) && near(g->specular, 0.5f) && g->has_volume == 1 &&
+              near3(g->attenuation_color, 0.5f, 0.6f, 0.7f) && near(g->attenuation_distance, 2) &&
+              g->double_sided == 1 && g->base_color_texture == 0,
+          "emissive (%g %g %g) transmission %g ior %g specular %g volume %d dist %g tex %d", g->emissive[0],
+          g->emissive[1], g->emissive[2], g->transmission, g->ior, g->specular, g->has_volume, g->attenuation_distance,
+          g->base_color_texture);
     CHECK("material defaults",
           p->transmission == 0 && near(p->ior, 1.5f) && p->specular == 1 && p->has_volume == 0 &&
-              isinf(p->attenuation_distance) && near3(p->attenuation_color, 1, 1, 1) &&
-              p->base_color_texture == -1 && p->double_sided == 0,
-          "ior %g specular %g dist %g tex %d", p->ior, p->specular, p->attenuation_distance,
-          p->base_color_texture);
+              isinf(p->attenuation_distance) && near3(p->attenuation_color, 1, 1, 1) && p->base_color_texture == -1 &&
+              p->double_sided == 0,
+          "ior %g specular %g dist %g tex %d", p->ior, p->specular, p->attenuation_distance, p->base_color_texture);
     CHECK("default material for primitives without one",
-          s->tri_material[0] == 2 && s->tri_material[1] == 0 && d->base_color[0] == 1 &&
-              d->base_color[3] == 1 && d->metallic == 1 && d->roughness == 1 &&
-              d->base_color_texture == -1,
-          "tri 0 material %u, metallic %g roughness %g", s->tri_material[0], d->metallic,
-          d->roughness);
+          s->tri_material[0] == 2 && s->tri_material[1] == 0 && d->base_color[0] == 1 && d->base_color[3] == 1 &&
+              d->metallic == 1 && d->roughness == 1 && d->base_color_texture == -1,
+          "tri 0 material %u, metallic %g roughness %g", s->tri_material[0], d->metallic, d->roughness);
 
-    static const uint8_t expect[16] = {255, 0, 0, 255, 0, 255, 0, 255,
-                                       0, 0, 255, 255, 255, 255, 255, 255};
+    static const uint8_t expect[16] = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255};
     int ok = s->texture_count == 1 && s->textures[0].width == 2 && s->textures[0].height == 2 &&
-             memcmp(s->textures[0].rgba, expect, 16) == 0;
+        memcmp(s->textures[0].rgba, expect, 16) == 0;
     CHECK("2x2 PNG decoded to RGBA8", ok, "texture_count %zu", s->texture_count);
 }
 
@@ -287,8 +279,7 @@ static void test_features(void)
     size_t size = 0;
     unsigned char *bytes = read_all(data_path("features.gltf"), &size);
     e = lvcl_scene_load_gltf_memory(bytes, size, data_dir, &mem, &st);
-    CHECK("load from memory", e == LVCL_OK && same_scene(&gltf, &mem), "%s",
-          e ? st.message : "scenes differ");
+    CHECK("load from memory", e == LVCL_OK && same_scene(&gltf, &mem), "%s", e ? st.message : "scenes differ");
     if (e == LVCL_OK) lvcl_scene_free(&mem);
     free(bytes);
 
@@ -337,8 +328,7 @@ static void test_sparse_strided(void)
     CHECK("normalized ubyte UVs and interleaved normals",
           near(uv1[0], 1) && near(uv1[1], 0) && near(uv2[1], 1) && near3(n2, 0, 0, 1) &&
               s.tri_flags[0] == (LV_TRI_HAS_NORMALS | LV_TRI_HAS_UVS),
-          "uv1 (%g %g) uv2 (%g %g) n2 (%g %g %g)", uv1[0], uv1[1], uv2[0], uv2[1], n2[0], n2[1],
-          n2[2]);
+          "uv1 (%g %g) uv2 (%g %g) n2 (%g %g %g)", uv1[0], uv1[1], uv2[0], uv2[1], n2[0], n2[1], n2[2]);
     lvcl_scene_free(&s);
 }
 
@@ -352,8 +342,9 @@ static void expect_error(const char *file, lvcl_error want)
     memset(&s, 0xab, sizeof s); /* the loader must zero it */
     lvcl_status st = {0};
     lvcl_error e = lvcl_scene_load_gltf_file(data_path(file), &s, &st);
-    CHECK(name, e == want && st.code == want && st.message[0] && strstr(st.message, file) &&
-                    !strchr(st.message, '\n') && is_zeroed(&s),
+    CHECK(name,
+          e == want && st.code == want && st.message[0] && strstr(st.message, file) && !strchr(st.message, '\n') &&
+              is_zeroed(&s),
           "got %d (want %d): \"%s\"", e, want, st.message);
     if (e == want) printf("  message: %s\n", st.message);
     if (e == LVCL_OK) lvcl_scene_free(&s);
@@ -432,8 +423,10 @@ static void test_corruptions(void)
 
     char *log = capture_end(&cap);
     CHECK("truncated GLBs all fail", truncated_ok == 0, "%d truncations loaded", truncated_ok);
-    CHECK("corrupted inputs fail cleanly", bad == 0, "%d of %d loads failed without a message "
-          "or left data behind", bad, loads);
+    CHECK("corrupted inputs fail cleanly", bad == 0,
+          "%d of %d loads failed without a message "
+          "or left data behind",
+          bad, loads);
     CHECK("corrupted inputs: no sanitizer reports", !sanitizer_report(log), "%s", log);
     printf("  %d corrupted loads, %d still loaded\n", loads, ok);
     free(log);

@@ -12,16 +12,18 @@ static lvcl_program prog;
 
 typedef LVCL_KERNEL_ARGS(T_DIRECTION_HISTOGRAM_ARGS) t_direction_histogram_args;
 typedef LVCL_KERNEL_ARGS(T_DIRECTION_ROUNDTRIP_ARGS) t_direction_roundtrip_args;
-static LVCL_DEFINE_BINDER(t_direction_histogram, T_DIRECTION_HISTOGRAM_ARGS, t_direction_histogram_args)
-static LVCL_DEFINE_BINDER(t_direction_roundtrip, T_DIRECTION_ROUNDTRIP_ARGS, t_direction_roundtrip_args)
+static LVCL_DEFINE_BINDER(t_direction_histogram, T_DIRECTION_HISTOGRAM_ARGS,
+                          t_direction_histogram_args) static LVCL_DEFINE_BINDER(t_direction_roundtrip,
+                                                                                T_DIRECTION_ROUNDTRIP_ARGS,
+                                                                                t_direction_roundtrip_args)
 
-static void test_direction_map(unsigned n)
+    static void test_direction_map(unsigned n)
 {
     unsigned bins = 2 * n * n, per_item = 4096, items = 1024;
     unsigned *counts = calloc(bins, sizeof *counts);
     lvcl_status st = {0};
-    t_direction_histogram_args h = {.n = n, .per_item = per_item,
-                                    .counts = harness_buffer(&dev, counts, bins * sizeof(unsigned))};
+    t_direction_histogram_args h = {
+        .n = n, .per_item = per_item, .counts = harness_buffer(&dev, counts, bins * sizeof(unsigned))};
     cl_kernel k = harness_kernel(&prog, "t_direction_histogram");
     harness_ok(lvcl_bind_t_direction_histogram(k, &h, &st), &st, "setting arguments");
     harness_run(&dev, k, items);
@@ -36,8 +38,8 @@ static void test_direction_map(unsigned n)
     CHECK(name, fabs(chi2 - dof) < 5.0 * sqrt(2.0 * dof), "chi2 %.1f for %.0f degrees of freedom", chi2, dof);
 
     unsigned misses = 0, per_bin = 256;
-    t_direction_roundtrip_args t = {.n = n, .per_item = per_bin,
-                                    .misses = harness_buffer(&dev, &misses, sizeof misses)};
+    t_direction_roundtrip_args t = {
+        .n = n, .per_item = per_bin, .misses = harness_buffer(&dev, &misses, sizeof misses)};
     cl_kernel r = harness_kernel(&prog, "t_direction_roundtrip");
     harness_ok(lvcl_bind_t_direction_roundtrip(r, &t, &st), &st, "setting arguments");
     harness_run(&dev, r, bins);

@@ -17,7 +17,7 @@ typedef struct {
     const lvcl_light_volume *volume; /* device 0's */
     int64_t *tallies;
     uint32_t *masks;
-    float *lit;                      /* per slot, as lv_lit_volumes stored it */
+    float *lit; /* per slot, as lv_lit_volumes stored it */
 } traced_volume;
 
 /* Opens a session on `scene` (consumed) and builds a light volume in it as
@@ -37,7 +37,8 @@ static int trace_sized(lvcl_scene *scene, const char *device, unsigned seed, con
     memset(tv, 0, sizeof *tv);
     if (lvcl_session_open(scene, &cfg, &tv->session, &st) || lvcl_session_trace_volume(tv->session, vs, &st) ||
         !(tv->volume = lvcl_session_volume(tv->session, 0)) ||
-        lvcl_volume_read(tv->volume, &tv->tallies, &tv->masks, &st) || lvcl_volume_read_lit(tv->volume, &tv->lit, &st)) {
+        lvcl_volume_read(tv->volume, &tv->tallies, &tv->masks, &st) ||
+        lvcl_volume_read_lit(tv->volume, &tv->lit, &st)) {
         CHECK("light volume trace", 0, "%s", st.message);
         return 0;
     }
@@ -71,11 +72,11 @@ static uint32_t slot_of(const traced_volume *tv, int x, int y, int z)
 typedef LVCL_KERNEL_ARGS(T_BIN_RADIANCE_ARGS) t_bin_radiance_args;
 static LVCL_DEFINE_BINDER(t_bin_radiance, T_BIN_RADIANCE_ARGS, t_bin_radiance_args)
 
-/* The radiance of every bin of `slot` (red channel) as the kernels compute
+    /* The radiance of every bin of `slot` (red channel) as the kernels compute
  * it from the volume (t_bin_radiance in tests/kernels/unit_tests.cl), on
  * the session's device; malloc'ed. A failure ends the test program with
  * a FAIL line. */
-static double *slot_radiance(const traced_volume *tv, uint32_t slot)
+    static double *slot_radiance(const traced_volume *tv, uint32_t slot)
 {
     const lvcl_device *dev = lvcl_session_device(tv->session, 0);
     uint32_t bins = lvcl_volume_grid(tv->volume)->bins;
@@ -94,8 +95,9 @@ static double *slot_radiance(const traced_volume *tv, uint32_t slot)
     if (!e) e = lvcl_bind_t_bin_radiance(k, &args, &st);
     if (!e) e = lvcl_kernel_enqueue(dev, k, bins, "t_bin_radiance", &st);
     if (!e)
-        e = lvcl_cl_check(clEnqueueReadBuffer(dev->queue, out, CL_TRUE, 0, bins * 4 * sizeof(float), rgbw, 0, NULL, NULL),
-                          "reading the radiance", &st);
+        e = lvcl_cl_check(
+            clEnqueueReadBuffer(dev->queue, out, CL_TRUE, 0, bins * 4 * sizeof(float), rgbw, 0, NULL, NULL),
+            "reading the radiance", &st);
     for (uint32_t b = 0; !e && b < bins; b++) radiance[b] = rgbw[4 * b];
     if (k) clReleaseKernel(k);
     if (out) clReleaseMemObject(out);
@@ -146,8 +148,8 @@ static void test_emitting_plane(void)
     /* Two triangles of the plane, counter-clockwise seen from above, and a
      * zero-area triangle 3 m up that only stretches the bounds (the BVH
      * leaves it out) so that the grid has cells above the plane. */
-    const float tris[] = {-half, -half, 0, half, -half, 0, half, half, 0,   -half, -half, 0, half, half, 0,
-                          -half, half,  0, 0,    0,     3, 0,    0,    3, 0,     0,     3};
+    const float tris[] = {-half, -half, 0,    half, -half, 0, half, half, 0, -half, -half, 0, half, half,
+                          0,     -half, half, 0,    0,     0, 3,    0,    0, 3,     0,     0, 3};
     lvcl_scene scene;
     black_emitter_scene(tris, 3, le, &scene);
     lvcl_volume_settings vs = {.cell_size = 1.0, .dirs = 6, .particles = 8000000, .store_emitted = 1};
@@ -184,8 +186,8 @@ static void test_emitting_plane(void)
     }
     free(radiance);
     mean_up /= up_bins;
-    printf("  emitting plane: mean radiance of %d upward bins %.4f (Le %.1f), worst bin %.1f%% = %.1f sigma\n",
-           up_bins, mean_up, le, 100 * worst, worst_sigmas);
+    printf("  emitting plane: mean radiance of %d upward bins %.4f (Le %.1f), worst bin %.1f%% = %.1f sigma\n", up_bins,
+           mean_up, le, 100 * worst, worst_sigmas);
     CHECK("emitting plane: upward bins average Le within 1%", fabs(mean_up - le) < 0.01 * le, "mean %.4f", mean_up);
     CHECK("emitting plane: every upward bin is Le within 5 sigma", worst_sigmas < 5.0, "worst %.1f sigma",
           worst_sigmas);
@@ -202,9 +204,9 @@ static void test_cut_cell(void)
     const float le = 2.0f, half = 3.0f;
     /* The plane at z = 0, and zero-area triangles at z = -2.5 and z = 3 that
      * stretch the bounds so that z = 0 falls mid-cell (cells of 1 m). */
-    const float tris[] = {-half, -half, 0, half, -half, 0, half, half, 0,  -half, -half, 0, half, half, 0, -half,
-                          half,  0,     0, 0,    3,    0,    0,    3,  0,  0,     3,     0,    0,    -2.5f, 0, 0,
-                          -2.5f, 0,     0, -2.5f};
+    const float tris[] = {-half, -half, 0, half,  -half, 0,     half, half, 0,     -half, -half, 0,
+                          half,  half,  0, -half, half,  0,     0,    0,    3,     0,     0,     3,
+                          0,     0,     3, 0,     0,     -2.5f, 0,    0,    -2.5f, 0,     0,     -2.5f};
     lvcl_scene scene;
     black_emitter_scene(tris, 4, le, &scene);
     lvcl_volume_settings vs = {.cell_size = 1.0, .dirs = 6, .subcells = 4, .particles = 4000000, .store_emitted = 1};
@@ -231,8 +233,8 @@ static void test_cut_cell(void)
     mean_up /= up_bins;
     printf("  cut cell: lit fraction %.4f, mean upward radiance %.4f (Le %.1f)\n", lit, mean_up, le);
     CHECK("cut cell: subcells give a lit fraction of 1/2", fabs(lit - 0.5) < 1e-9, "lit fraction %.4f", lit);
-    CHECK("cut cell: its upward bins give the plane's radiance within 2%", fabs(mean_up - le) < 0.02 * le,
-          "mean %.4f", mean_up);
+    CHECK("cut cell: its upward bins give the plane's radiance within 2%", fabs(mean_up - le) < 0.02 * le, "mean %.4f",
+          mean_up);
     release(&tv);
 }
 
@@ -246,10 +248,11 @@ static void test_visibility(void)
 {
     const float z = 0.2f, f = 0.3f; /* floor height; the cell spans [z - 0.7, z + 0.3] */
     const float tris[] = {
-        -3, -3, z, 3, -3, z, 3, 3, z, -3, -3, z, 3, 3, z, -3, 3, z, /* floor, facing up */
-        -0.5f, -0.5f, z + 2, 0.5f, 0.5f, z + 2, 0.5f, -0.5f, z + 2, /* lamp, facing down */
-        -0.5f, -0.5f, z + 2, -0.5f, 0.5f, z + 2, 0.5f, 0.5f, z + 2,
-        0, 0, z - 1.7f, 0, 0, z - 1.7f, 0, 0, z - 1.7f, /* stretches the bounds down */
+        -3,    -3,    z,        3,     -3,   z,        3,    3,     z,
+        -3,    -3,    z,        3,     3,    z,        -3,   3,     z,     /* floor, facing up */
+        -0.5f, -0.5f, z + 2,    0.5f,  0.5f, z + 2,    0.5f, -0.5f, z + 2, /* lamp, facing down */
+        -0.5f, -0.5f, z + 2,    -0.5f, 0.5f, z + 2,    0.5f, 0.5f,  z + 2,
+        0,     0,     z - 1.7f, 0,     0,    z - 1.7f, 0,    0,     z - 1.7f, /* stretches the bounds down */
     };
     lvcl_scene scene;
     harness_triangle_scene(tris, 5, &scene);
@@ -337,9 +340,10 @@ static void test_determinism(void)
         traced_volume again;
         if (lvcl_scene_load("cornell", &scene, &st) || !trace(&scene, device, 9, &vs, &again)) break;
         int same = lvcl_volume_stats_of(first.volume).tally_bytes == lvcl_volume_stats_of(again.volume).tally_bytes &&
-                   memcmp(first.tallies, again.tallies, lvcl_volume_stats_of(first.volume).tally_bytes) == 0;
+            memcmp(first.tallies, again.tallies, lvcl_volume_stats_of(first.volume).tally_bytes) == 0;
         /* The subcell records: masks, ray counts and lit points. */
-        size_t record_bytes = ((size_t)lvcl_volume_grid(first.volume)->slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(uint32_t);
+        size_t record_bytes =
+            ((size_t)lvcl_volume_grid(first.volume)->slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(uint32_t);
         int same_records = same && memcmp(first.masks, again.masks, record_bytes) == 0;
         CHECK(run == 0 ? "light volume: same seed, same tallies and subcell records bit for bit"
                        : "light volume: device 1 gives device 0's tallies and subcell records bit for bit",
@@ -354,9 +358,10 @@ static void test_determinism(void)
     uint64_t small = 2 * lvcl_volume_stats_of(first.volume).device_bytes;
     if (!lvcl_scene_load("cornell", &scene, &st) && trace_sized(&scene, "0", 9, &vs, small, 0, &split)) {
         int same = lvcl_volume_stats_of(first.volume).tally_bytes == lvcl_volume_stats_of(split.volume).tally_bytes &&
-                   memcmp(first.tallies, split.tallies, lvcl_volume_stats_of(first.volume).tally_bytes) == 0;
-        CHECK("light volume: tallies split over buffers are the same bit for bit", same && lvcl_volume_stats_of(split.volume).tally_buffers > 1,
-              "%d buffers, tallies %s", lvcl_volume_stats_of(split.volume).tally_buffers, same ? "equal" : "differ");
+            memcmp(first.tallies, split.tallies, lvcl_volume_stats_of(first.volume).tally_bytes) == 0;
+        CHECK("light volume: tallies split over buffers are the same bit for bit",
+              same && lvcl_volume_stats_of(split.volume).tally_buffers > 1, "%d buffers, tallies %s",
+              lvcl_volume_stats_of(split.volume).tally_buffers, same ? "equal" : "differ");
         release(&split);
     }
     /* The tallies of a device without 64-bit atomics (two 32-bit adds with a
@@ -369,10 +374,12 @@ static void test_determinism(void)
             trace_sized(&scene, "0", 9, &coarse, 0, LVCL_BUILD_EMULATED_INT64_ATOMICS, &emulated)) {
             size_t n = lvcl_volume_stats_of(native.volume).tally_bytes / sizeof(int64_t), wide = 0;
             for (size_t i = 0; i < n; i++) wide += native.tallies[i] >> 32 != 0;
-            int same = lvcl_volume_stats_of(emulated.volume).tally_bytes == lvcl_volume_stats_of(native.volume).tally_bytes &&
-                       memcmp(native.tallies, emulated.tallies, lvcl_volume_stats_of(native.volume).tally_bytes) == 0;
+            int same =
+                lvcl_volume_stats_of(emulated.volume).tally_bytes == lvcl_volume_stats_of(native.volume).tally_bytes &&
+                memcmp(native.tallies, emulated.tallies, lvcl_volume_stats_of(native.volume).tally_bytes) == 0;
             CHECK("light volume: 64-bit tallies from 32-bit atomics are the same bit for bit",
-                  same && wide > 0 && strstr(lvcl_session_program(emulated.session, 0)->options, "-DLV_EMULATE_INT64_ATOMICS"),
+                  same && wide > 0 &&
+                      strstr(lvcl_session_program(emulated.session, 0)->options, "-DLV_EMULATE_INT64_ATOMICS"),
                   "the tallies %s; %zu of %zu past 2^32; kernel options %s", same ? "equal" : "differ", wide, n,
                   lvcl_session_program(emulated.session, 0)->options);
             release(&emulated);
@@ -391,7 +398,8 @@ static void tilt_normals(lvcl_scene *s)
         for (int c = 0; c < 3; c++) p[c] = &s->positions[3 * s->indices[3 * t + c]];
         double e1[3], e2[3], n[3], a[3], len = 0, dot = 0, alen = 0;
         for (int k = 0; k < 3; k++) e1[k] = p[1][k] - p[0][k], e2[k] = p[2][k] - p[0][k];
-        n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2],
+        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
         for (int k = 0; k < 3; k++) len += n[k] * n[k];
         for (int k = 0; k < 3; k++) n[k] /= sqrt(len);
         /* A direction in the triangle's plane to turn towards. */

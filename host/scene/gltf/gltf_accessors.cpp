@@ -1,7 +1,8 @@
 /* glTF import: warnings and the checked reading of accessors and buffer views. */
 #include "gltf_importer.h"
 
-namespace lvcl_gltf {
+namespace lvcl_gltf
+{
 
 void Importer::warn_once(const std::string &key, const char *fmt, ...)
 {
@@ -19,17 +20,14 @@ void Importer::warn_once(const std::string &key, const char *fmt, ...)
 std::pair<const uint8_t *, size_t> Importer::view_bytes(int view, const char *what)
 {
     if (view < 0 || (size_t)view >= m.bufferViews.size())
-        fail(LVCL_ERR_PARSE, "%s: bufferView %d out of range (file has %zu)", what, view,
-             m.bufferViews.size());
+        fail(LVCL_ERR_PARSE, "%s: bufferView %d out of range (file has %zu)", what, view, m.bufferViews.size());
     const tinygltf::BufferView &bv = m.bufferViews[(size_t)view];
     if (bv.buffer < 0 || (size_t)bv.buffer >= m.buffers.size())
-        fail(LVCL_ERR_PARSE, "bufferView %d: buffer %d out of range (file has %zu)", view,
-             bv.buffer, m.buffers.size());
+        fail(LVCL_ERR_PARSE, "bufferView %d: buffer %d out of range (file has %zu)", view, bv.buffer, m.buffers.size());
     const std::vector<unsigned char> &data = m.buffers[(size_t)bv.buffer].data;
     size_t end;
     if (add_overflows(bv.byteOffset, bv.byteLength, &end) || end > data.size())
-        fail(LVCL_ERR_PARSE,
-             "bufferView %d (offset %zu, length %zu) extends past the end of buffer %d (%zu bytes)",
+        fail(LVCL_ERR_PARSE, "bufferView %d (offset %zu, length %zu) extends past the end of buffer %d (%zu bytes)",
              view, bv.byteOffset, bv.byteLength, bv.buffer, data.size());
     return {data.data() + bv.byteOffset, bv.byteLength};
 }
@@ -37,8 +35,7 @@ std::pair<const uint8_t *, size_t> Importer::view_bytes(int view, const char *wh
 AccessorSpan Importer::span(int accessor, const char *what)
 {
     if (accessor < 0 || (size_t)accessor >= m.accessors.size())
-        fail(LVCL_ERR_PARSE, "%s: accessor %d out of range (file has %zu)", what, accessor,
-             m.accessors.size());
+        fail(LVCL_ERR_PARSE, "%s: accessor %d out of range (file has %zu)", what, accessor, m.accessors.size());
     const tinygltf::Accessor &a = m.accessors[(size_t)accessor];
     AccessorSpan s;
     s.comp_type = a.componentType;
@@ -47,19 +44,17 @@ AccessorSpan Importer::span(int accessor, const char *what)
     s.normalized = a.normalized;
     size_t csize = component_size(a.componentType);
     if (csize == 0 || s.comps == 0)
-        fail(LVCL_ERR_PARSE, "accessor %d: invalid componentType %d or type", accessor,
-             a.componentType);
+        fail(LVCL_ERR_PARSE, "accessor %d: invalid componentType %d or type", accessor, a.componentType);
     s.elem_size = csize * (size_t)s.comps;
-    if (a.count > (size_t)UINT32_MAX)
-        fail(LVCL_ERR_PARSE, "accessor %d: count %zu is too large", accessor, a.count);
+    if (a.count > (size_t)UINT32_MAX) fail(LVCL_ERR_PARSE, "accessor %d: count %zu is too large", accessor, a.count);
     if (a.bufferView == -1) return s; /* glTF: no bufferView means zeros (or sparse only) */
 
     auto bytes = view_bytes(a.bufferView, what);
     const tinygltf::BufferView &bv = m.bufferViews[(size_t)a.bufferView];
     s.stride = bv.byteStride ? bv.byteStride : s.elem_size;
     if (s.stride < s.elem_size)
-        fail(LVCL_ERR_PARSE, "bufferView %d: byteStride %zu is smaller than accessor %d's element",
-             a.bufferView, bv.byteStride, accessor);
+        fail(LVCL_ERR_PARSE, "bufferView %d: byteStride %zu is smaller than accessor %d's element", a.bufferView,
+             bv.byteStride, accessor);
     size_t need = 0;
     if (a.count > 0 &&
         (mul_overflows(a.count - 1, s.stride, &need) || add_overflows(need, s.elem_size, &need) ||
@@ -88,16 +83,13 @@ void Importer::apply_sparse(int accessor, const AccessorSpan &s, std::vector<dou
     auto vb = view_bytes(sp.values.bufferView, "sparse values");
     if ((size_t)sp.indices.byteOffset + n * isize > ib.second ||
         (size_t)sp.values.byteOffset + n * s.elem_size > vb.second)
-        fail(LVCL_ERR_PARSE, "accessor %d: sparse data reads past the end of its bufferView",
-             accessor);
+        fail(LVCL_ERR_PARSE, "accessor %d: sparse data reads past the end of its bufferView", accessor);
 
     size_t csize = component_size(s.comp_type);
     for (size_t i = 0; i < n; i++) {
-        double target = read_component(ib.first + sp.indices.byteOffset + i * isize,
-                                       sp.indices.componentType, false);
+        double target = read_component(ib.first + sp.indices.byteOffset + i * isize, sp.indices.componentType, false);
         if (target >= (double)s.count)
-            fail(LVCL_ERR_PARSE, "accessor %d: sparse index %.0f out of range (count %zu)",
-                 accessor, target, s.count);
+            fail(LVCL_ERR_PARSE, "accessor %d: sparse index %.0f out of range (count %zu)", accessor, target, s.count);
         const uint8_t *src = vb.first + sp.values.byteOffset + i * s.elem_size;
         for (int c = 0; c < s.comps; c++)
             out[(size_t)target * (size_t)s.comps + (size_t)c] =
@@ -115,8 +107,8 @@ std::vector<double> Importer::read_accessor(int accessor, const char *what, Acce
     if (s.base)
         for (size_t i = 0; i < s.count; i++)
             for (int c = 0; c < s.comps; c++)
-                out[i * (size_t)s.comps + (size_t)c] = read_component(
-                    s.base + i * s.stride + (size_t)c * csize, s.comp_type, s.normalized);
+                out[i * (size_t)s.comps + (size_t)c] =
+                    read_component(s.base + i * s.stride + (size_t)c * csize, s.comp_type, s.normalized);
     if (m.accessors[(size_t)accessor].sparse.isSparse) apply_sparse(accessor, s, out);
     return out;
 }

@@ -1,7 +1,8 @@
 /* glTF import: triangles of primitives, meshes and their instances. */
 #include "gltf_importer.h"
 
-namespace lvcl_gltf {
+namespace lvcl_gltf
+{
 
 /* ---- geometry ---- */
 
@@ -26,28 +27,25 @@ VertexData Importer::read_vertices(const tinygltf::Primitive &p, const char *wha
         if (ns.comps != 3 || ns.comp_type != TINYGLTF_COMPONENT_TYPE_FLOAT || ns.normalized)
             fail(LVCL_ERR_PARSE, "%s: NORMAL accessor %d must be VEC3 float", what, nrm_acc);
         if (ns.count != d.count)
-            fail(LVCL_ERR_PARSE, "%s: NORMAL count %zu differs from POSITION count %zu", what,
-                 ns.count, d.count);
+            fail(LVCL_ERR_PARSE, "%s: NORMAL count %zu differs from POSITION count %zu", what, ns.count, d.count);
     }
     if (uv_acc != -2) {
         d.uv = read_accessor(uv_acc, what, &us);
         bool float_ok = us.comp_type == TINYGLTF_COMPONENT_TYPE_FLOAT && !us.normalized;
-        bool unorm_ok = us.normalized && (us.comp_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                                          us.comp_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+        bool unorm_ok = us.normalized &&
+            (us.comp_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+             us.comp_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
         if (us.comps != 2 || !(float_ok || unorm_ok))
-            fail(LVCL_ERR_PARSE,
-                 "%s: TEXCOORD_0 accessor %d must be VEC2 float or normalized unsigned byte/short",
+            fail(LVCL_ERR_PARSE, "%s: TEXCOORD_0 accessor %d must be VEC2 float or normalized unsigned byte/short",
                  what, uv_acc);
         if (us.count != d.count)
-            fail(LVCL_ERR_PARSE, "%s: TEXCOORD_0 count %zu differs from POSITION count %zu", what,
-                 us.count, d.count);
+            fail(LVCL_ERR_PARSE, "%s: TEXCOORD_0 count %zu differs from POSITION count %zu", what, us.count, d.count);
     }
     return d;
 }
 
 /* Triangle corners as vertex indices local to the primitive, each checked. */
-std::vector<uint32_t> Importer::read_corners(const tinygltf::Primitive &p, size_t nverts,
-                                             const char *what)
+std::vector<uint32_t> Importer::read_corners(const tinygltf::Primitive &p, size_t nverts, const char *what)
 {
     std::vector<uint32_t> corners;
     if (p.indices == -1) { /* non-indexed: consecutive vertices */
@@ -57,19 +55,16 @@ std::vector<uint32_t> Importer::read_corners(const tinygltf::Primitive &p, size_
         AccessorSpan is;
         std::vector<double> idx = read_accessor(p.indices, what, &is);
         if (is.comps != 1 || !is_unsigned_int_type(is.comp_type))
-            fail(LVCL_ERR_PARSE, "%s: indices accessor %d must be scalar unsigned integers", what,
-                 p.indices);
+            fail(LVCL_ERR_PARSE, "%s: indices accessor %d must be scalar unsigned integers", what, p.indices);
         corners.reserve(idx.size());
         for (double v : idx) {
             if (v >= (double)nverts)
-                fail(LVCL_ERR_PARSE, "%s: index value %.0f out of range (vertex count %zu)", what,
-                     v, nverts);
+                fail(LVCL_ERR_PARSE, "%s: index value %.0f out of range (vertex count %zu)", what, v, nverts);
             corners.push_back((uint32_t)v);
         }
     }
     if (corners.size() % 3 != 0)
-        warn_once("partial", "%s: index count %zu is not a multiple of 3 (extra ignored)", what,
-                  corners.size());
+        warn_once("partial", "%s: index count %zu is not a multiple of 3 (extra ignored)", what, corners.size());
     return corners;
 }
 
@@ -115,14 +110,13 @@ void Importer::add_primitive(int mesh, int prim, const glm::dmat4 &world)
     snprintf(what, sizeof what, "mesh %d primitive %d", mesh, prim);
 
     if (p.mode != TINYGLTF_MODE_TRIANGLES) {
-        warn_once("mode:" + std::to_string(p.mode),
-                  "primitive mode %d is not supported, only triangles (skipped)", p.mode);
+        warn_once("mode:" + std::to_string(p.mode), "primitive mode %d is not supported, only triangles (skipped)",
+                  p.mode);
         return;
     }
     if (!p.targets.empty()) warn_once("morph", "morph targets are not supported (ignored)");
     if (find_ext(p.extensions, "KHR_draco_mesh_compression"))
-        warn_once("ext:KHR_draco_mesh_compression",
-                  "extension KHR_draco_mesh_compression is not supported (ignored)");
+        warn_once("ext:KHR_draco_mesh_compression", "extension KHR_draco_mesh_compression is not supported (ignored)");
 
     uint32_t material = (uint32_t)material_index(mesh, prim, p.material);
     VertexData d = read_vertices(p, what);
@@ -154,8 +148,7 @@ void Importer::add_primitive(int mesh, int prim, const glm::dmat4 &world)
     for (size_t v = 0; v < d.count; v++) {
         if (remap[v] == UINT32_MAX) continue;
         size_t id = positions.size() / 3;
-        if (id >= (size_t)UINT32_MAX)
-            fail(LVCL_ERR_UNSUPPORTED, "scene has more than 2^32 - 1 vertices");
+        if (id >= (size_t)UINT32_MAX) fail(LVCL_ERR_UNSUPPORTED, "scene has more than 2^32 - 1 vertices");
         remap[v] = (uint32_t)id;
         positions.insert(positions.end(), &w.pos[3 * v], &w.pos[3 * v] + 3);
         for (size_t k = 0; k < 3; k++) normals.push_back(d.nrm.empty() ? 0.0f : w.nrm[3 * v + k]);
@@ -168,8 +161,7 @@ void Importer::add_mesh(int node, const glm::dmat4 &world)
 {
     int mesh = m.nodes[(size_t)node].mesh;
     if (mesh < 0 || (size_t)mesh >= m.meshes.size())
-        fail(LVCL_ERR_PARSE, "node %d: mesh %d out of range (file has %zu)", node, mesh,
-             m.meshes.size());
+        fail(LVCL_ERR_PARSE, "node %d: mesh %d out of range (file has %zu)", node, mesh, m.meshes.size());
     if (mesh_uses[(size_t)mesh] > 1) {
         double det = glm::determinant(glm::dmat3(world));
         bool finite = std::isfinite(det);
@@ -180,8 +172,7 @@ void Importer::add_mesh(int node, const glm::dmat4 &world)
         placements.push_back({mesh, world});
         return;
     }
-    for (size_t p = 0; p < m.meshes[(size_t)mesh].primitives.size(); p++)
-        add_primitive(mesh, (int)p, world);
+    for (size_t p = 0; p < m.meshes[(size_t)mesh].primitives.size(); p++) add_primitive(mesh, (int)p, world);
 }
 
 void Importer::count_mesh_uses()
@@ -219,6 +210,5 @@ void Importer::build_instances()
         instances.push_back(in);
     }
 }
-
 
 } // namespace lvcl_gltf

@@ -14,26 +14,25 @@
 #include <string>
 #include <vector>
 
-namespace {
+namespace
+{
 
 using namespace lvcl_gltf;
 
 /* tinygltf errors about files it could not read are I/O errors, not parse errors. */
 lvcl_error classify_tinygltf_error(const std::string &err)
 {
-    if (err.find("File not found") != std::string::npos ||
-        err.find("File open error") != std::string::npos ||
+    if (err.find("File not found") != std::string::npos || err.find("File open error") != std::string::npos ||
         err.find("File read error") != std::string::npos)
         return LVCL_ERR_IO;
     return LVCL_ERR_PARSE;
 }
 
-void parse_model(const char *source, const unsigned char *data, size_t size,
-                 const std::string &base_dir, tinygltf::Model *model)
+void parse_model(const char *source, const unsigned char *data, size_t size, const std::string &base_dir,
+                 tinygltf::Model *model)
 {
     if (size == 0) fail(LVCL_ERR_PARSE, "empty input");
-    if (size > std::numeric_limits<unsigned int>::max())
-        fail(LVCL_ERR_UNSUPPORTED, "file is larger than 4 GiB");
+    if (size > std::numeric_limits<unsigned int>::max()) fail(LVCL_ERR_UNSUPPORTED, "file is larger than 4 GiB");
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(load_image_hook, nullptr);
     std::string err, warn;
@@ -42,12 +41,11 @@ void parse_model(const char *source, const unsigned char *data, size_t size,
         /* Report a short file plainly before tinygltf looks at chunks. */
         uint32_t length = 0;
         if (size >= 12) memcpy(&length, data + 8, 4);
-        if (size < 20 || length > size)
-            fail(LVCL_ERR_PARSE, "truncated GLB (%zu bytes, header says %u)", size, length);
+        if (size < 20 || length > size) fail(LVCL_ERR_PARSE, "truncated GLB (%zu bytes, header says %u)", size, length);
         ok = loader.LoadBinaryFromMemory(model, &err, &warn, data, (unsigned int)size, base_dir);
     } else {
-        ok = loader.LoadASCIIFromString(model, &err, &warn, reinterpret_cast<const char *>(data),
-                                        (unsigned int)size, base_dir);
+        ok = loader.LoadASCIIFromString(model, &err, &warn, reinterpret_cast<const char *>(data), (unsigned int)size,
+                                        base_dir);
     }
     if (!ok) {
         std::string msg = one_line(err);
@@ -64,8 +62,8 @@ void parse_model(const char *source, const unsigned char *data, size_t size,
 }
 
 /* The shared body of both entry points: all failures become `st`. */
-lvcl_error import(const char *source, const unsigned char *data, size_t size,
-                  const std::string &base_dir, lvcl_scene *scene, lvcl_status *st)
+lvcl_error import(const char *source, const unsigned char *data, size_t size, const std::string &base_dir,
+                  lvcl_scene *scene, lvcl_status *st)
 {
     lvcl_scene result;
     memset(&result, 0, sizeof result);
@@ -108,8 +106,7 @@ bool read_file(const char *path, std::vector<unsigned char> *out, std::string *w
 
 } // namespace
 
-extern "C" lvcl_error lvcl_scene_load_gltf_file(const char *path, lvcl_scene *scene,
-                                                lvcl_status *st)
+extern "C" lvcl_error lvcl_scene_load_gltf_file(const char *path, lvcl_scene *scene, lvcl_status *st)
 {
     memset(scene, 0, sizeof *scene);
     try {
@@ -126,16 +123,13 @@ extern "C" lvcl_error lvcl_scene_load_gltf_file(const char *path, lvcl_scene *sc
     }
 }
 
-extern "C" lvcl_error lvcl_scene_load_gltf_memory(const void *data, size_t size,
-                                                  const char *base_dir, lvcl_scene *scene,
-                                                  lvcl_status *st)
+extern "C" lvcl_error lvcl_scene_load_gltf_memory(const void *data, size_t size, const char *base_dir,
+                                                  lvcl_scene *scene, lvcl_status *st)
 {
     memset(scene, 0, sizeof *scene);
-    if (!data && size > 0)
-        return lvcl_fail(st, LVCL_ERR_USAGE, "<memory>: null data pointer");
+    if (!data && size > 0) return lvcl_fail(st, LVCL_ERR_USAGE, "<memory>: null data pointer");
     try {
-        return import("<memory>", static_cast<const unsigned char *>(data), size,
-                      base_dir ? base_dir : "", scene, st);
+        return import("<memory>", static_cast<const unsigned char *>(data), size, base_dir ? base_dir : "", scene, st);
     } catch (...) {
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "<memory>: out of memory");
     }

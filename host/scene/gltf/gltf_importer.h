@@ -26,7 +26,8 @@
 #include <string>
 #include <vector>
 
-namespace lvcl_gltf {
+namespace lvcl_gltf
+{
 
 struct ImportError {
     lvcl_error code;
@@ -40,8 +41,7 @@ inline std::string vformat(const char *fmt, va_list ap)
     return buf;
 }
 
-[[noreturn]] inline void fail(lvcl_error code, const char *fmt, ...)
-    __attribute__((format(printf, 2, 3)));
+[[noreturn]] inline void fail(lvcl_error code, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 inline void fail(lvcl_error code, const char *fmt, ...)
 {
@@ -68,34 +68,52 @@ inline std::string one_line(const std::string &text)
     return out;
 }
 
-inline bool add_overflows(size_t a, size_t b, size_t *out) { return __builtin_add_overflow(a, b, out); }
-inline bool mul_overflows(size_t a, size_t b, size_t *out) { return __builtin_mul_overflow(a, b, out); }
+inline bool add_overflows(size_t a, size_t b, size_t *out)
+{
+    return __builtin_add_overflow(a, b, out);
+}
+inline bool mul_overflows(size_t a, size_t b, size_t *out)
+{
+    return __builtin_mul_overflow(a, b, out);
+}
 
 /* Sizes for the six component types glTF allows; 0 for anything else. */
 inline size_t component_size(int type)
 {
     switch (type) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return 1;
     case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        return 2;
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-    default: return 0;
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+        return 4;
+    default:
+        return 0;
     }
 }
 
 inline int component_count(int type)
 {
     switch (type) {
-    case TINYGLTF_TYPE_SCALAR: return 1;
-    case TINYGLTF_TYPE_VEC2: return 2;
-    case TINYGLTF_TYPE_VEC3: return 3;
-    case TINYGLTF_TYPE_VEC4: return 4;
-    case TINYGLTF_TYPE_MAT2: return 4;
-    case TINYGLTF_TYPE_MAT3: return 9;
-    case TINYGLTF_TYPE_MAT4: return 16;
-    default: return 0;
+    case TINYGLTF_TYPE_SCALAR:
+        return 1;
+    case TINYGLTF_TYPE_VEC2:
+        return 2;
+    case TINYGLTF_TYPE_VEC3:
+        return 3;
+    case TINYGLTF_TYPE_VEC4:
+        return 4;
+    case TINYGLTF_TYPE_MAT2:
+        return 4;
+    case TINYGLTF_TYPE_MAT3:
+        return 9;
+    case TINYGLTF_TYPE_MAT4:
+        return 16;
+    default:
+        return 0;
     }
 }
 
@@ -109,7 +127,8 @@ inline double read_component(const uint8_t *p, int type, bool normalized)
         memcpy(&v, p, 1);
         return normalized ? std::max(v / 127.0, -1.0) : v;
     }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[0] / 255.0 : p[0];
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return normalized ? p[0] / 255.0 : p[0];
     case TINYGLTF_COMPONENT_TYPE_SHORT: {
         int16_t v;
         memcpy(&v, p, 2);
@@ -135,9 +154,8 @@ inline double read_component(const uint8_t *p, int type, bool normalized)
 
 inline bool is_unsigned_int_type(int type)
 {
-    return type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-           type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
-           type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+    return type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
+        type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
 }
 
 /* double -> float without undefined behaviour: out-of-range becomes +-inf. */
@@ -180,16 +198,17 @@ inline const tinygltf::Value *find_ext(const tinygltf::ExtensionMap &exts, const
 
 /* Extensions this importer honours (fully or in the parts lvcl uses). */
 inline const char *const kSupportedExtensions[] = {
-    "KHR_lights_punctual",    "KHR_materials_emissive_strength",
-    "KHR_materials_transmission", "KHR_materials_ior",
-    "KHR_materials_specular", "KHR_materials_volume",
+    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_transmission",
+    "KHR_materials_ior",   "KHR_materials_specular",          "KHR_materials_volume",
 };
 
 /* Required extensions that change how geometry is stored: without them the
  * triangles cannot be read, so the file is refused. */
 inline const char *const kGeometryExtensions[] = {
-    "KHR_draco_mesh_compression", "KHR_mesh_quantization",
-    "EXT_meshopt_compression",    "EXT_mesh_gpu_instancing",
+    "KHR_draco_mesh_compression",
+    "KHR_mesh_quantization",
+    "EXT_meshopt_compression",
+    "EXT_mesh_gpu_instancing",
 };
 
 template <size_t N> bool in_list(const char *const (&list)[N], const std::string &name)
@@ -208,13 +227,12 @@ struct Texture {
  * later, after their byte range has been checked (tinygltf does not check
  * it); images from URIs arrive as validated bytes and are decoded now. A
  * failed decode is a warning, not an error: the material goes untextured. */
-inline bool load_image_hook(tinygltf::Image *image, int index, std::string *, std::string *warn,
-                     int req_width, int req_height, const unsigned char *bytes, int size, void *)
+inline bool load_image_hook(tinygltf::Image *image, int index, std::string *, std::string *warn, int req_width,
+                            int req_height, const unsigned char *bytes, int size, void *)
 {
     if (image->bufferView != -1) return true;
     std::string decode_err;
-    if (!tinygltf::LoadImageData(image, index, &decode_err, warn, req_width, req_height, bytes,
-                                 size, nullptr))
+    if (!tinygltf::LoadImageData(image, index, &decode_err, warn, req_width, req_height, bytes, size, nullptr))
         image->image.clear(); /* reported by decode_image() if a material uses it */
     return true;
 }
@@ -236,14 +254,17 @@ struct VertexData {
     std::vector<double> pos, nrm, uv; /* nrm, uv empty when absent */
 };
 
-class Importer {
-public:
-    Importer(const tinygltf::Model &model, const char *source) : m(model), src(source) {}
+class Importer
+{
+  public:
+    Importer(const tinygltf::Model &model, const char *source) : m(model), src(source)
+    {
+    }
 
     void run();
     void fill(lvcl_scene *scene) const;
 
-private:
+  private:
     const tinygltf::Model &m;
     const char *src; /* file name for warnings */
 
@@ -270,8 +291,7 @@ private:
     std::vector<lvcl_instance> instances;
     std::set<std::string> warned;
 
-    void warn_once(const std::string &key, const char *fmt, ...)
-        __attribute__((format(printf, 3, 4)));
+    void warn_once(const std::string &key, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 
     void check_extensions();
     void convert_materials();
@@ -288,8 +308,7 @@ private:
     void count_mesh_uses();
     void build_instances();
     VertexData read_vertices(const tinygltf::Primitive &p, const char *what);
-    std::vector<uint32_t> read_corners(const tinygltf::Primitive &p, size_t nverts,
-                                       const char *what);
+    std::vector<uint32_t> read_corners(const tinygltf::Primitive &p, size_t nverts, const char *what);
     int material_index(int mesh, int prim, int material);
 
     AccessorSpan span(int accessor, const char *what);

@@ -1,7 +1,8 @@
 /* glTF import: extensions, materials and their base-colour textures. */
 #include "gltf_importer.h"
 
-namespace lvcl_gltf {
+namespace lvcl_gltf
+{
 
 /* ---- materials and textures ---- */
 
@@ -11,8 +12,7 @@ void Importer::check_extensions()
         if (in_list(kGeometryExtensions, ext))
             fail(LVCL_ERR_UNSUPPORTED, "required extension %s is not supported", ext.c_str());
         if (!in_list(kSupportedExtensions, ext))
-            warn_once("ext:" + ext, "required extension %s is not supported (ignored)",
-                      ext.c_str());
+            warn_once("ext:" + ext, "required extension %s is not supported (ignored)", ext.c_str());
     }
     for (const std::string &ext : m.extensionsUsed)
         if (!in_list(kSupportedExtensions, ext))
@@ -35,8 +35,7 @@ int Importer::decode_image(int image_index)
         auto bytes = view_bytes(src.bufferView, "image");
         std::string err, warn;
         if (bytes.second > (size_t)std::numeric_limits<int>::max() ||
-            !tinygltf::LoadImageData(&decoded, image_index, &err, &warn, 0, 0, bytes.first,
-                                     (int)bytes.second, nullptr))
+            !tinygltf::LoadImageData(&decoded, image_index, &err, &warn, 0, 0, bytes.first, (int)bytes.second, nullptr))
             decoded.image.clear();
         img = &decoded;
     }
@@ -44,11 +43,10 @@ int Importer::decode_image(int image_index)
     int result = -1;
     size_t bytes_per = img->bits == 16 ? 2 : 1;
     size_t expect = 0;
-    bool ok = !img->image.empty() && img->width > 0 && img->height > 0 && img->component >= 1 &&
-              img->component <= 4 && (img->bits == 8 || img->bits == 16) &&
-              !mul_overflows((size_t)img->width * (size_t)img->height,
-                             (size_t)img->component * bytes_per, &expect) &&
-              expect == img->image.size();
+    bool ok = !img->image.empty() && img->width > 0 && img->height > 0 && img->component >= 1 && img->component <= 4 &&
+        (img->bits == 8 || img->bits == 16) &&
+        !mul_overflows((size_t)img->width * (size_t)img->height, (size_t)img->component * bytes_per, &expect) &&
+        expect == img->image.size();
     if (ok) {
         Texture t;
         t.width = (uint32_t)img->width;
@@ -72,8 +70,8 @@ int Importer::decode_image(int image_index)
         textures.push_back(std::move(t));
         result = (int)textures.size() - 1;
     } else {
-        warn_once("img:" + std::to_string(image_index),
-                  "image %d could not be decoded (material left untextured)", image_index);
+        warn_once("img:" + std::to_string(image_index), "image %d could not be decoded (material left untextured)",
+                  image_index);
     }
     texture_of_image[image_index] = result;
     return result;
@@ -83,22 +81,19 @@ int Importer::base_color_texture(int material, const tinygltf::TextureInfo &info
 {
     if (info.index == -1) return -1;
     if (info.index < 0 || (size_t)info.index >= m.textures.size())
-        fail(LVCL_ERR_PARSE, "material %d: texture %d out of range (file has %zu)", material,
-             info.index, m.textures.size());
+        fail(LVCL_ERR_PARSE, "material %d: texture %d out of range (file has %zu)", material, info.index,
+             m.textures.size());
     if (info.texCoord != 0)
-        warn_once("texcoord", "material %d: texCoord %d is not supported (TEXCOORD_0 used)",
-                  material, info.texCoord);
+        warn_once("texcoord", "material %d: texCoord %d is not supported (TEXCOORD_0 used)", material, info.texCoord);
     if (find_ext(info.extensions, "KHR_texture_transform"))
-        warn_once("ext:KHR_texture_transform",
-                  "extension KHR_texture_transform is not supported (ignored)");
+        warn_once("ext:KHR_texture_transform", "extension KHR_texture_transform is not supported (ignored)");
     int source = m.textures[(size_t)info.index].source;
     if (source == -1) {
         warn_once("nosource", "texture %d has no supported image source (ignored)", info.index);
         return -1;
     }
     if (source < 0 || (size_t)source >= m.images.size())
-        fail(LVCL_ERR_PARSE, "texture %d: image %d out of range (file has %zu)", info.index,
-             source, m.images.size());
+        fail(LVCL_ERR_PARSE, "texture %d: image %d out of range (file has %zu)", info.index, source, m.images.size());
     return decode_image(source);
 }
 
@@ -120,9 +115,7 @@ lvcl_material_desc Importer::convert_material(int index)
     const tinygltf::Value *ext = find_ext(mat.extensions, "KHR_materials_emissive_strength");
     double strength = ext ? ext_number(*ext, "emissiveStrength", 1.0) : 1.0;
     for (int k = 0; k < 3; k++)
-        d.emissive[k] = mat.emissiveFactor.empty()
-                            ? 0.0f
-                            : to_f(mat.emissiveFactor[(size_t)k] * strength);
+        d.emissive[k] = mat.emissiveFactor.empty() ? 0.0f : to_f(mat.emissiveFactor[(size_t)k] * strength);
 
     ext = find_ext(mat.extensions, "KHR_materials_transmission");
     d.transmission = ext ? to_f(ext_number(*ext, "transmissionFactor", 0.0)) : 0.0f;
@@ -144,16 +137,12 @@ lvcl_material_desc Importer::convert_material(int index)
 
     /* What lvcl ignores, once per kind. */
     if (mat.alphaMode != "OPAQUE")
-        warn_once("alpha", "alphaMode %s is not supported (treated as OPAQUE)",
-                  mat.alphaMode.c_str());
+        warn_once("alpha", "alphaMode %s is not supported (treated as OPAQUE)", mat.alphaMode.c_str());
     if (pbr.metallicRoughnessTexture.index != -1)
         warn_once("mrtex", "metallicRoughnessTexture is not supported (ignored)");
-    if (mat.normalTexture.index != -1)
-        warn_once("ntex", "normalTexture is not supported (ignored)");
-    if (mat.occlusionTexture.index != -1)
-        warn_once("otex", "occlusionTexture is not supported (ignored)");
-    if (mat.emissiveTexture.index != -1)
-        warn_once("etex", "emissiveTexture is not supported (ignored)");
+    if (mat.normalTexture.index != -1) warn_once("ntex", "normalTexture is not supported (ignored)");
+    if (mat.occlusionTexture.index != -1) warn_once("otex", "occlusionTexture is not supported (ignored)");
+    if (mat.emissiveTexture.index != -1) warn_once("etex", "emissiveTexture is not supported (ignored)");
     return d;
 }
 
@@ -167,8 +156,8 @@ int Importer::material_index(int mesh, int prim, int material)
 {
     if (material >= 0 && (size_t)material < materials.size()) return material;
     if (material != -1)
-        fail(LVCL_ERR_PARSE, "mesh %d primitive %d: material %d out of range (file has %zu)", mesh,
-             prim, material, materials.size());
+        fail(LVCL_ERR_PARSE, "mesh %d primitive %d: material %d out of range (file has %zu)", mesh, prim, material,
+             materials.size());
     if (default_material < 0) {
         lvcl_material_desc d{};
         d.base_color[0] = d.base_color[1] = d.base_color[2] = d.base_color[3] = 1.0f;
@@ -184,6 +173,5 @@ int Importer::material_index(int mesh, int prim, int material)
     }
     return default_material;
 }
-
 
 } // namespace lvcl_gltf

@@ -1,7 +1,8 @@
 /* glTF import: cameras, punctual lights, the node hierarchy, and the scene filled at the end. */
 #include "gltf_importer.h"
 
-namespace lvcl_gltf {
+namespace lvcl_gltf
+{
 
 /* ---- cameras and lights ---- */
 
@@ -21,12 +22,10 @@ void Importer::add_camera(int node, const glm::dmat4 &world)
 {
     int index = m.nodes[(size_t)node].camera;
     if (index < 0 || (size_t)index >= m.cameras.size())
-        fail(LVCL_ERR_PARSE, "node %d: camera %d out of range (file has %zu)", node, index,
-             m.cameras.size());
+        fail(LVCL_ERR_PARSE, "node %d: camera %d out of range (file has %zu)", node, index, m.cameras.size());
     const tinygltf::Camera &cam = m.cameras[(size_t)index];
     if (cam.type != "perspective") {
-        warn_once("ortho", "camera %d: %s cameras are not supported (ignored)", index,
-                  cam.type.c_str());
+        warn_once("ortho", "camera %d: %s cameras are not supported (ignored)", index, cam.type.c_str());
         return;
     }
     if (camera.present) return; /* the first perspective camera wins */
@@ -49,23 +48,21 @@ void Importer::add_light(int node, const glm::dmat4 &world)
     const tinygltf::Value *ext = find_ext(m.nodes[(size_t)node].extensions, "KHR_lights_punctual");
     double light = ext && ext->IsObject() && ext->Has("light") ? number_or(ext->Get("light"), -1) : -1;
     if (light < 0 || light >= (double)m.lights.size() || light != std::floor(light))
-        fail(LVCL_ERR_PARSE, "node %d: KHR_lights_punctual light %g out of range (file has %zu)",
-             node, light, m.lights.size());
+        fail(LVCL_ERR_PARSE, "node %d: KHR_lights_punctual light %g out of range (file has %zu)", node, light,
+             m.lights.size());
     int index = (int)light;
     const tinygltf::Light &l = m.lights[(size_t)index];
     if (l.type != "point" && l.type != "spot") {
-        warn_once("light:" + l.type, "light %d ('%s'): %s lights are not supported (skipped)",
-                  index, l.name.c_str(), l.type.c_str());
+        warn_once("light:" + l.type, "light %d ('%s'): %s lights are not supported (skipped)", index, l.name.c_str(),
+                  l.type.c_str());
         return;
     }
-    if (!l.color.empty() && l.color.size() != 3)
-        fail(LVCL_ERR_PARSE, "light %d: color must have 3 numbers", index);
+    if (!l.color.empty() && l.color.size() != 3) fail(LVCL_ERR_PARSE, "light %d: color must have 3 numbers", index);
 
     lv_punctual_light pl{};
     store3(pl.position, glm::dvec3(world[3]));
     store3(pl.direction, transform_dir(world, {0, 0, -1}));
-    for (int k = 0; k < 3; k++)
-        pl.intensity[k] = to_f((l.color.empty() ? 1.0 : l.color[(size_t)k]) * l.intensity);
+    for (int k = 0; k < 3; k++) pl.intensity[k] = to_f((l.color.empty() ? 1.0 : l.color[(size_t)k]) * l.intensity);
     if (l.type == "spot") {
         pl.type = LV_PUNCTUAL_SPOT;
         pl.cos_outer = to_f(std::cos(l.spot.outerConeAngle));
@@ -85,19 +82,16 @@ glm::dmat4 Importer::local_transform(int node)
 {
     const tinygltf::Node &n = m.nodes[(size_t)node];
     if (!n.matrix.empty()) {
-        if (n.matrix.size() != 16)
-            fail(LVCL_ERR_PARSE, "node %d: matrix must have 16 numbers", node);
+        if (n.matrix.size() != 16) fail(LVCL_ERR_PARSE, "node %d: matrix must have 16 numbers", node);
         return glm::make_mat4(n.matrix.data()); /* glTF and GLM are both column-major */
     }
     glm::dmat4 t(1.0), r(1.0), s(1.0);
     if (!n.translation.empty()) {
-        if (n.translation.size() != 3)
-            fail(LVCL_ERR_PARSE, "node %d: translation must have 3 numbers", node);
+        if (n.translation.size() != 3) fail(LVCL_ERR_PARSE, "node %d: translation must have 3 numbers", node);
         t = glm::translate(glm::dmat4(1.0), glm::make_vec3(n.translation.data()));
     }
     if (!n.rotation.empty()) {
-        if (n.rotation.size() != 4)
-            fail(LVCL_ERR_PARSE, "node %d: rotation must have 4 numbers", node);
+        if (n.rotation.size() != 4) fail(LVCL_ERR_PARSE, "node %d: rotation must have 4 numbers", node);
         /* glTF stores x, y, z, w; glm::dquat's constructor takes w first. */
         glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
         double len = glm::length(q);
@@ -115,8 +109,7 @@ void Importer::visit(int node, const glm::dmat4 &parent, int depth)
     if (node < 0 || (size_t)node >= m.nodes.size())
         fail(LVCL_ERR_PARSE, "node %d out of range (file has %zu)", node, m.nodes.size());
     if (depth > 1000) fail(LVCL_ERR_PARSE, "node hierarchy deeper than 1000 levels");
-    if (visited[(size_t)node])
-        fail(LVCL_ERR_PARSE, "node %d is reached twice (child cycle or shared child)", node);
+    if (visited[(size_t)node]) fail(LVCL_ERR_PARSE, "node %d is reached twice (child cycle or shared child)", node);
     visited[(size_t)node] = 1;
 
     const tinygltf::Node &n = m.nodes[(size_t)node];
@@ -134,8 +127,7 @@ std::vector<int> Importer::scene_roots()
 {
     if (m.defaultScene != -1) {
         if (m.defaultScene < 0 || (size_t)m.defaultScene >= m.scenes.size())
-            fail(LVCL_ERR_PARSE, "default scene %d out of range (file has %zu)", m.defaultScene,
-                 m.scenes.size());
+            fail(LVCL_ERR_PARSE, "default scene %d out of range (file has %zu)", m.defaultScene, m.scenes.size());
         return m.scenes[(size_t)m.defaultScene].nodes;
     }
     if (!m.scenes.empty()) return m.scenes[0].nodes;
@@ -158,8 +150,7 @@ void Importer::run()
     for (int root : scene_roots()) visit(root, glm::dmat4(1.0), 0);
     build_instances();
     if (nonfinite_triangles)
-        lvcl_warn("%s: skipped %zu triangles with non-finite vertex positions", src,
-                  nonfinite_triangles);
+        lvcl_warn("%s: skipped %zu triangles with non-finite vertex positions", src, nonfinite_triangles);
     if (indices.empty()) fail(LVCL_ERR_UNSUPPORTED, "scene has no triangles");
 }
 
@@ -194,8 +185,7 @@ void Importer::fill(lvcl_scene *scene) const
     scene->punctuals = c_array(lights);
     scene->camera = camera;
     if (!textures.empty()) {
-        scene->textures =
-            static_cast<lvcl_texture_data *>(calloc(textures.size(), sizeof(lvcl_texture_data)));
+        scene->textures = static_cast<lvcl_texture_data *>(calloc(textures.size(), sizeof(lvcl_texture_data)));
         if (!scene->textures) throw std::bad_alloc();
         scene->texture_count = textures.size();
         for (size_t i = 0; i < textures.size(); i++) {
@@ -205,6 +195,5 @@ void Importer::fill(lvcl_scene *scene) const
         }
     }
 }
-
 
 } // namespace lvcl_gltf
