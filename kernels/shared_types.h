@@ -174,7 +174,7 @@ typedef struct {
     float cell_size;       /* metres */
     lv_u32 dims[3];        /* cells along x, y, z */
     lv_u32 dirs;           /* n: n x n bins per hemisphere */
-    lv_u32 slot_count;     /* cells stored */
+    lv_u32 slot_count;     /* region slots stored (a cell cut by P planes holds 2^P) */
     lv_u32 bins;           /* 2 n^2 */
     float total_power;     /* luminance watts emitted by all lights */
     float particles;       /* particles traced in all (for normalisation) */
@@ -183,6 +183,25 @@ typedef struct {
     float visibility_rate; /* share of tallied surface hits that cast a subcell visibility ray */
     lv_u32 pad;
 } lv_grid_info;
+
+/* Regions of a cut cell (docs/light-volume.md, "Regions"): a stored cell
+ * that up to LV_REGION_PLANES planes of its geometry cut holds 2^P
+ * consecutive slots, one per sign pattern of its planes, so that light on
+ * the two sides of a wall through it is tallied apart. Per slot, the cell's
+ * planes (n, c: a point u in cell units from the cell's corner is on the
+ * positive side of plane i if n_i . u > c_i; the point's slot is base_slot
+ * + the pattern of bits i set where it is), their count P (0: one region),
+ * the cell's first slot and which region this slot is. Every slot of a
+ * cell repeats the cell's planes. */
+#define LV_REGION_PLANES 3
+
+typedef struct {
+    float planes[LV_REGION_PLANES][4];
+    lv_u32 plane_count;
+    lv_u32 base_slot;
+    lv_u32 region;
+    lv_u32 pad;
+} lv_slot_region;
 
 /* Buffers the tallies may be split over, each within the device's largest
  * allocation (slot s lies in buffer s / slots_per_part). */
@@ -252,7 +271,8 @@ typedef struct {
  * SPLIT(type, name) over LV_TALLY_PARTS buffers of lv_grid_info.slots_per_part
  * slots, ONE(type, name) in one buffer. */
 #define LV_VOLUME_BUFFERS(SPLIT, ONE)                                     \
-    ONE(const uint, cell_slot) /* cell -> slot or LV_EMPTY_CELL */        \
+    ONE(const uint, cell_slot) /* cell -> first slot or LV_EMPTY_CELL */  \
+    ONE(const lv_slot_region, regions) /* per slot: the cell's planes */   \
     SPLIT(long, tallies)       /* slot x bin x RGB, 64-bit fixed point */ \
     ONE(uint, subcells)        /* LV_SUBCELL_STRIDE words per slot */     \
     ONE(float, lit_volume)     /* per slot, filled by lv_lit_volumes */

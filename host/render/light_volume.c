@@ -27,7 +27,8 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
         lvcl_volume_release(vol);
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for a %zu-cell grid", cells);
     }
-    if ((e = lvcl_volume_assign_slots(p, g, vol->cell_count, vol->cell_slot, st))) {
+    if ((e = lvcl_volume_assign_slots(p, g, vol->cell_count, vol->cell_slot, st)) ||
+        (e = lvcl_volume_build_regions(p, g, vol->cell_count, vol->cell_slot, &vol->regions, st))) {
         lvcl_volume_release(vol);
         return e;
     }
@@ -39,10 +40,12 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     size_t per_part = dev->max_alloc / slot_bytes;
     if (per_part > UINT32_MAX) per_part = UINT32_MAX;
     size_t parts = per_part ? ((size_t)g->slot_count + per_part - 1) / per_part : SIZE_MAX;
-    /* Beside the tallies: the cell index, and per slot a subcell record and a lit volume (one buffer each). */
+    /* Beside the tallies: the cell index, and per slot a subcell record, a
+     * lit volume and the cell's planes (one buffer each). */
     size_t records = ((size_t)g->slot_count + 1) * (LV_SUBCELL_STRIDE + 1) * sizeof(uint32_t);
-    vol->device_bytes = vol->tally_bytes + vol->cell_count * sizeof(uint32_t) + records;
-    if (parts > LV_TALLY_PARTS || records > dev->max_alloc || vol->device_bytes > dev->global_mem) {
+    size_t region_bytes = ((size_t)g->slot_count + 1) * sizeof(lv_slot_region);
+    vol->device_bytes = vol->tally_bytes + vol->cell_count * sizeof(uint32_t) + records + region_bytes;
+    if (parts > LV_TALLY_PARTS || records > dev->max_alloc || region_bytes > dev->max_alloc || vol->device_bytes > dev->global_mem) {
         lvcl_error e = lvcl_fail(st, LVCL_ERR_TOO_LARGE,
                                  "the light volume needs %.1f MiB (%u cells x %u bins) but %s allows %.1f MiB in one "
                                  "buffer (at most %d buffers) and %.1f MiB in all; use fewer --cells or --dirs",
@@ -56,6 +59,9 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     cl_int err;
     vol->buf.cell_slot = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                         vol->cell_count * sizeof(uint32_t), vol->cell_slot, &err);
+    if (err == CL_SUCCESS)
+        vol->buf.regions = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, region_bytes,
+                                          vol->regions, &err);
     for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS; i++)
         vol->buf.tallies[i] =
             clCreateBuffer(dev->context, CL_MEM_READ_WRITE, lvcl_volume_part_bytes(vol, i), NULL, &err);
@@ -98,6 +104,27 @@ const lv_grid_info *lvcl_volume_grid(const lvcl_light_volume *vol)
     return &vol->buf.info;
 }
 
+uint32_t lvcl_volume_slot_at(const lvcl_light_volume *vol, const float p[3])
+{
+    const lv_grid_info *g = &vol->buf.info;
+    float u[3];
+    uint32_t c[3];
+    for (int k = 0; k < 3; k++) {
+        float x = (p[k] - g->origin[k]) / g->cell_size;
+        if (!(x >= 0.0f) || x >= (float)g->dims[k]) return LV_EMPTY_CELL;
+        c[k] = (uint32_t)x;
+        u[k] = x - (float)c[k];
+    }
+    uint32_t base = lvcl_volume_slot(vol, c[0], c[1], c[2]);
+    if (base == LV_EMPTY_CELL) return base;
+    const lv_slot_region *r = &vol->regions[base];
+    uint32_t pattern = 0;
+    for (uint32_t i = 0; i < r->plane_count; i++)
+        if (r->planes[i][0] * u[0] + r->planes[i][1] * u[1] + r->planes[i][2] * u[2] > r->planes[i][3])
+            pattern |= 1u << i;
+    return base + pattern;
+}
+
 uint32_t lvcl_volume_slot(const lvcl_light_volume *vol, uint32_t x, uint32_t y, uint32_t z)
 {
     const lv_grid_info *g = &vol->buf.info;
@@ -132,5 +159,6 @@ void lvcl_volume_release(lvcl_light_volume *vol)
     lvcl_volume_buffers_release(&vol->buf);
     if (vol->bin_directions_buf) clReleaseMemObject(vol->bin_directions_buf);
     free(vol->cell_slot);
+    free(vol->regions);
     free(vol);
 }

@@ -83,8 +83,12 @@ lvcl_error lvcl_volume_read_lit(const lvcl_light_volume *vol, float **lit, lvcl_
 
 const lv_grid_info *lvcl_volume_grid(const lvcl_light_volume *vol);
 
-/* The slot of cell (x, y, z), or LV_EMPTY_CELL. */
+/* The first slot of cell (x, y, z) (its region 0), or LV_EMPTY_CELL. */
 uint32_t lvcl_volume_slot(const lvcl_light_volume *vol, uint32_t x, uint32_t y, uint32_t z);
+
+/* The slot of the region holding world point p (the lookups' slot), or
+ * LV_EMPTY_CELL. */
+uint32_t lvcl_volume_slot_at(const lvcl_light_volume *vol, const float p[3]);
 
 lvcl_volume_stats lvcl_volume_stats_of(const lvcl_light_volume *vol);
 

@@ -11,7 +11,8 @@ struct lvcl_light_volume {
     const lvcl_device *dev;  /* borrowed */
     lvcl_volume_buffers buf; /* the grid and the buffers the kernels take (tallies: info.slots_per_part
                                  slots each, unused parts NULL) */
-    uint32_t *cell_slot;     /* host copy of the index grid */
+    uint32_t *cell_slot;     /* host copy of the index grid (cell -> first slot) */
+    lv_slot_region *regions; /* host copy of the per-slot planes (slot_count + 1) */
     size_t cell_count;       /* dims[0] * dims[1] * dims[2] */
     int tally_parts;
     cl_mem bin_directions_buf; /* float4 per bin, filled by lvcl_volume_trace */
@@ -32,6 +33,14 @@ lvcl_error lvcl_volume_grid_choose(const lvcl_packed_scene *p, const lvcl_volume
  * sets g->slot_count; LVCL_ERR_OUT_OF_MEMORY if the marks do not fit. */
 lvcl_error lvcl_volume_assign_slots(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
                                     lvcl_status *st);
+
+/* Chooses every stored cell's planes (volume_planes.c) and gives a cell
+ * cut by P of them 2^P consecutive slots: on entry slot[] numbers the
+ * stored cells (g->slot_count of them), on return it holds each cell's
+ * first slot, g->slot_count the slots and *regions (malloc'ed,
+ * slot_count + 1 entries) every slot's planes. */
+lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
+                                     lv_slot_region **regions, lvcl_status *st);
 
 /* Bytes of tally buffer `part` (a buffer holds info.slots_per_part slots). */
 size_t lvcl_volume_part_bytes(const lvcl_light_volume *vol, int part);

@@ -31,8 +31,10 @@ inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray 
      * (1/512 subcell per axis), so even a grazing hit's point stays on
      * that side. */
     float3 toward = dot(r.dir, s->ng) < 0.0f ? s->ng : -s->ng;
-    lv_offer_lit_point(grid, s->p + toward * (0.02f * grid->g.cell_size / (float)grid->g.subcells), rng);
-    if (lv_rng_next(rng) < grid->g.visibility_rate) return lv_sample_subcell_visibility(grid, sc, s->p, r.origin, rng);
+    float3 lit = s->p + toward * (0.02f * grid->g.cell_size / (float)grid->g.subcells);
+    lv_offer_lit_point(grid, lit, rng);
+    /* Both go to the region of the lit point, the hit's side of the surface. */
+    if (lv_rng_next(rng) < grid->g.visibility_rate) return lv_sample_subcell_visibility(grid, sc, lit, r.origin, rng);
     return 0u;
 }
 

@@ -12,7 +12,8 @@
 
 typedef struct {
     lv_grid_info g;
-    __global const uint *cell_slot;
+    __global const uint *cell_slot;      /* cell -> its first slot */
+    __global const lv_slot_region *regions; /* per slot: the cell's planes (shared_types.h) */
     __global uint *subcells;          /* LV_SUBCELL_STRIDE words per slot (shared_types.h) */
     __global const float *lit_volume; /* per slot, lv_cell_lit_volume after the trace (lookups only) */
     __global long *tallies[LV_TALLY_PARTS];
@@ -32,14 +33,34 @@ inline float3 lv_grid_origin(const lv_grid *grid)
     return LV_F3(grid->g.origin);
 }
 
-/* The slot of the cell holding point p, or LV_EMPTY_CELL. */
+/* Which region of its cell the point u (cell units from the cell's corner)
+ * lies in: bit i set where it is on the positive side of plane i. */
+inline uint lv_region_of(__global const lv_slot_region *r, uint plane_count, float3 u)
+{
+    uint pattern = 0u;
+    for (uint i = 0; i < plane_count; i++)
+        if (dot((float3)(r->planes[i][0], r->planes[i][1], r->planes[i][2]), u) > r->planes[i][3]) pattern |= 1u << i;
+    return pattern;
+}
+
+/* The slot of the region holding u in the cell whose first slot is base. */
+inline uint lv_region_slot(const lv_grid *grid, uint base, float3 u)
+{
+    if (base == LV_EMPTY_CELL) return base;
+    __global const lv_slot_region *r = grid->regions + base;
+    uint count = r->plane_count;
+    return count ? base + lv_region_of(r, count, u) : base;
+}
+
+/* The slot of the region of its cell holding point p, or LV_EMPTY_CELL. */
 inline uint lv_grid_slot_at(const lv_grid *grid, float3 p)
 {
     float3 c = (p - lv_grid_origin(grid)) / grid->g.cell_size;
     if (c.x < 0.0f || c.y < 0.0f || c.z < 0.0f) return LV_EMPTY_CELL;
     uint x = (uint)c.x, y = (uint)c.y, z = (uint)c.z;
     if (x >= grid->g.dims[0] || y >= grid->g.dims[1] || z >= grid->g.dims[2]) return LV_EMPTY_CELL;
-    return grid->cell_slot[x + grid->g.dims[0] * (y + grid->g.dims[1] * z)];
+    uint base = grid->cell_slot[x + grid->g.dims[0] * (y + grid->g.dims[1] * z)];
+    return lv_region_slot(grid, base, c - (float3)((float)x, (float)y, (float)z));
 }
 
 #endif

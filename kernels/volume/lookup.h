@@ -34,10 +34,12 @@ inline float3 lv_volume_radiance(const lv_grid *grid, float3 p, float3 dir)
     return lv_bin_radiance(grid, slot, lv_direction_bin(dir, grid->g.dirs), grid->lit_volume[slot]);
 }
 
-/* The middle of the subcell-thick layer in front of p. */
+/* The middle of the subcell-thick layer in front of p (without subcells,
+ * of the layer an eighth of a cell thick). */
 inline float3 lv_front_point(const lv_grid *grid, float3 p, float3 n)
 {
-    return p + n * (0.5f * grid->g.cell_size / (float)grid->g.subcells);
+    uint k = grid->g.subcells ? grid->g.subcells : 4u;
+    return p + n * (0.5f * grid->g.cell_size / (float)k);
 }
 
 /* A uniform point in the cell-sized box around p (paper section 4.2: the
@@ -57,12 +59,18 @@ inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, float3 n, lv_rng *
 /* Where the gather at surface point p (front normal n) reads the volume.
  * With subcells: the jittered point if light reached it and p sees it (near
  * a corner the box reaches behind the other wall); else the layer in front
- * of p if light reached that; else 0: no light the volume holds reaches p. */
+ * of p if light reached that; else 0: no light the volume holds reaches p.
+ * Without subcells: the jittered point if p sees it, else the layer in
+ * front of p (the region of a cut cell behind a wall holds the other
+ * side's light). */
 inline int lv_lookup_point(const lv_grid *grid, const lv_scene *sc, float3 p, float3 n, lv_rng *rng, float3 *q)
 {
     *q = lv_jitter_lookup(grid, p, n, rng);
-    if (grid->g.subcells == 0u) return 1;
     float3 from = lv_offset_origin(p, n, sc->info.scene_scale);
+    if (grid->g.subcells == 0u) {
+        if (lv_occluded(sc, from, *q - from, 1.0f, LV_NO_HIT, LV_NO_HIT)) *q = lv_front_point(grid, p, n);
+        return 1;
+    }
     if (lv_point_lit(grid, sc, *q) && !lv_occluded(sc, from, *q - from, 1.0f, LV_NO_HIT, LV_NO_HIT)) return 1;
     *q = lv_front_point(grid, p, n);
     return lv_point_lit(grid, sc, *q);

@@ -33,10 +33,35 @@ inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float
 /* Pieces shorter than this (in cell units) switch no subcell on. */
 #define LV_MARK_MIN_PIECE 1e-3f
 
+/* Tallies the piece [a, b] (cell units along dir from `corner`, the
+ * segment's origin relative to the cell's corner) into region slot `slot`
+ * and marks the subcells it passes there. */
+inline void lv_tally_piece(const lv_grid *grid, uint slot, float3 corner, float3 dir, float a, float b, float h,
+                           float t0, uint bin, float3 weight, float3 sigma)
+{
+    /* A segment ending on a wall that lies on a cell boundary pokes a
+     * rounding error's length into the cell behind it; marking that would
+     * call the space behind the wall lit. */
+    if (grid->g.subcells && b - a > LV_MARK_MIN_PIECE) lv_mark_subcells(grid, slot, corner + dir * a, dir, b - a);
+    /* Track length in cell units, with the absorption integrated over it. */
+    float3 amount;
+    if (sigma.x > 0.0f || sigma.y > 0.0f || sigma.z > 0.0f) {
+        float3 ea = exp(-sigma * (a * h - t0)), eb = exp(-sigma * (b * h - t0));
+        amount = select((ea - eb) / (sigma * h), (float3)(b - a), sigma <= 0.0f);
+    } else {
+        amount = (float3)(b - a);
+    }
+    lv_tally_add(grid, slot, bin, weight * amount);
+}
+
 /* Adds the segment origin + t dir, t in [t0, t1] (dir unit, t in metres),
  * carrying `weight` (power over total power, over particle count) at t0, to
  * every stored cell it crosses, in bin `bin`. sigma > 0 absorbs along the
- * segment (inside glass). A 3-D DDA (Amanatides and Woo) walks the cells. */
+ * segment (inside glass). A 3-D DDA (Amanatides and Woo) walks the cells;
+ * in a cell its planes cut into regions, the piece is split where it
+ * crosses them. A segment cannot cross a surface, so a sub-piece across an
+ * extended plane (past a wall's end, through a doorway) simply belongs to
+ * the region on that side. */
 inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, float t0, float t1, uint bin,
                              float3 weight, float3 sigma)
 {
@@ -62,22 +87,33 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
     int3 idims = convert_int3(dims);
     while (s < s1) {
         float s_exit = fmin(s1, fmin(s_next.x, fmin(s_next.y, s_next.z)));
-        uint slot = grid->cell_slot[cell.x + idims.x * (cell.y + idims.y * cell.z)];
-        if (slot != LV_EMPTY_CELL && s_exit > s) {
-            /* A segment ending on a wall that lies on a cell boundary pokes
-             * a rounding error's length into the cell behind it; marking
-             * that would call the space behind the wall lit. */
-            if (grid->g.subcells && s_exit - s > LV_MARK_MIN_PIECE)
-                lv_mark_subcells(grid, slot, o + dir * s - convert_float3(cell), dir, s_exit - s);
-            /* Track length in cell units, with the absorption integrated over it. */
-            float3 amount;
-            if (sigma.x > 0.0f || sigma.y > 0.0f || sigma.z > 0.0f) {
-                float3 a = exp(-sigma * (s * h - t0)), b = exp(-sigma * (s_exit * h - t0));
-                amount = select((a - b) / (sigma * h), (float3)(s_exit - s), sigma <= 0.0f);
-            } else {
-                amount = (float3)(s_exit - s);
+        uint base = grid->cell_slot[cell.x + idims.x * (cell.y + idims.y * cell.z)];
+        if (base != LV_EMPTY_CELL && s_exit > s) {
+            float3 corner = o - convert_float3(cell); /* the origin relative to the cell's corner */
+            __global const lv_slot_region *r = grid->regions + base;
+            uint planes = r->plane_count;
+            /* Where the piece crosses the cell's planes, in order: each
+             * sub-piece goes to the region of its midpoint. */
+            float cut[LV_REGION_PLANES];
+            uint cuts = 0u;
+            for (uint i = 0; i < planes; i++) {
+                float3 n = (float3)(r->planes[i][0], r->planes[i][1], r->planes[i][2]);
+                float dn = dot(n, dir);
+                if (fabs(dn) < 1e-20f) continue;
+                float at = (r->planes[i][3] - dot(n, corner)) / dn;
+                if (at > s && at < s_exit) {
+                    uint j = cuts++;
+                    for (; j > 0u && cut[j - 1u] > at; j--) cut[j] = cut[j - 1u];
+                    cut[j] = at;
+                }
             }
-            lv_tally_add(grid, slot, bin, weight * amount);
+            float a = s;
+            for (uint j = 0; j <= cuts; j++) {
+                float b = j < cuts ? cut[j] : s_exit;
+                uint slot = planes ? base + lv_region_of(r, planes, corner + dir * (0.5f * (a + b))) : base;
+                lv_tally_piece(grid, slot, corner, dir, a, b, h, t0, bin, weight, sigma);
+                a = b;
+            }
         }
         s = s_exit;
         if (s_next.x <= s_next.y && s_next.x <= s_next.z) {

@@ -9,23 +9,66 @@
 #include "../util/rng.h"
 #include "grid.h"
 
-/* The lit volume of a stored cell, in cell units (1 = the whole cell), by
- * paper 4.1: the subcells that tallied segments passed, each weighted by the
- * fraction of its visibility rays that reached their particle's origin (1 if
- * no particle hit a surface in it); the whole cell without subcells. */
+/* Lattice points per axis that measure how much of a subcell (or, without
+ * subcells, of the cell) lies in a region. */
+#define LV_REGION_LATTICE 4
+
+/* The share of the box lo + [0, size]^3 (cell units from the cell's
+ * corner) that lies in region `region` of a cell with planes r, by a
+ * LV_REGION_LATTICE^3 lattice of points. */
+inline float lv_region_share(__global const lv_slot_region *r, uint region, float3 lo, float size)
+{
+    const uint m = LV_REGION_LATTICE;
+    uint in = 0u;
+    for (uint z = 0; z < m; z++)
+        for (uint y = 0; y < m; y++)
+            for (uint x = 0; x < m; x++) {
+                float3 u = lo + ((float3)((float)x, (float)y, (float)z) + 0.5f) * (size / (float)m);
+                in += lv_region_of(r, r->plane_count, u) == region;
+            }
+    return (float)in / (float)(m * m * m);
+}
+
+/* The lit volume of a region slot, in cell units (1 = the whole cell), by
+ * paper 4.1 within the region: the subcells that tallied segments passed
+ * in it, each weighted by the fraction of its visibility rays that reached
+ * their particle's origin (1 if none was cast) and by the share of the
+ * subcell inside the region. At least one subcell's worth, or the region's
+ * volume if that is smaller. Without subcells: the region's volume (the
+ * whole cell for a cell without planes). */
 inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
 {
     uint k = grid->g.subcells;
-    if (k == 0u) return 1.0f;
+    __global const lv_slot_region *r = grid->regions + slot;
+    uint planes = r->plane_count;
+    /* Half a lattice point of the cell: a region too thin for the lattice. */
+    const float sliver = 0.5f / (float)(LV_REGION_LATTICE * LV_REGION_LATTICE * LV_REGION_LATTICE);
+    if (k == 0u) {
+        if (!planes) return 1.0f;
+        float share = 0.0f;
+        for (uint z = 0; z < 2u; z++)
+            for (uint y = 0; y < 2u; y++)
+                for (uint x = 0; x < 2u; x++)
+                    share += lv_region_share(r, r->region, 0.5f * (float3)((float)x, (float)y, (float)z), 0.5f);
+        return fmax(share / 8.0f, sliver / 8.0f);
+    }
     __global const uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
-    float lit = 0.0f;
+    float lit = 0.0f, region_volume = 0.0f, inv_k = 1.0f / (float)k;
     for (uint i = 0; i < k * k * k; i++) {
+        float share = 1.0f;
+        if (planes) {
+            float3 sub = (float3)((float)(i % k), (float)(i / k % k), (float)(i / (k * k)));
+            share = lv_region_share(r, r->region, sub * inv_k, inv_k);
+            region_volume += share;
+        }
         if (!(rec[i >> 5] & (1u << (i & 31u)))) continue;
         uint cast = rec[LV_SUBCELL_CAST + i];
-        lit += cast ? (float)rec[LV_SUBCELL_OPEN + i] / (float)cast : 1.0f;
+        lit += share * (cast ? (float)rec[LV_SUBCELL_OPEN + i] / (float)cast : 1.0f);
     }
-    /* Never below one subcell: some light passed, or the tallies are 0. */
-    return fmax(lit, 1.0f) / (float)(k * k * k);
+    /* Never below one subcell (some light passed, or the tallies are 0),
+     * nor below a sliver of a region the lattice barely sees. */
+    float least = planes ? fmax(fmin(1.0f, region_volume), sliver) : 1.0f;
+    return fmax(lit, least) / (float)(k * k * k);
 }
 
 /* The index of the subcell holding p within its cell; also the cell's and
@@ -47,24 +90,39 @@ inline float3 lv_subcell_point(const lv_grid *grid, float3 cell, float3 sub, flo
 }
 
 /* Visibility rays (paper 4.1): where a particle that came from `from` hit a
- * surface at p, one ray from a random point of p's subcell back to `from`;
- * whether it got through estimates how much of the subcell that light
- * reaches (a wall through the subcell blocks the points behind it).
- * Returns the number of rays cast. */
-inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc, float3 p, float3 from, lv_rng *rng)
+ * surface, with q the point just off the hit on its side (the lit point it
+ * offers), one ray from a random point of q's subcell, within q's region,
+ * back to `from`; whether it got through estimates how much of that part of
+ * the subcell the light reaches (a wall through the subcell blocks the
+ * points behind it). Counted in q's region slot. Returns the rays cast. */
+inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc, float3 q, float3 from, lv_rng *rng)
 {
-    uint slot = lv_grid_slot_at(grid, p);
+    uint slot = lv_grid_slot_at(grid, q);
     if (slot == LV_EMPTY_CELL) return 0u;
     float3 cell, sub;
-    uint i = lv_subcell_at(grid, p, &cell, &sub);
-    float3 q = lv_subcell_point(grid, cell, sub, (float3)(lv_rng_next2(rng), lv_rng_next(rng)));
+    uint i = lv_subcell_at(grid, q, &cell, &sub);
+    float3 x = lv_subcell_point(grid, cell, sub, (float3)(lv_rng_next2(rng), lv_rng_next(rng)));
+    /* In a cut cell the point must lie in q's region: a few tries, then q. */
+    __global const lv_slot_region *r = grid->regions + slot;
+    if (r->plane_count) {
+        float3 corner = lv_grid_origin(grid) + cell * grid->g.cell_size;
+        int tries = 0;
+        while (lv_region_of(r, r->plane_count, (x - corner) / grid->g.cell_size) != r->region) {
+            if (++tries == 4) {
+                x = q;
+                break;
+            }
+            x = lv_subcell_point(grid, cell, sub, (float3)(lv_rng_next2(rng), lv_rng_next(rng)));
+        }
+    }
     __global uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
     atomic_inc(&rec[LV_SUBCELL_CAST + i]);
-    if (!lv_occluded(sc, q, from - q, 0.999f, LV_NO_HIT, LV_NO_HIT)) atomic_inc(&rec[LV_SUBCELL_OPEN + i]);
+    if (!lv_occluded(sc, x, from - x, 0.999f, LV_NO_HIT, LV_NO_HIT)) atomic_inc(&rec[LV_SUBCELL_OPEN + i]);
     return 1u;
 }
 
-/* Offers q, a point light reached, as its subcell's lit point. The word
+/* Offers q, a point light reached, as its subcell's lit point (in q's
+ * region slot). The word
  * kept is the largest offered (a random priority, then the position), so
  * it does not depend on the order particles ran in. */
 inline void lv_offer_lit_point(const lv_grid *grid, float3 q, lv_rng *rng)
@@ -81,7 +139,7 @@ inline void lv_offer_lit_point(const lv_grid *grid, float3 q, lv_rng *rng)
 }
 
 /* Whether the light the volume holds reached q (with subcells). A tallied
- * segment must have passed q's subcell, and q must lie in its lit part. A
+ * segment must have passed q's subcell in q's region, and q must lie in its lit part. A
  * subcell without a lit point had no particle hit a surface in it and is
  * lit throughout. In one that holds a surface, the lit part is the side of
  * its lit point (just off a particle's hit), and q must see that point

@@ -1,0 +1,243 @@
+/* The regions of cut cells (docs/light-volume.md, "Regions"): for every
+ * stored cell, up to LV_REGION_PLANES planes of the geometry through it,
+ * which split it into 2^P region slots so that light on the two sides of a
+ * wall through the cell is tallied apart. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "light_volume_internal.h"
+
+/* Triangles join a cluster whose normal is within 25 degrees of theirs
+ * (either way round: both faces of a thin wall join) and whose offset is
+ * within a quarter cell. */
+#define SAME_NORMAL 0.9063077870366499 /* cos 25 degrees */
+#define SAME_OFFSET 0.25               /* cells */
+/* A plane must cut the cell by more than this (cells) to split it. */
+#define CUT_MARGIN 1e-3
+
+typedef struct {
+    double ref[3]; /* the first triangle's normal */
+    double sum_n[3]; /* area x normal, turned to ref's side */
+    double sum_d;    /* area x offset, on ref's side */
+    double area;
+    int next; /* the cell's next cluster, -1 at the end */
+} cluster;
+
+typedef struct {
+    cluster *pool;
+    size_t count, capacity;
+    int *head; /* per stored cell */
+    int failed;
+} clusters;
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Makes n's largest component positive (and d with it), so that a plane
+ * has one orientation whatever triangle it came from. */
+static void canonical(double n[3], double *d)
+{
+    int k = fabs(n[0]) >= fabs(n[1]) && fabs(n[0]) >= fabs(n[2]) ? 0 : fabs(n[1]) >= fabs(n[2]) ? 1 : 2;
+    if (n[k] < 0) {
+        for (int i = 0; i < 3; i++) n[i] = -n[i];
+        *d = -*d;
+    }
+}
+
+/* Whether plane n.x = d passes through the cell with corner lo and side h
+ * by more than the margin. */
+static int cuts_cell(const double n[3], double d, const double lo[3], double h)
+{
+    double centre = 0, radius = 0;
+    for (int k = 0; k < 3; k++) {
+        centre += n[k] * (lo[k] + 0.5 * h);
+        radius += 0.5 * h * fabs(n[k]);
+    }
+    return fabs(centre - d) < radius - CUT_MARGIN * h;
+}
+
+static void add_to_cell(clusters *c, int cell, const double n[3], double d, double area, double h)
+{
+    for (int i = c->head[cell]; i >= 0; i = c->pool[i].next) {
+        cluster *k = &c->pool[i];
+        double cosine = dot3(n, k->ref);
+        if (fabs(cosine) <= SAME_NORMAL) continue;
+        double s = cosine > 0 ? 1.0 : -1.0;
+        if (fabs(s * d - k->sum_d / k->area) >= SAME_OFFSET * h) continue;
+        for (int j = 0; j < 3; j++) k->sum_n[j] += s * area * n[j];
+        k->sum_d += s * area * d;
+        k->area += area;
+        return;
+    }
+    if (c->count == c->capacity) {
+        size_t cap = c->capacity ? 2 * c->capacity : 4096;
+        cluster *p = realloc(c->pool, cap * sizeof *p);
+        if (!p) {
+            c->failed = 1;
+            return;
+        }
+        c->pool = p;
+        c->capacity = cap;
+    }
+    cluster *k = &c->pool[c->count];
+    for (int j = 0; j < 3; j++) k->ref[j] = n[j], k->sum_n[j] = area * n[j];
+    k->sum_d = area * d;
+    k->area = area;
+    k->next = c->head[cell];
+    c->head[cell] = (int)c->count++;
+}
+
+/* Adds one placed triangle to the clusters of every stored cell its box
+ * (grown by a hundredth of a cell) overlaps and its plane cuts. */
+static void add_triangle(clusters *c, const lv_grid_info *g, const uint32_t *stored, const float v[9])
+{
+    double e1[3], e2[3], n[3];
+    for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k];
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double len = sqrt(dot3(n, n));
+    if (!(len > 0) || !isfinite(len)) return;
+    for (int k = 0; k < 3; k++) n[k] /= len;
+    double p0[3] = {v[0], v[1], v[2]}, d = dot3(n, p0), h = g->cell_size;
+    canonical(n, &d);
+    /* No triangle has more area inside a cube than its largest section. */
+    double area = fmin(0.5 * len, sqrt(2.0) * h * h);
+    int lo[3], hi[3];
+    for (int k = 0; k < 3; k++) {
+        double a = fmin(v[k], fmin(v[3 + k], v[6 + k])), b = fmax(v[k], fmax(v[3 + k], v[6 + k]));
+        lo[k] = (int)floor((a - g->origin[k]) / h - 0.01);
+        hi[k] = (int)floor((b - g->origin[k]) / h + 0.01);
+        if (lo[k] < 0) lo[k] = 0;
+        if (hi[k] > (int)g->dims[k] - 1) hi[k] = (int)g->dims[k] - 1;
+    }
+    for (int z = lo[2]; z <= hi[2]; z++)
+        for (int y = lo[1]; y <= hi[1]; y++)
+            for (int x = lo[0]; x <= hi[0]; x++) {
+                uint32_t s = stored[(size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z)];
+                if (s == LV_EMPTY_CELL) continue;
+                double corner[3] = {g->origin[0] + x * h, g->origin[1] + y * h, g->origin[2] + z * h};
+                if (cuts_cell(n, d, corner, h)) add_to_cell(c, (int)s, n, d, area, h);
+            }
+}
+
+/* The planes of one stored cell (corner lo): the heaviest clusters that
+ * cut it, in cell units from its corner. Returns their count. */
+static int choose_planes(const clusters *c, int cell, const double lo[3], double h, float planes[][4])
+{
+    int chosen[LV_REGION_PLANES], count = 0;
+    double pn[LV_REGION_PLANES][3], pd[LV_REGION_PLANES];
+    for (int round = 0; round < LV_REGION_PLANES; round++) {
+        int best = -1;
+        /* The heaviest cluster not yet taken; the earliest made on a tie. */
+        for (int i = c->head[cell]; i >= 0; i = c->pool[i].next) {
+            int taken = 0;
+            for (int j = 0; j < round; j++) taken |= chosen[j] == i;
+            if (!taken && (best < 0 || c->pool[i].area >= c->pool[best].area)) best = i;
+        }
+        if (best < 0) break;
+        chosen[round] = best;
+        const cluster *k = &c->pool[best];
+        double n[3], len = sqrt(dot3(k->sum_n, k->sum_n));
+        if (!(len > 0)) continue;
+        for (int j = 0; j < 3; j++) n[j] = k->sum_n[j] / len;
+        double d = k->sum_d / k->area;
+        canonical(n, &d);
+        if (!cuts_cell(n, d, lo, h)) continue;
+        int same = 0;
+        for (int j = 0; j < count; j++)
+            same |= fabs(dot3(n, pn[j])) > SAME_NORMAL &&
+                fabs((dot3(n, pn[j]) > 0 ? d : -d) - pd[j]) < SAME_OFFSET * h;
+        if (same) continue;
+        for (int j = 0; j < 3; j++) pn[count][j] = n[j];
+        pd[count] = d;
+        /* n . (lo + h u) = d  <=>  n . u = (d - n . lo) / h */
+        for (int j = 0; j < 3; j++) planes[count][j] = (float)n[j];
+        planes[count][3] = (float)((d - dot3(n, lo)) / h);
+        count++;
+    }
+    return count;
+}
+
+lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
+                                     lv_slot_region **regions, lvcl_status *st)
+{
+    *regions = NULL;
+    size_t stored = g->slot_count;
+    clusters c = {0};
+    c.head = malloc((stored ? stored : 1) * sizeof *c.head);
+    float(*planes)[LV_REGION_PLANES][4] = malloc((stored ? stored : 1) * sizeof *planes);
+    uint8_t *count = malloc(stored ? stored : 1);
+    if (!c.head || !planes || !count) {
+        free(c.head);
+        free(planes);
+        free(count);
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' planes");
+    }
+    for (size_t i = 0; i < stored; i++) c.head[i] = -1;
+    /* Every placed triangle, leaf by leaf. */
+    int stack[LVCL_BVH_MAX_DEPTH + 1];
+    for (size_t in = 0; in < p->instance_count && !c.failed; in++) {
+        int top = 0;
+        stack[top++] = (int)p->instances[in].root;
+        while (top > 0 && !c.failed) {
+            const lv_bvh_node *n = &p->nodes[stack[--top]];
+            if (n->count > 0) {
+                for (int t = n->index; t < n->index + n->count; t++) {
+                    float v[9];
+                    lvcl_packed_triangle_world(p, in, (size_t)t, v);
+                    add_triangle(&c, g, slot, v);
+                }
+            } else {
+                stack[top++] = (int)(n - p->nodes) + 1;
+                stack[top++] = n->index;
+            }
+        }
+    }
+    size_t total = 0;
+    uint32_t *base = malloc((stored ? stored : 1) * sizeof *base);
+    if (!c.failed && base) {
+        for (size_t z = 0, i = 0; z < g->dims[2]; z++)
+            for (size_t y = 0; y < g->dims[1]; y++)
+                for (size_t x = 0; x < g->dims[0]; x++, i++) {
+                    uint32_t s = slot[i];
+                    if (s == LV_EMPTY_CELL) continue;
+                    double lo[3] = {g->origin[0] + (double)x * g->cell_size, g->origin[1] + (double)y * g->cell_size,
+                                    g->origin[2] + (double)z * g->cell_size};
+                    count[s] = (uint8_t)choose_planes(&c, (int)s, lo, g->cell_size, planes[s]);
+                }
+        for (size_t s = 0; s < stored; s++) {
+            base[s] = (uint32_t)total;
+            total += (size_t)1 << count[s];
+        }
+    }
+    free(c.head);
+    free(c.pool);
+    lv_slot_region *r = NULL;
+    if (!c.failed && base && total < UINT32_MAX) r = calloc(total + 1, sizeof *r);
+    if (!r) {
+        free(base);
+        free(planes);
+        free(count);
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' regions");
+    }
+    for (size_t s = 0; s < stored; s++)
+        for (uint32_t k = 0; k < 1u << count[s]; k++) {
+            lv_slot_region *e = &r[base[s] + k];
+            memcpy(e->planes, planes[s], sizeof e->planes);
+            e->plane_count = count[s];
+            e->base_slot = base[s];
+            e->region = k;
+        }
+    for (size_t i = 0; i < cells; i++)
+        if (slot[i] != LV_EMPTY_CELL) slot[i] = base[slot[i]];
+    g->slot_count = (lv_u32)total;
+    free(base);
+    free(planes);
+    free(count);
+    *regions = r;
+    return LVCL_OK;
+}

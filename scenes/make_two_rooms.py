@@ -1,0 +1,65 @@
+#!/usr/bin/env python3
+"""Two closed rooms sharing a wall, each with its own ceiling lamp (issue 12):
+the camera stands in the dim room and looks at the shared wall. Rendering
+the dim room with the bright lamp on and off tells whether the light volume
+leaks the bright room's light through the cells the wall cuts (the true
+ratio, and the path tracer's, is 1).
+
+    python3 scenes/make_two_rooms.py OUT.gltf --thickness 0.02 --ratio 25 [--bright-off]
+
+--thickness 0 makes the wall one double-sided polygon. The geometry is the
+same as tests/volume/test_two_rooms.c builds in memory."""
+import argparse
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from make_scenes import Mesh, box, emission, lambert, look_at, write_gltf  # noqa: E402
+
+X, Y, Z, WALL_X = 2.0, 2.5, 1.0, 0.37   # rooms x in [-X, X], split at WALL_X
+DIM_LE = 4.0                            # the dim room's lamp radiance
+
+
+def two_rooms(path, thickness, ratio, bright_on):
+    WHITE, DIM, BRIGHT = range(3)
+    dim_f, dim_s = emission((DIM_LE,) * 3)
+    bright_le = DIM_LE * ratio if bright_on else 0.0
+    materials = [lambert("white", (0.7, 0.7, 0.7)),
+                 lambert("dim lamp", (0.0, 0.0, 0.0), emissive=dim_f, strength=dim_s)]
+    if bright_on:
+        f, s = emission((bright_le,) * 3)
+        materials.append(lambert("bright lamp", (0.0, 0.0, 0.0), emissive=f, strength=s))
+    else:
+        materials.append(lambert("bright lamp (off)", (0.0, 0.0, 0.0)))
+    room = Mesh("rooms", WHITE)
+    box(room, (-X, 0.0, -Z), (X, Y, Z), inward=True)
+    if thickness > 0:
+        box(room, (WALL_X - thickness / 2, 0.0, -Z), (WALL_X + thickness / 2, Y, Z))
+    else:
+        room.quad([(WALL_X, 0.0, -Z), (WALL_X, Y, -Z), (WALL_X, Y, Z), (WALL_X, 0.0, Z)], (1.0, 0.0, 0.0))
+    meshes = [room]
+    for name, mat, x0, x1 in (("dim lamp", DIM, 1.0, 1.6), ("bright lamp", BRIGHT, -1.4, -0.8)):
+        lamp = Mesh(name, mat)
+        lamp.quad([(x0, Y - 0.001, -0.3), (x1, Y - 0.001, -0.3), (x1, Y - 0.001, 0.3), (x0, Y - 0.001, 0.3)],
+                  (0.0, -1.0, 0.0))
+        meshes.append(lamp)
+    eye, target = (1.9, 1.2, 0.0), (WALL_X, 1.1, 0.0)
+    camera = {"yfov": math.radians(70.0), "aspect": 1.0, "translation": list(eye), "rotation": look_at(eye, target)}
+    write_gltf(path, meshes, materials, camera,
+               "two closed rooms sharing a %g m wall at x = %g; lamps %g (camera's room) and %g" %
+               (thickness, WALL_X, DIM_LE, bright_le))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("out")
+    ap.add_argument("--thickness", type=float, default=0.02, help="wall thickness, metres (0: one polygon)")
+    ap.add_argument("--ratio", type=float, default=25.0, help="bright lamp radiance over the dim one's")
+    ap.add_argument("--bright-off", action="store_true", help="the bright room's lamp emits nothing")
+    a = ap.parse_args()
+    two_rooms(a.out, a.thickness, a.ratio, not a.bright_off)
+
+
+if __name__ == "__main__":
+    main()
