@@ -21,14 +21,16 @@ X, Y, Z, WALL_X = 2.0, 2.5, 1.0, 0.37   # rooms x in [-X, X], split at WALL_X
 DIM_LE = 4.0                            # the dim room's lamp radiance
 
 
-def two_rooms(path, thickness, ratio, bright_on):
+def two_rooms(path, thickness, ratio, bright_on, colours=False):
+    """colours: the bright lamp red and the dim one blue (grey walls keep
+    the channels apart), so that any red in the dim room is a leak."""
     WHITE, DIM, BRIGHT = range(3)
-    dim_f, dim_s = emission((DIM_LE,) * 3)
+    dim_f, dim_s = emission((0.0, 0.0, DIM_LE) if colours else (DIM_LE,) * 3)
     bright_le = DIM_LE * ratio if bright_on else 0.0
     materials = [lambert("white", (0.7, 0.7, 0.7)),
                  lambert("dim lamp", (0.0, 0.0, 0.0), emissive=dim_f, strength=dim_s)]
     if bright_on:
-        f, s = emission((bright_le,) * 3)
+        f, s = emission((bright_le, 0.0, 0.0) if colours else (bright_le,) * 3)
         materials.append(lambert("bright lamp", (0.0, 0.0, 0.0), emissive=f, strength=s))
     else:
         materials.append(lambert("bright lamp (off)", (0.0, 0.0, 0.0)))
@@ -57,8 +59,9 @@ def main():
     ap.add_argument("--thickness", type=float, default=0.02, help="wall thickness, metres (0: one polygon)")
     ap.add_argument("--ratio", type=float, default=25.0, help="bright lamp radiance over the dim one's")
     ap.add_argument("--bright-off", action="store_true", help="the bright room's lamp emits nothing")
+    ap.add_argument("--colours", action="store_true", help="bright lamp red, dim lamp blue: red in the dim room is a leak")
     a = ap.parse_args()
-    two_rooms(a.out, a.thickness, a.ratio, not a.bright_off)
+    two_rooms(a.out, a.thickness, a.ratio, not a.bright_off, a.colours)
 
 
 if __name__ == "__main__":
