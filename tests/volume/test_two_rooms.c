@@ -1,0 +1,223 @@
+/* Two closed rooms sharing a wall, both lit (issue 12): the camera in the
+ * dim room looks at the shared wall. The geometry is scenes/make_two_rooms.py's,
+ * built in memory. Cells the wall cuts hold both rooms' light; their
+ * regions must keep it apart, for walls from one polygon to 30 cm, with
+ * the grid at several offsets and sizes, with and without subcells.
+ *
+ * (a) Leak: the bright lamp red and the dim one blue; the walls are grey,
+ *     so the true red radiance in the dim room is 0 while its own blue
+ *     light lights its subcells (the case the lit-point test alone missed).
+ *     Any red seen is the bright room's light read through the wall.
+ * (b) On against off: both lamps white at equal radiance; particles are
+ *     doubled with the bright lamp on, so the dim room gets as many as with
+ *     it off. The mean must agree within 3% and every 8 x 8 block within
+ *     4 standard deviations of the two renders' block differences. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../check.h"
+#include "../harness.h"
+
+#define X 2.0f
+#define Y 2.5f
+#define Z 1.0f
+#define WALL_X 0.37f
+#define DIM_LE 4.0f
+
+static float *add_quad(float *t, const float a[3], const float b[3], const float c[3], const float d[3])
+{
+    const float *q[6] = {a, b, c, a, c, d};
+    for (int i = 0; i < 6; i++) memcpy(t + 3 * i, q[i], 3 * sizeof(float));
+    return t + 18;
+}
+
+/* The faces of the box lo..hi (winding does not matter: the walls are
+ * double-sided). */
+static float *add_box(float *t, const float lo[3], const float hi[3])
+{
+    for (int axis = 0; axis < 3; axis++) {
+        int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        for (int side = 0; side < 2; side++) {
+            float c[4][3];
+            const float uv[4][2] = {{lo[u], lo[v]}, {hi[u], lo[v]}, {hi[u], hi[v]}, {lo[u], hi[v]}};
+            for (int i = 0; i < 4; i++) {
+                c[i][axis] = side ? hi[axis] : lo[axis];
+                c[i][u] = uv[i][0];
+                c[i][v] = uv[i][1];
+            }
+            t = add_quad(t, c[0], c[1], c[2], c[3]);
+        }
+    }
+    return t;
+}
+
+static void normalize3(float v[3])
+{
+    float l = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int k = 0; k < 3; k++) v[k] /= l;
+}
+
+/* thickness 0: the wall is one double-sided polygon. bright, dim: the
+ * lamps' RGB radiance. */
+static void two_rooms(float thickness, const float bright[3], const float dim[3], lvcl_scene *s)
+{
+    float tris[(12 + 12 + 4) * 9], *t = tris;
+    const float lo[3] = {-X, 0, -Z}, hi[3] = {X, Y, Z};
+    t = add_box(t, lo, hi);
+    if (thickness > 0) {
+        const float wlo[3] = {WALL_X - thickness / 2, 0, -Z}, whi[3] = {WALL_X + thickness / 2, Y, Z};
+        t = add_box(t, wlo, whi);
+    } else {
+        const float a[3] = {WALL_X, 0, -Z}, b[3] = {WALL_X, Y, -Z}, c[3] = {WALL_X, Y, Z}, d[3] = {WALL_X, 0, Z};
+        t = add_quad(t, a, b, c, d);
+    }
+    size_t walls = (size_t)(t - tris) / 9;
+    /* Lamps facing down: (x0, z0), (x1, z0), (x1, z1) winds to -y. */
+    const float ly = Y - 0.001f, x[2][2] = {{1.0f, 1.6f}, {-1.4f, -0.8f}};
+    for (int l = 0; l < 2; l++) {
+        const float a[3] = {x[l][0], ly, -0.3f}, b[3] = {x[l][1], ly, -0.3f}, c[3] = {x[l][1], ly, 0.3f},
+                    d[3] = {x[l][0], ly, 0.3f};
+        t = add_quad(t, a, b, c, d);
+    }
+    size_t count = (size_t)(t - tris) / 9;
+    harness_triangle_scene(tris, count, s);
+    lvcl_material_desc *m = realloc(s->materials, 3 * sizeof *m);
+    if (!m) exit(1);
+    s->materials = m;
+    s->material_count = 3;
+    m[0].base_color[0] = m[0].base_color[1] = m[0].base_color[2] = 0.7f;
+    m[1] = m[2] = m[0];
+    for (int k = 0; k < 3; k++) {
+        m[1].base_color[k] = m[2].base_color[k] = 0.0f;
+        m[1].emissive[k] = dim[k];
+        m[2].emissive[k] = bright[k];
+    }
+    for (size_t i = walls; i < count; i++) s->tri_material[i] = i < walls + 2 ? 1 : 2;
+    /* The camera in the dim room, looking at the wall. */
+    lvcl_camera_desc *cam = &s->camera;
+    const float eye[3] = {1.9f, 1.2f, 0.0f}, target[3] = {WALL_X, 1.1f, 0.0f};
+    cam->present = 1;
+    memcpy(cam->position, eye, sizeof eye);
+    for (int k = 0; k < 3; k++) cam->back[k] = eye[k] - target[k];
+    normalize3(cam->back);
+    /* right = up_world x back, up = back x right */
+    cam->right[0] = cam->back[2], cam->right[1] = 0, cam->right[2] = -cam->back[0];
+    normalize3(cam->right);
+    cam->up[0] = cam->back[1] * cam->right[2] - cam->back[2] * cam->right[1];
+    cam->up[1] = cam->back[2] * cam->right[0] - cam->back[0] * cam->right[2];
+    cam->up[2] = cam->back[0] * cam->right[1] - cam->back[1] * cam->right[0];
+    cam->yfov = 70.0f * 3.14159265f / 180.0f;
+    cam->aspect = 1.0f;
+}
+
+typedef struct {
+    float thickness, offset;
+    int cells, subcells;
+} setup;
+
+static int render(float thickness, const float bright[3], const float dim[3], const setup *u, uint64_t particles,
+                  int size, int spp, lvcl_render_result *r)
+{
+    lvcl_scene scene;
+    lvcl_status st = {0};
+    two_rooms(thickness, bright, dim, &scene);
+    lvcl_render_request req = harness_request(LVCL_MODE_LV, size, spp, u->cells, particles);
+    req.volume.subcells = u->subcells;
+    req.volume.offset = u->offset;
+    if (harness_render(&scene, NULL, 5, &req, r, &st)) {
+        CHECK("two rooms: render", 0, "%s", st.message);
+        return 0;
+    }
+    return 1;
+}
+
+static double channel_mean(const lvcl_render_result *r, int c)
+{
+    double sum = 0;
+    for (int i = 0; i < r->width * r->height; i++) sum += r->rgb[3 * i + c];
+    return sum / (r->width * r->height);
+}
+
+static void test_leak(void)
+{
+    const setup setups[] = {
+        {0.0f, 0.37f, 32, 4},  {0.005f, 0.5f, 32, 4}, {0.02f, 0.5f, 32, 4}, {0.02f, 0.0f, 16, 4},
+        {0.06f, 0.37f, 16, 4}, {0.3f, 0.5f, 32, 4},   {0.0f, 0.5f, 16, 0},  {0.005f, 0.37f, 32, 0},
+        {0.02f, 0.5f, 32, 0},  {0.06f, 0.0f, 32, 0},
+    };
+    const float ratios[] = {25.0f, 1000.0f};
+    double worst = 0;
+    for (size_t i = 0; i < sizeof setups / sizeof *setups; i++) {
+        const setup *u = &setups[i];
+        float ratio = ratios[i % 2];
+        const float bright[3] = {DIM_LE * ratio, 0, 0}, dim[3] = {0, 0, DIM_LE};
+        lvcl_render_result r;
+        if (!render(u->thickness, bright, dim, u, 200000, 32, 4, &r)) return;
+        double red = channel_mean(&r, 0), blue = channel_mean(&r, 2), leak = red / (ratio * blue);
+        free(r.rgb);
+        printf("  leak: wall %.3f m, offset %.2f, %d cells, %d subcells, %.0fx: red %.3g, blue %.3g\n", u->thickness,
+               u->offset, u->cells, u->subcells, ratio, red, blue);
+        if (!(leak <= worst)) worst = leak;
+        CHECK("two rooms: the bright room's light does not leak into the dim one", blue > 0 && leak < 1e-4,
+              "wall %.3f m, offset %.2f, %d cells, %d subcells, %.0fx: red / (ratio blue) = %.3g", u->thickness,
+              u->offset, u->cells, u->subcells, ratio, leak);
+    }
+    printf("  leak: worst red / (ratio x blue) %.3g\n", worst);
+}
+
+static void test_on_off(void)
+{
+    const setup setups[] = {
+        {0.0f, 0.5f, 32, 4}, {0.02f, 0.37f, 32, 4}, {0.06f, 0.0f, 16, 4}, {0.005f, 0.5f, 16, 0}, {0.3f, 0.37f, 32, 0}};
+    const int size = 32, block = 8, nb = size / block;
+    for (size_t i = 0; i < sizeof setups / sizeof *setups; i++) {
+        const setup *u = &setups[i];
+        const float on[3] = {DIM_LE, DIM_LE, DIM_LE}, off[3] = {0, 0, 0};
+        lvcl_render_result a, b;
+        if (!render(u->thickness, on, on, u, 400000, size, 8, &a)) return;
+        if (!render(u->thickness, off, on, u, 200000, size, 8, &b)) {
+            free(a.rgb);
+            return;
+        }
+        double ratio = channel_mean(&a, 1) / channel_mean(&b, 1);
+        /* Block means of both, and the spread of their differences. */
+        double d[16], mean = 0, var = 0, worst = 0;
+        for (int by = 0; by < nb; by++)
+            for (int bx = 0; bx < nb; bx++) {
+                double sa = 0, sb = 0;
+                for (int y = by * block; y < (by + 1) * block; y++)
+                    for (int x = bx * block; x < (bx + 1) * block; x++) {
+                        sa += a.rgb[3 * (y * size + x) + 1];
+                        sb += b.rgb[3 * (y * size + x) + 1];
+                    }
+                d[by * nb + bx] = (sa - sb) / (block * block);
+                mean += d[by * nb + bx] / (nb * nb);
+            }
+        for (int k = 0; k < nb * nb; k++) var += (d[k] - mean) * (d[k] - mean) / (nb * nb - 1);
+        for (int k = 0; k < nb * nb; k++) worst = fmax(worst, fabs(d[k]) / sqrt(var));
+        printf("  on/off: wall %.3f m, offset %.2f, %d cells, %d subcells: mean ratio %.4f, worst block %.2f "
+               "standard deviations (block difference sd %.3g)\n",
+               u->thickness, u->offset, u->cells, u->subcells, ratio, worst, sqrt(var));
+        CHECK("two rooms: the dim room's mean is the same with the bright lamp on and off within 3%",
+              fabs(ratio - 1) < 0.03, "wall %.3f m, offset %.2f, %d cells, %d subcells: on / off %.4f", u->thickness,
+              u->offset, u->cells, u->subcells, ratio);
+        CHECK("two rooms: every 8 x 8 block is the same on and off within 4 sample sd", worst < 4.0,
+              "wall %.3f m, offset %.2f, %d cells, %d subcells: a block off by %.2f sd", u->thickness, u->offset,
+              u->cells, u->subcells, worst);
+        free(a.rgb);
+        free(b.rgb);
+    }
+}
+
+int main(int argc, char **argv)
+{
+    (void)argc;
+    (void)argv;
+    setenv("POCL_DEVICES", "pthread basic", 0);
+    lvcl_device_prepare_environment();
+    test_leak();
+    test_on_off();
+    CHECK_EXIT();
+}
