@@ -191,16 +191,21 @@ typedef struct {
  * planes (n, c: a point u in cell units from the cell's corner is on the
  * positive side of plane i if n_i . u > c_i; the point's slot is base_slot
  * + the pattern of bits i set where it is), their count P (0: one region),
- * the cell's first slot and which region this slot is. Every slot of a
+ * the cell's first slot, which region this slot is and where its shares
+ * start in the region_shares table: the region's volume (a fraction of
+ * the cell), then per subcell the fraction of the subcell inside the
+ * region (1 + k^3 floats, exact, from volume_shares.c; LV_NO_SHARES for a
+ * cell without planes, whose one region is all of it). Every slot of a
  * cell repeats the cell's planes. */
 #define LV_REGION_PLANES 3
+#define LV_NO_SHARES 0xffffffffu
 
 typedef struct {
     float planes[LV_REGION_PLANES][4];
     lv_u32 plane_count;
     lv_u32 base_slot;
     lv_u32 region;
-    lv_u32 pad;
+    lv_u32 shares; /* first entry in region_shares, or LV_NO_SHARES */
 } lv_slot_region;
 
 /* Buffers the tallies may be split over, each within the device's largest
@@ -273,6 +278,7 @@ typedef struct {
 #define LV_VOLUME_BUFFERS(SPLIT, ONE)                                     \
     ONE(const uint, cell_slot) /* cell -> first slot or LV_EMPTY_CELL */  \
     ONE(const lv_slot_region, regions) /* per slot: the cell's planes */   \
+    ONE(const float, region_shares) /* per slot of a cut cell: 1 + k^3 */ \
     SPLIT(long, tallies)       /* slot x bin x RGB, 64-bit fixed point */ \
     ONE(uint, subcells)        /* LV_SUBCELL_STRIDE words per slot */     \
     ONE(float, lit_volume)     /* per slot, filled by lv_lit_volumes */

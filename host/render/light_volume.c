@@ -28,7 +28,8 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for a %zu-cell grid", cells);
     }
     if ((e = lvcl_volume_assign_slots(p, g, vol->cell_count, vol->cell_slot, st)) ||
-        (e = lvcl_volume_build_regions(p, g, vol->cell_count, vol->cell_slot, &vol->regions, st))) {
+        (e = lvcl_volume_build_regions(p, g, vol->cell_count, vol->cell_slot, &vol->regions, &vol->region_shares,
+                                        &vol->region_share_count, st))) {
         lvcl_volume_release(vol);
         return e;
     }
@@ -44,8 +45,10 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
      * lit volume and the cell's planes (one buffer each). */
     size_t records = ((size_t)g->slot_count + 1) * (LV_SUBCELL_STRIDE + 1) * sizeof(uint32_t);
     size_t region_bytes = ((size_t)g->slot_count + 1) * sizeof(lv_slot_region);
-    vol->device_bytes = vol->tally_bytes + vol->cell_count * sizeof(uint32_t) + records + region_bytes;
-    if (parts > LV_TALLY_PARTS || records > dev->max_alloc || region_bytes > dev->max_alloc || vol->device_bytes > dev->global_mem) {
+    size_t share_bytes = (vol->region_share_count ? vol->region_share_count : 1) * sizeof(float);
+    vol->device_bytes = vol->tally_bytes + vol->cell_count * sizeof(uint32_t) + records + region_bytes + share_bytes;
+    if (parts > LV_TALLY_PARTS || records > dev->max_alloc || region_bytes > dev->max_alloc ||
+        share_bytes > dev->max_alloc || vol->device_bytes > dev->global_mem) {
         lvcl_error e = lvcl_fail(st, LVCL_ERR_TOO_LARGE,
                                  "the light volume needs %.1f MiB (%u cells x %u bins) but %s allows %.1f MiB in one "
                                  "buffer (at most %d buffers) and %.1f MiB in all; use fewer --cells or --dirs",
@@ -62,6 +65,9 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     if (err == CL_SUCCESS)
         vol->buf.regions = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, region_bytes,
                                           vol->regions, &err);
+    if (err == CL_SUCCESS)
+        vol->buf.region_shares = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, share_bytes,
+                                                vol->region_shares, &err);
     for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS; i++)
         vol->buf.tallies[i] =
             clCreateBuffer(dev->context, CL_MEM_READ_WRITE, lvcl_volume_part_bytes(vol, i), NULL, &err);
@@ -160,5 +166,6 @@ void lvcl_volume_release(lvcl_light_volume *vol)
     if (vol->bin_directions_buf) clReleaseMemObject(vol->bin_directions_buf);
     free(vol->cell_slot);
     free(vol->regions);
+    free(vol->region_shares);
     free(vol);
 }

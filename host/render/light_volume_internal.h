@@ -13,6 +13,8 @@ struct lvcl_light_volume {
                                  slots each, unused parts NULL) */
     uint32_t *cell_slot;     /* host copy of the index grid (cell -> first slot) */
     lv_slot_region *regions; /* host copy of the per-slot planes (slot_count + 1) */
+    float *region_shares;    /* host copy of the cut cells' region shares */
+    size_t region_share_count;
     size_t cell_count;       /* dims[0] * dims[1] * dims[2] */
     int tally_parts;
     cl_mem bin_directions_buf; /* float4 per bin, filled by lvcl_volume_trace */
@@ -38,9 +40,18 @@ lvcl_error lvcl_volume_assign_slots(const lvcl_packed_scene *p, lv_grid_info *g,
  * cut by P of them 2^P consecutive slots: on entry slot[] numbers the
  * stored cells (g->slot_count of them), on return it holds each cell's
  * first slot, g->slot_count the slots and *regions (malloc'ed,
- * slot_count + 1 entries) every slot's planes. */
+ * slot_count + 1 entries) every slot's planes, *shares (malloc'ed,
+ * *share_count floats, at least one allocated) the exact region shares
+ * that lv_slot_region.shares points into. */
 lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
-                                     lv_slot_region **regions, lvcl_status *st);
+                                     lv_slot_region **regions, float **shares, size_t *share_count, lvcl_status *st);
+
+/* The exact shares of the 2^count regions of a cell with these planes (cell
+ * units, lv_slot_region's convention) and k^3 subcells (k = 0: none): per
+ * region m, at out[m (1 + max(k^3, 1))], the region's volume over the
+ * cell's, then the fraction of each subcell (of the cell if k = 0) in it
+ * (volume_shares.c). */
+void lvcl_region_shares(const float planes[][4], int count, uint32_t k, float *out);
 
 /* Bytes of tally buffer `part` (a buffer holds info.slots_per_part slots). */
 size_t lvcl_volume_part_bytes(const lvcl_light_volume *vol, int part);

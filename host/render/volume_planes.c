@@ -163,9 +163,11 @@ static int choose_planes(const clusters *c, int cell, const double lo[3], double
 }
 
 lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
-                                     lv_slot_region **regions, lvcl_status *st)
+                                     lv_slot_region **regions, float **shares, size_t *share_count, lvcl_status *st)
 {
     *regions = NULL;
+    *shares = NULL;
+    *share_count = 0;
     size_t stored = g->slot_count;
     clusters c = {0};
     c.head = malloc((stored ? stored : 1) * sizeof *c.head);
@@ -224,14 +226,40 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
         free(count);
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' regions");
     }
+    /* The exact shares of every cut cell's regions (volume_shares.c). */
+    uint32_t k = g->subcells, per = 1u + (k ? k * k * k : 1u);
+    size_t share_total = 0;
     for (size_t s = 0; s < stored; s++)
-        for (uint32_t k = 0; k < 1u << count[s]; k++) {
-            lv_slot_region *e = &r[base[s] + k];
+        if (count[s]) share_total += ((size_t)1 << count[s]) * per;
+    float *sh = malloc((share_total ? share_total : 1) * sizeof *sh);
+    if (!sh) {
+        free(r);
+        free(base);
+        free(planes);
+        free(count);
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the regions' shares");
+    }
+    if (!share_total) sh[0] = 0.0f;
+    share_total = 0;
+    for (size_t s = 0; s < stored; s++) {
+        uint32_t first = LV_NO_SHARES;
+        if (count[s]) {
+            first = (uint32_t)share_total;
+            lvcl_region_shares((const float(*)[4])planes[s], count[s], k, sh + share_total);
+            share_total += ((size_t)1 << count[s]) * per;
+        }
+        for (uint32_t m = 0; m < 1u << count[s]; m++) {
+            lv_slot_region *e = &r[base[s] + m];
             memcpy(e->planes, planes[s], sizeof e->planes);
             e->plane_count = count[s];
             e->base_slot = base[s];
-            e->region = k;
+            e->region = m;
+            e->shares = count[s] ? first + m * per : LV_NO_SHARES;
         }
+    }
+    r[total].shares = LV_NO_SHARES;
+    *shares = sh;
+    *share_count = share_total;
     for (size_t i = 0; i < cells; i++)
         if (slot[i] != LV_EMPTY_CELL) slot[i] = base[slot[i]];
     g->slot_count = (lv_u32)total;

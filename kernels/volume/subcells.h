@@ -9,66 +9,33 @@
 #include "../util/rng.h"
 #include "grid.h"
 
-/* Lattice points per axis that measure how much of a subcell (or, without
- * subcells, of the cell) lies in a region. */
-#define LV_REGION_LATTICE 4
-
-/* The share of the box lo + [0, size]^3 (cell units from the cell's
- * corner) that lies in region `region` of a cell with planes r, by a
- * LV_REGION_LATTICE^3 lattice of points. */
-inline float lv_region_share(__global const lv_slot_region *r, uint region, float3 lo, float size)
-{
-    const uint m = LV_REGION_LATTICE;
-    uint in = 0u;
-    for (uint z = 0; z < m; z++)
-        for (uint y = 0; y < m; y++)
-            for (uint x = 0; x < m; x++) {
-                float3 u = lo + ((float3)((float)x, (float)y, (float)z) + 0.5f) * (size / (float)m);
-                in += lv_region_of(r, r->plane_count, u) == region;
-            }
-    return (float)in / (float)(m * m * m);
-}
-
 /* The lit volume of a region slot, in cell units (1 = the whole cell), by
  * paper 4.1 within the region: the subcells that tallied segments passed
  * in it, each weighted by the fraction of its visibility rays that reached
- * their particle's origin (1 if none was cast) and by the share of the
- * subcell inside the region. At least one subcell's worth, or the region's
- * volume if that is smaller. Without subcells: the region's volume (the
- * whole cell for a cell without planes). */
+ * their particle's origin (1 if none was cast) and by the exact share of
+ * the subcell inside the region (region_shares, computed on the host). At
+ * least one subcell's worth, or the region's volume if that is smaller.
+ * Without subcells: the region's volume (the whole cell for a cell without
+ * planes). A region of no volume holds no point, so nothing reads it. */
 inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
 {
     uint k = grid->g.subcells;
-    __global const lv_slot_region *r = grid->regions + slot;
-    uint planes = r->plane_count;
-    /* Half a lattice point of the cell: a region too thin for the lattice. */
-    const float sliver = 0.5f / (float)(LV_REGION_LATTICE * LV_REGION_LATTICE * LV_REGION_LATTICE);
-    if (k == 0u) {
-        if (!planes) return 1.0f;
-        float share = 0.0f;
-        for (uint z = 0; z < 2u; z++)
-            for (uint y = 0; y < 2u; y++)
-                for (uint x = 0; x < 2u; x++)
-                    share += lv_region_share(r, r->region, 0.5f * (float3)((float)x, (float)y, (float)z), 0.5f);
-        return fmax(share / 8.0f, sliver / 8.0f);
-    }
+    uint at = grid->regions[slot].shares;
+    __global const float *share = grid->region_shares + (at == LV_NO_SHARES ? 0u : at);
+    float region = at == LV_NO_SHARES ? 1.0f : share[0];
+    if (!(region > 0.0f)) return 1.0f;
+    if (k == 0u) return region;
     __global const uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
-    float lit = 0.0f, region_volume = 0.0f, inv_k = 1.0f / (float)k;
+    float lit = 0.0f, n = (float)(k * k * k);
     for (uint i = 0; i < k * k * k; i++) {
-        float share = 1.0f;
-        if (planes) {
-            float3 sub = (float3)((float)(i % k), (float)(i / k % k), (float)(i / (k * k)));
-            share = lv_region_share(r, r->region, sub * inv_k, inv_k);
-            region_volume += share;
-        }
         if (!(rec[i >> 5] & (1u << (i & 31u)))) continue;
         uint cast = rec[LV_SUBCELL_CAST + i];
-        lit += share * (cast ? (float)rec[LV_SUBCELL_OPEN + i] / (float)cast : 1.0f);
+        float open = cast ? (float)rec[LV_SUBCELL_OPEN + i] / (float)cast : 1.0f;
+        lit += (at == LV_NO_SHARES ? 1.0f : share[1u + i]) * open;
     }
     /* Never below one subcell (some light passed, or the tallies are 0),
-     * nor below a sliver of a region the lattice barely sees. */
-    float least = planes ? fmax(fmin(1.0f, region_volume), sliver) : 1.0f;
-    return fmax(lit, least) / (float)(k * k * k);
+     * or the region's volume where that is smaller. */
+    return fmax(lit / n, fmin(1.0f / n, region));
 }
 
 /* The index of the subcell holding p within its cell; also the cell's and

@@ -1,0 +1,189 @@
+/* Exact shares of the regions of cut cells (docs/light-volume.md,
+ * "Regions"): how much of each subcell (and of the whole cell) lies in each
+ * region of its cell's planes. The region of sign pattern m is the box
+ * clipped by the half-spaces s_i (n_i . u - c_i) >= 0, a convex polytope;
+ * its volume is exact up to rounding (the lattice of points it replaces
+ * measured shares in steps of 1/64 of a subcell, a bias on every cell of an
+ * axis-aligned wall). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "light_volume_internal.h"
+
+#define MAX_VERTS 24
+#define MAX_FACES 12
+
+typedef struct {
+    double v[MAX_VERTS][3];
+    int n;
+} polygon;
+
+typedef struct {
+    polygon f[MAX_FACES];
+    int n;
+} polytope;
+
+static void sub3(const double a[3], const double b[3], double r[3])
+{
+    for (int k = 0; k < 3; k++) r[k] = a[k] - b[k];
+}
+
+static void cross3(const double a[3], const double b[3], double r[3])
+{
+    r[0] = a[1] * b[2] - a[2] * b[1];
+    r[1] = a[2] * b[0] - a[0] * b[2];
+    r[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* The box lo + [0, size]^3 as six quadrilaterals, each in cyclic order. */
+static void make_box(polytope *t, const double lo[3], double size)
+{
+    static const int quad[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+    double corner[8][3];
+    for (int i = 0; i < 8; i++)
+        for (int k = 0; k < 3; k++) corner[i][k] = lo[k] + (i >> k & 1 ? size : 0.0);
+    t->n = 6;
+    for (int f = 0; f < 6; f++) {
+        t->f[f].n = 4;
+        for (int j = 0; j < 4; j++) memcpy(t->f[f].v[j], corner[quad[f][j]], sizeof corner[0]);
+    }
+}
+
+/* Keeps the part of t where s (n . u - c) >= 0, closing it with the cap
+ * polygon in the plane. */
+static void clip(polytope *t, const float plane[4], double s)
+{
+    double n[3] = {s * plane[0], s * plane[1], s * plane[2]}, c = s * plane[3];
+    double cap[2 * MAX_FACES + 2 * MAX_VERTS][3];
+    int caps = 0;
+    polytope out;
+    out.n = 0;
+    for (int f = 0; f < t->n; f++) {
+        const polygon *p = &t->f[f];
+        polygon q;
+        q.n = 0;
+        for (int i = 0; i < p->n; i++) {
+            const double *a = p->v[i], *b = p->v[(i + 1) % p->n];
+            double da = dot3(n, a) - c, db = dot3(n, b) - c;
+            if (da >= 0 && q.n < MAX_VERTS) memcpy(q.v[q.n++], a, sizeof q.v[0]);
+            if (da == 0 && caps < (int)(sizeof cap / sizeof cap[0])) memcpy(cap[caps++], a, sizeof cap[0]);
+            if ((da > 0 && db < 0) || (da < 0 && db > 0)) {
+                double x[3], w = da / (da - db);
+                for (int k = 0; k < 3; k++) x[k] = a[k] + w * (b[k] - a[k]);
+                if (q.n < MAX_VERTS) memcpy(q.v[q.n++], x, sizeof x);
+                if (caps < (int)(sizeof cap / sizeof cap[0])) memcpy(cap[caps++], x, sizeof x);
+            }
+        }
+        if (q.n >= 3 && out.n < MAX_FACES) out.f[out.n++] = q;
+    }
+    /* The cap: the crossing points, without repeats, in angular order. */
+    int unique = 0;
+    for (int i = 0; i < caps; i++) {
+        int seen = 0;
+        for (int j = 0; j < unique && !seen; j++) {
+            double d[3];
+            sub3(cap[i], cap[j], d);
+            seen = dot3(d, d) < 1e-24;
+        }
+        if (!seen) memcpy(cap[unique++], cap[i], sizeof cap[0]);
+    }
+    if (unique >= 3 && out.n < MAX_FACES && unique <= MAX_VERTS) {
+        double mid[3] = {0, 0, 0}, e1[3], e2[3], angle[MAX_VERTS];
+        for (int i = 0; i < unique; i++)
+            for (int k = 0; k < 3; k++) mid[k] += cap[i][k] / unique;
+        double axis[3] = {fabs(n[0]) < 0.9 ? 1.0 : 0.0, fabs(n[0]) < 0.9 ? 0.0 : 1.0, 0.0};
+        cross3(n, axis, e1);
+        cross3(n, e1, e2);
+        for (int i = 0; i < unique; i++) {
+            double d[3];
+            sub3(cap[i], mid, d);
+            angle[i] = atan2(dot3(d, e2), dot3(d, e1));
+        }
+        polygon *q = &out.f[out.n++];
+        q->n = unique;
+        for (int i = 0; i < unique; i++) {
+            int rank = 0; /* insertion by rank: ties broken by index */
+            for (int j = 0; j < unique; j++) rank += angle[j] < angle[i] || (angle[j] == angle[i] && j < i);
+            memcpy(q->v[rank], cap[i], sizeof cap[0]);
+        }
+    }
+    *t = out;
+}
+
+/* The volume of a convex polytope: pyramids from the mean of its vertices
+ * (inside it) over every face. */
+static double volume(const polytope *t)
+{
+    double ref[3] = {0, 0, 0};
+    int count = 0;
+    for (int f = 0; f < t->n; f++)
+        for (int i = 0; i < t->f[f].n; i++, count++)
+            for (int k = 0; k < 3; k++) ref[k] += t->f[f].v[i][k];
+    if (t->n < 4 || !count) return 0.0;
+    for (int k = 0; k < 3; k++) ref[k] /= count;
+    double v = 0.0;
+    for (int f = 0; f < t->n; f++) {
+        const polygon *p = &t->f[f];
+        double area[3] = {0, 0, 0};
+        for (int i = 1; i + 1 < p->n; i++) {
+            double a[3], b[3], x[3];
+            sub3(p->v[i], p->v[0], a);
+            sub3(p->v[i + 1], p->v[0], b);
+            cross3(a, b, x);
+            for (int k = 0; k < 3; k++) area[k] += 0.5 * x[k];
+        }
+        double len = sqrt(dot3(area, area)), d[3];
+        if (!(len > 0)) continue;
+        sub3(p->v[0], ref, d);
+        v += len * fabs(dot3(area, d) / len) / 3.0;
+    }
+    return v;
+}
+
+void lvcl_region_shares(const float planes[][4], int count, uint32_t k, float *out)
+{
+    uint32_t regions = 1u << count, subs = k ? k * k * k : 1u, per = 1u + subs;
+    double size = k ? 1.0 / k : 1.0, whole[8] = {0};
+    for (uint32_t i = 0; i < subs; i++) {
+        double lo[3] = {0, 0, 0};
+        if (k) lo[0] = (i % k) * size, lo[1] = (i / k % k) * size, lo[2] = (i / (k * k)) * size;
+        /* Each plane: the subcell wholly on its positive (1) or negative
+         * (0) side, or cut (-1). */
+        int side[LV_REGION_PLANES];
+        for (int j = 0; j < count; j++) {
+            double centre = 0, radius = 0;
+            for (int a = 0; a < 3; a++) {
+                centre += planes[j][a] * (lo[a] + 0.5 * size);
+                radius += 0.5 * size * fabs(planes[j][a]);
+            }
+            centre -= planes[j][3];
+            side[j] = centre >= radius ? 1 : centre <= -radius ? 0 : -1;
+        }
+        for (uint32_t m = 0; m < regions; m++) {
+            int possible = 1, cut = 0;
+            for (int j = 0; j < count; j++) {
+                if (side[j] < 0) cut = 1;
+                else if (side[j] != (int)(m >> j & 1u)) possible = 0;
+            }
+            double share = 0.0;
+            if (possible && !cut) {
+                share = 1.0;
+            } else if (possible) {
+                polytope t;
+                make_box(&t, lo, size);
+                for (int j = 0; j < count && t.n; j++)
+                    if (side[j] < 0) clip(&t, planes[j], m >> j & 1u ? 1.0 : -1.0);
+                share = fmin(1.0, volume(&t) / (size * size * size));
+            }
+            out[m * per + 1 + i] = (float)share;
+            whole[m] += share / subs;
+        }
+    }
+    for (uint32_t m = 0; m < regions; m++) out[m * per] = (float)whole[m];
+}
