@@ -189,20 +189,27 @@ typedef struct {
  * consecutive slots, one per sign pattern of its planes, so that light on
  * the two sides of a wall through it is tallied apart. Per slot, the cell's
  * planes (n, c: a point u in cell units from the cell's corner is on the
- * positive side of plane i if n_i . u > c_i; the point's slot is base_slot
- * + the pattern of bits i set where it is), their count P (0: one region),
- * the cell's first slot, which region this slot is and where its shares
+ * positive side of plane i if n_i . u > c_i, and its sign pattern m has
+ * bit i set where it is), their count P (0: one region) and where each
+ * pattern's slot lies (`layout`), the cell's first slot, which pattern
+ * this slot is and where its shares
  * start in the region_shares table: the region's volume (a fraction of
  * the cell), then per subcell the fraction of the subcell inside the
  * region (1 + k^3 floats, exact, from volume_shares.c; LV_NO_SHARES for a
  * cell without planes, whose one region is all of it). Every slot of a
- * cell repeats the cell's planes. */
+ * cell repeats the cell's planes. A pattern whose region has no volume in
+ * the cell (3 planes leave at most 7 of 8) gets no slot of its own: its
+ * points (on a boundary, by rounding) read a neighbouring region's. So a
+ * cut cell holds one slot per region, at most 2^P. */
 #define LV_REGION_PLANES 3
 #define LV_NO_SHARES 0xffffffffu
+/* layout: bits 0-7 P, bits 8 + 3m the slot of pattern m from base_slot. */
+#define LV_REGION_COUNT(layout) ((layout) & 255u)
+#define LV_REGION_OFFSET(layout, m) ((layout) >> (8u + 3u * (m)) & 7u)
 
 typedef struct {
     float planes[LV_REGION_PLANES][4];
-    lv_u32 plane_count;
+    lv_u32 layout; /* P and the pattern -> slot map (LV_REGION_COUNT, LV_REGION_OFFSET) */
     lv_u32 base_slot;
     lv_u32 region;
     lv_u32 shares; /* first entry in region_shares, or LV_NO_SHARES */

@@ -199,9 +199,18 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
             }
         }
     }
-    size_t total = 0;
+    /* Per stored cell: its first slot, its layout (P and the pattern ->
+     * slot map), which patterns have a region of their own and where
+     * their shares start. */
+    uint32_t k = g->subcells, per = 1u + (k ? k * k * k : 1u);
+    size_t total = 0, share_total = 0, share_cap = 0;
     uint32_t *base = malloc((stored ? stored : 1) * sizeof *base);
-    if (!c.failed && base) {
+    uint32_t *layout = malloc((stored ? stored : 1) * sizeof *layout);
+    uint32_t *first = malloc((stored ? stored : 1) * sizeof *first);
+    uint8_t *kept = malloc(stored ? stored : 1);
+    float *sh = NULL, tmp[(1u << LV_REGION_PLANES) * (1u + LV_SUBCELL_MAX)];
+    int failed = c.failed || !base || !layout || !first || !kept;
+    if (!failed) {
         for (size_t z = 0, i = 0; z < g->dims[2]; z++)
             for (size_t y = 0; y < g->dims[1]; y++)
                 for (size_t x = 0; x < g->dims[0]; x++, i++) {
@@ -211,52 +220,79 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
                                     g->origin[2] + (double)z * g->cell_size};
                     count[s] = (uint8_t)choose_planes(&c, (int)s, lo, g->cell_size, planes[s]);
                 }
-        for (size_t s = 0; s < stored; s++) {
+        for (size_t s = 0; s < stored && !failed; s++) {
             base[s] = (uint32_t)total;
-            total += (size_t)1 << count[s];
+            layout[s] = 0;
+            first[s] = LV_NO_SHARES;
+            kept[s] = 1;
+            if (!count[s]) {
+                total++;
+                continue;
+            }
+            /* The exact shares (volume_shares.c); a pattern whose region
+             * has under a millionth of the cell gets no slot. */
+            uint32_t patterns = 1u << count[s], index[1u << LV_REGION_PLANES], n = 0;
+            lvcl_region_shares((const float(*)[4])planes[s], count[s], k, tmp);
+            kept[s] = 0;
+            for (uint32_t m = 0; m < patterns; m++)
+                if (tmp[m * per] > 1e-6f) kept[s] |= (uint8_t)(1u << m), index[m] = n++;
+            if (!n) kept[s] = 1, index[0] = n++; /* rounding only: keep one */
+            layout[s] = count[s];
+            for (uint32_t m = 0; m < patterns; m++) {
+                /* An empty pattern reads the kept one fewest planes away. */
+                uint32_t best = m;
+                for (uint32_t q = 0; !(kept[s] >> best & 1u) && q < patterns; q++)
+                    if (kept[s] >> q & 1u) best = q;
+                for (uint32_t q = 0; q < patterns && !(kept[s] >> m & 1u); q++)
+                    if (kept[s] >> q & 1u && __builtin_popcount(q ^ m) < __builtin_popcount(best ^ m)) best = q;
+                layout[s] |= index[best] << (8u + 3u * m);
+            }
+            if (share_total + (size_t)n * per > share_cap) {
+                size_t cap = share_cap ? 2 * share_cap : 65536;
+                while (cap < share_total + (size_t)n * per) cap *= 2;
+                float *grown = realloc(sh, cap * sizeof *sh);
+                if (!grown) {
+                    failed = 1;
+                    break;
+                }
+                sh = grown;
+                share_cap = cap;
+            }
+            first[s] = (uint32_t)share_total;
+            for (uint32_t m = 0; m < patterns; m++)
+                if (kept[s] >> m & 1u) {
+                    memcpy(sh + share_total, tmp + m * per, per * sizeof *sh);
+                    share_total += per;
+                }
+            total += n;
         }
     }
     free(c.head);
     free(c.pool);
     lv_slot_region *r = NULL;
-    if (!c.failed && base && total < UINT32_MAX) r = calloc(total + 1, sizeof *r);
+    if (!failed && !sh) sh = calloc(1, sizeof *sh);
+    if (!failed && sh && total < UINT32_MAX) r = calloc(total + 1, sizeof *r);
     if (!r) {
         free(base);
+        free(layout);
+        free(first);
+        free(kept);
+        free(sh);
         free(planes);
         free(count);
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' regions");
     }
-    /* The exact shares of every cut cell's regions (volume_shares.c). */
-    uint32_t k = g->subcells, per = 1u + (k ? k * k * k : 1u);
-    size_t share_total = 0;
     for (size_t s = 0; s < stored; s++)
-        if (count[s]) share_total += ((size_t)1 << count[s]) * per;
-    float *sh = malloc((share_total ? share_total : 1) * sizeof *sh);
-    if (!sh) {
-        free(r);
-        free(base);
-        free(planes);
-        free(count);
-        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the regions' shares");
-    }
-    if (!share_total) sh[0] = 0.0f;
-    share_total = 0;
-    for (size_t s = 0; s < stored; s++) {
-        uint32_t first = LV_NO_SHARES;
-        if (count[s]) {
-            first = (uint32_t)share_total;
-            lvcl_region_shares((const float(*)[4])planes[s], count[s], k, sh + share_total);
-            share_total += ((size_t)1 << count[s]) * per;
-        }
-        for (uint32_t m = 0; m < 1u << count[s]; m++) {
-            lv_slot_region *e = &r[base[s] + m];
+        for (uint32_t m = 0, j = 0; m < 1u << count[s]; m++) {
+            if (!(kept[s] >> m & 1u)) continue;
+            lv_slot_region *e = &r[base[s] + j];
             memcpy(e->planes, planes[s], sizeof e->planes);
-            e->plane_count = count[s];
+            e->layout = layout[s];
             e->base_slot = base[s];
             e->region = m;
-            e->shares = count[s] ? first + m * per : LV_NO_SHARES;
+            e->shares = count[s] ? first[s] + j * per : LV_NO_SHARES;
+            j++;
         }
-    }
     r[total].shares = LV_NO_SHARES;
     *shares = sh;
     *share_count = share_total;
@@ -264,6 +300,9 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
         if (slot[i] != LV_EMPTY_CELL) slot[i] = base[slot[i]];
     g->slot_count = (lv_u32)total;
     free(base);
+    free(layout);
+    free(first);
+    free(kept);
     free(planes);
     free(count);
     *regions = r;

@@ -49,8 +49,8 @@ inline uint lv_region_slot(const lv_grid *grid, uint base, float3 u)
 {
     if (base == LV_EMPTY_CELL) return base;
     __global const lv_slot_region *r = grid->regions + base;
-    uint count = r->plane_count;
-    return count ? base + lv_region_of(r, count, u) : base;
+    uint layout = r->layout;
+    return layout ? base + LV_REGION_OFFSET(layout, lv_region_of(r, LV_REGION_COUNT(layout), u)) : base;
 }
 
 /* The slot of the region of its cell holding point p, or LV_EMPTY_CELL. */

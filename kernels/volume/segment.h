@@ -91,7 +91,7 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
         if (base != LV_EMPTY_CELL && s_exit > s) {
             float3 corner = o - convert_float3(cell); /* the origin relative to the cell's corner */
             __global const lv_slot_region *r = grid->regions + base;
-            uint planes = r->plane_count;
+            uint layout = r->layout, planes = LV_REGION_COUNT(layout);
             /* Where the piece crosses the cell's planes, in order: each
              * sub-piece goes to the region of its midpoint. */
             float cut[LV_REGION_PLANES];
@@ -110,7 +110,8 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
             float a = s;
             for (uint j = 0; j <= cuts; j++) {
                 float b = j < cuts ? cut[j] : s_exit;
-                uint slot = planes ? base + lv_region_of(r, planes, corner + dir * (0.5f * (a + b))) : base;
+                uint slot = planes ? base + LV_REGION_OFFSET(layout, lv_region_of(r, planes, corner + dir * (0.5f * (a + b))))
+                                   : base;
                 lv_tally_piece(grid, slot, corner, dir, a, b, h, t0, bin, weight, sigma);
                 a = b;
             }

@@ -71,10 +71,11 @@ inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
     float3 x = lv_subcell_point(grid, cell, sub, (float3)(lv_rng_next2(rng), lv_rng_next(rng)));
     /* In a cut cell the point must lie in q's region: a few tries, then q. */
     __global const lv_slot_region *r = grid->regions + slot;
-    if (r->plane_count) {
+    if (r->layout) {
         float3 corner = lv_grid_origin(grid) + cell * grid->g.cell_size;
         int tries = 0;
-        while (lv_region_of(r, r->plane_count, (x - corner) / grid->g.cell_size) != r->region) {
+        uint layout = r->layout, planes = LV_REGION_COUNT(layout), own = LV_REGION_OFFSET(layout, r->region);
+        while (LV_REGION_OFFSET(layout, lv_region_of(r, planes, (x - corner) / grid->g.cell_size)) != own) {
             if (++tries == 4) {
                 x = q;
                 break;
