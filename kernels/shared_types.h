@@ -164,6 +164,10 @@ typedef struct {
  * power; radiance follows as total_power x tally x cell_size / (V x bin
  * solid angle), with V the cell's lit volume. */
 #define LV_EMPTY_CELL 0xffffffffu
+/* Set in cell_slot where the cell has planes (docs/light-volume.md,
+ * "Regions"); the low 31 bits are its first slot. A cell without planes
+ * never reads the region table. */
+#define LV_CUT_CELL 0x80000000u
 #define LV_TALLY_SCALE 1099511627776.0f /* 2^40 */
 /* Largest single contribution accepted, in tally units of 1: with it every
  * bin stays far below 2^63 (see docs/light-volume.md). */
@@ -283,7 +287,7 @@ typedef struct {
  * SPLIT(type, name) over LV_TALLY_PARTS buffers of lv_grid_info.slots_per_part
  * slots, ONE(type, name) in one buffer. */
 #define LV_VOLUME_BUFFERS(SPLIT, ONE)                                     \
-    ONE(const uint, cell_slot) /* cell -> first slot or LV_EMPTY_CELL */  \
+    ONE(const uint, cell_slot) /* cell -> first slot (| LV_CUT_CELL) or LV_EMPTY_CELL */ \
     ONE(const lv_slot_region, regions) /* per slot: the cell's planes */   \
     ONE(const float, region_shares) /* per slot of a cut cell: 1 + k^3 */ \
     SPLIT(long, tallies)       /* slot x bin x RGB, 64-bit fixed point */ \

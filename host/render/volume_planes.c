@@ -271,7 +271,7 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
     free(c.pool);
     lv_slot_region *r = NULL;
     if (!failed && !sh) sh = calloc(1, sizeof *sh);
-    if (!failed && sh && total < UINT32_MAX) r = calloc(total + 1, sizeof *r);
+    if (!failed && sh && total < LV_CUT_CELL - 1) r = calloc(total + 1, sizeof *r);
     if (!r) {
         free(base);
         free(layout);
@@ -297,7 +297,7 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
     *shares = sh;
     *share_count = share_total;
     for (size_t i = 0; i < cells; i++)
-        if (slot[i] != LV_EMPTY_CELL) slot[i] = base[slot[i]];
+        if (slot[i] != LV_EMPTY_CELL) slot[i] = base[slot[i]] | (count[slot[i]] ? LV_CUT_CELL : 0u);
     g->slot_count = (lv_u32)total;
     free(base);
     free(layout);

@@ -1,6 +1,7 @@
 /* The light volume's grid: which stored slot holds a point, and where a
  * slot's tallies live. See lv_grid_info in shared_types.h for the layout:
- * cell_slot maps a cell (x + dims.x (y + dims.y z)) to its slot or
+ * cell_slot maps a cell (x + dims.x (y + dims.y z)) to its first slot (with
+ * LV_CUT_CELL set if it has planes) or
  * LV_EMPTY_CELL; slot s, bin b, channel c is, with q = slots_per_part,
  * tallies[s / q][((s % q) * bins + b) * 3 + c]. docs/light-volume.md
  * describes the estimator the tallies feed. */
@@ -12,7 +13,7 @@
 
 typedef struct {
     lv_grid_info g;
-    __global const uint *cell_slot;      /* cell -> its first slot */
+    __global const uint *cell_slot;      /* cell -> its first slot, | LV_CUT_CELL if it has planes */
     __global const lv_slot_region *regions; /* per slot: the cell's planes (shared_types.h) */
     __global const float *region_shares;    /* per slot of a cut cell: its exact shares (shared_types.h) */
     __global uint *subcells;          /* LV_SUBCELL_STRIDE words per slot (shared_types.h) */
@@ -44,10 +45,12 @@ inline uint lv_region_of(__global const lv_slot_region *r, uint plane_count, flo
     return pattern;
 }
 
-/* The slot of the region holding u in the cell whose first slot is base. */
-inline uint lv_region_slot(const lv_grid *grid, uint base, float3 u)
+/* The slot of the region holding u in the cell whose cell_slot entry is
+ * entry. */
+inline uint lv_region_slot(const lv_grid *grid, uint entry, float3 u)
 {
-    if (base == LV_EMPTY_CELL) return base;
+    if (entry == LV_EMPTY_CELL || !(entry & LV_CUT_CELL)) return entry;
+    uint base = entry & ~LV_CUT_CELL;
     __global const lv_slot_region *r = grid->regions + base;
     uint layout = r->layout;
     return layout ? base + LV_REGION_OFFSET(layout, lv_region_of(r, LV_REGION_COUNT(layout), u)) : base;

@@ -87,8 +87,13 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
     int3 idims = convert_int3(dims);
     while (s < s1) {
         float s_exit = fmin(s1, fmin(s_next.x, fmin(s_next.y, s_next.z)));
-        uint base = grid->cell_slot[cell.x + idims.x * (cell.y + idims.y * cell.z)];
-        if (base != LV_EMPTY_CELL && s_exit > s) {
+        uint entry = grid->cell_slot[cell.x + idims.x * (cell.y + idims.y * cell.z)];
+        if (entry != LV_EMPTY_CELL && s_exit > s && !(entry & LV_CUT_CELL)) {
+            /* No planes: one piece, and no read of the region table. */
+            float3 corner = o - convert_float3(cell);
+            lv_tally_piece(grid, entry, corner, dir, s, s_exit, h, t0, bin, weight, sigma);
+        } else if (entry != LV_EMPTY_CELL && s_exit > s) {
+            uint base = entry & ~LV_CUT_CELL;
             float3 corner = o - convert_float3(cell); /* the origin relative to the cell's corner */
             __global const lv_slot_region *r = grid->regions + base;
             uint layout = r->layout, planes = LV_REGION_COUNT(layout);
