@@ -15,6 +15,11 @@
 #define SAME_OFFSET 0.25               /* cells */
 /* A plane must cut the cell by more than this (cells) to split it. */
 #define CUT_MARGIN 1e-3
+/* A part of a mesh's tree that spans at most two cells along every axis
+ * and holds more triangles than this offers an evenly spaced sample of
+ * this many, each weighing for its share: a tile of 500,000 ripples then
+ * costs a few hundred triangles per placement, not all of them. */
+#define SAMPLED_TRIANGLES 256
 
 typedef struct {
     double ref[3]; /* the first triangle's normal */
@@ -90,9 +95,10 @@ static void add_to_cell(clusters *c, int cell, const double n[3], double d, doub
     c->head[cell] = (int)c->count++;
 }
 
-/* Adds one placed triangle to the clusters of every stored cell its box
- * (grown by a hundredth of a cell) overlaps and its plane cuts. */
-static void add_triangle(clusters *c, const lv_grid_info *g, const uint32_t *stored, const float v[9])
+/* Adds one placed triangle, weighing `weight` times its area, to the
+ * clusters of every stored cell its box (grown by a hundredth of a cell)
+ * overlaps and its plane cuts. */
+static void add_triangle(clusters *c, const lv_grid_info *g, const uint32_t *stored, const float v[9], double weight)
 {
     double e1[3], e2[3], n[3];
     for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k];
@@ -105,7 +111,7 @@ static void add_triangle(clusters *c, const lv_grid_info *g, const uint32_t *sto
     double p0[3] = {v[0], v[1], v[2]}, d = dot3(n, p0), h = g->cell_size;
     canonical(n, &d);
     /* No triangle has more area inside a cube than its largest section. */
-    double area = fmin(0.5 * len, sqrt(2.0) * h * h);
+    double area = weight * fmin(0.5 * len, sqrt(2.0) * h * h);
     int lo[3], hi[3];
     for (int k = 0; k < 3; k++) {
         double a = fmin(v[k], fmin(v[3 + k], v[6 + k])), b = fmax(v[k], fmax(v[3 + k], v[6 + k]));
@@ -122,6 +128,28 @@ static void add_triangle(clusters *c, const lv_grid_info *g, const uint32_t *sto
                 double corner[3] = {g->origin[0] + x * h, g->origin[1] + y * h, g->origin[2] + z * h};
                 if (cuts_cell(n, d, corner, h)) add_to_cell(c, (int)s, n, d, area, h);
             }
+}
+
+/* The triangles below node n, which lie in one run of the leaf order (the
+ * tree is stored depth first): from its leftmost leaf to its rightmost. */
+static void subtree_triangles(const lvcl_packed_scene *p, const lv_bvh_node *n, size_t *first, size_t *count)
+{
+    const lv_bvh_node *left = n, *right = n;
+    while (left->count == 0) left = left + 1;
+    while (right->count == 0) right = &p->nodes[right->index];
+    *first = (size_t)left->index;
+    *count = (size_t)(right->index + right->count) - *first;
+}
+
+/* Whether node n, as instance inst places it, spans at most two cells along every axis. */
+static int spans_few_cells(const lv_grid_info *g, const lv_instance *inst, const lv_bvh_node *n)
+{
+    float lo[3], hi[3];
+    lvcl_transform_box(inst->world_from_object, n->bmin, n->bmax, lo, hi);
+    for (int k = 0; k < 3; k++)
+        if (floorf((hi[k] - g->origin[k]) / g->cell_size) - floorf((lo[k] - g->origin[k]) / g->cell_size) > 1.0f)
+            return 0;
+    return 1;
 }
 
 /* The planes of one stored cell (corner lo): the heaviest clusters that
@@ -180,18 +208,22 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' planes");
     }
     for (size_t i = 0; i < stored; i++) c.head[i] = -1;
-    /* Every placed triangle, leaf by leaf. */
+    /* Every placed triangle, leaf by leaf, or a sample of a small part's. */
     int stack[LVCL_BVH_MAX_DEPTH + 1];
     for (size_t in = 0; in < p->instance_count && !c.failed; in++) {
+        const lv_instance *inst = &p->instances[in];
         int top = 0;
-        stack[top++] = (int)p->instances[in].root;
+        stack[top++] = (int)inst->root;
         while (top > 0 && !c.failed) {
             const lv_bvh_node *n = &p->nodes[stack[--top]];
-            if (n->count > 0) {
-                for (int t = n->index; t < n->index + n->count; t++) {
+            size_t first, count;
+            subtree_triangles(p, n, &first, &count);
+            if (n->count > 0 || (count > SAMPLED_TRIANGLES && spans_few_cells(g, inst, n))) {
+                size_t taken = count > SAMPLED_TRIANGLES ? SAMPLED_TRIANGLES : count;
+                for (size_t i = 0; i < taken; i++) {
                     float v[9];
-                    lvcl_packed_triangle_world(p, in, (size_t)t, v);
-                    add_triangle(&c, g, slot, v);
+                    lvcl_packed_triangle_world(p, in, first + i * count / taken, v);
+                    add_triangle(&c, g, slot, v, (double)count / (double)taken);
                 }
             } else {
                 stack[top++] = (int)(n - p->nodes) + 1;
