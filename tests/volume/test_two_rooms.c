@@ -2,7 +2,7 @@
  * dim room looks at the shared wall. The geometry is scenes/make_two_rooms.py's,
  * built in memory. Cells the wall cuts hold both rooms' light; their
  * regions must keep it apart, for walls from one polygon to 30 cm, with
- * the grid at several offsets and sizes, with and without subcells.
+ * the grid at several offsets and sizes, and --subcells 0 to 4.
  *
  * (a) Leak: the bright lamp red and the dim one blue; the walls are grey,
  *     so the true red radiance in the dim room is 0 while its own blue
@@ -145,7 +145,8 @@ static void test_leak(void)
     const setup setups[] = {
         {0.0f, 0.37f, 32, 4},  {0.005f, 0.5f, 32, 4}, {0.02f, 0.5f, 32, 4}, {0.02f, 0.0f, 16, 4},
         {0.06f, 0.37f, 16, 4}, {0.3f, 0.5f, 32, 4},   {0.0f, 0.5f, 16, 0},  {0.005f, 0.37f, 32, 0},
-        {0.02f, 0.5f, 32, 0},  {0.06f, 0.0f, 32, 0},
+        {0.02f, 0.5f, 32, 0},  {0.06f, 0.0f, 32, 0},   {0.005f, 0.37f, 16, 1}, {0.02f, 0.5f, 32, 2},
+        {0.06f, 0.5f, 32, 3},
     };
     const float ratios[] = {25.0f, 1000.0f};
     double worst = 0;
