@@ -208,7 +208,7 @@ typedef struct {
 #define LV_REGION_PLANES 3
 #define LV_NO_SHARES 0xffffffffu
 /* layout: bits 0-7 P, bits 8 + 3m the slot of pattern m from base_slot. */
-#define LV_REGION_COUNT(layout) ((layout) & 255u)
+#define LV_REGION_COUNT(layout) ((layout)&255u)
 #define LV_REGION_OFFSET(layout, m) ((layout) >> (8u + 3u * (m)) & 7u)
 
 typedef struct {
@@ -286,13 +286,13 @@ typedef struct {
 /* The light volume's buffers, in argument order (then lv_grid_info):
  * SPLIT(type, name) over LV_TALLY_PARTS buffers of lv_grid_info.slots_per_part
  * slots, ONE(type, name) in one buffer. */
-#define LV_VOLUME_BUFFERS(SPLIT, ONE)                                     \
-    ONE(const uint, cell_slot) /* cell -> first slot (| LV_CUT_CELL) or LV_EMPTY_CELL */ \
-    ONE(const lv_slot_region, regions) /* per slot: the cell's planes */   \
-    ONE(const float, region_shares) /* per slot of a cut cell: 1 + k^3 */ \
-    SPLIT(long, tallies)       /* slot x bin x RGB, 64-bit fixed point */ \
-    ONE(uint, subcells)        /* LV_SUBCELL_STRIDE words per slot */     \
-    ONE(float, lit_volume)     /* per slot, filled by lv_lit_volumes */
+#define LV_VOLUME_BUFFERS(SPLIT, ONE)                                                            \
+    ONE(const uint, cell_slot)         /* cell -> first slot (| LV_CUT_CELL) or LV_EMPTY_CELL */ \
+    ONE(const lv_slot_region, regions) /* per slot: the cell's planes */                         \
+    ONE(const float, region_shares)    /* per slot of a cut cell: 1 + k^3 */                     \
+    SPLIT(long, tallies)               /* slot x bin x RGB, 64-bit fixed point */                \
+    ONE(uint, subcells)                /* LV_SUBCELL_STRIDE words per slot */                    \
+    ONE(float, lit_volume)             /* per slot, filled by lv_lit_volumes */
 
 #define LV_IGNORE_SPLIT(type, name, stride, per_part, what)
 #define LV_IGNORE_ONE(type, name, what)
@@ -323,23 +323,26 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
 
 /* The pixel range of the camera passes: one sample per pixel of
  * [first_pixel, first_pixel + pixel_count) per launch, added to sum. */
-#define LV_PIXEL_ARGS(X, SEP, kernel)                                                             \
-    X(kernel, VALUE, lv_camera, camera)                                                           \
-    SEP() X(kernel, VALUE, lv_u32, first_pixel) SEP() X(kernel, VALUE, lv_u32, pixel_count) SEP() \
+#define LV_PIXEL_ARGS(X, SEP, kernel)                                                       \
+    X(kernel, VALUE, lv_camera, camera)                                                     \
+    SEP()                                                                                   \
+    X(kernel, VALUE, lv_u32, first_pixel) SEP() X(kernel, VALUE, lv_u32, pixel_count) SEP() \
         X(kernel, VALUE, lv_u32, sample_index) SEP() X(kernel, BUFFER, float4, sum)
 
 #define LV_PT_PASS_ARGS(X, SEP) X(lv_pt_pass, SCENE, , scene) SEP() LV_PIXEL_ARGS(X, SEP, lv_pt_pass)
 
-#define LV_GATHER_PASS_ARGS(X, SEP)                                                                               \
-    X(lv_gather_pass, SCENE, , scene)                                                                             \
-    SEP() X(lv_gather_pass, VOLUME, , volume) SEP() X(lv_gather_pass, BUFFER, const float4, bin_directions) SEP() \
-        X(lv_gather_pass, VALUE, lv_u32, flags) SEP()    /* LV_GATHER_* */                                        \
-        X(lv_gather_pass, VALUE, float, threshold) SEP() /* near-hit distance, metres */                          \
+#define LV_GATHER_PASS_ARGS(X, SEP)                                                                         \
+    X(lv_gather_pass, SCENE, , scene)                                                                       \
+    SEP()                                                                                                   \
+    X(lv_gather_pass, VOLUME, , volume) SEP() X(lv_gather_pass, BUFFER, const float4, bin_directions) SEP() \
+        X(lv_gather_pass, VALUE, lv_u32, flags) SEP()    /* LV_GATHER_* */                                  \
+        X(lv_gather_pass, VALUE, float, threshold) SEP() /* near-hit distance, metres */                    \
         LV_PIXEL_ARGS(X, SEP, lv_gather_pass)
 
 #define LV_PARTICLE_TRACE_ARGS(X, SEP)                                                                                 \
     X(lv_particle_trace, SCENE, , scene)                                                                               \
-    SEP() X(lv_particle_trace, VOLUME, , volume) SEP() X(lv_particle_trace, VALUE, lv_u32, first)                      \
+    SEP()                                                                                                              \
+    X(lv_particle_trace, VOLUME, , volume) SEP() X(lv_particle_trace, VALUE, lv_u32, first)                            \
         SEP() /* first particle index of the batch */                                                                  \
         X(lv_particle_trace, VALUE, lv_u32, count) SEP() X(lv_particle_trace, VALUE, float, inv_total_particles) SEP() \
             X(lv_particle_trace, VALUE, lv_u32, store_emitted) SEP() /* lv-all: tally the lights' own segments */      \

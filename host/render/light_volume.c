@@ -29,7 +29,7 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     }
     if ((e = lvcl_volume_assign_slots(p, g, vol->cell_count, vol->cell_slot, st)) ||
         (e = lvcl_volume_build_regions(p, g, vol->cell_count, vol->cell_slot, &vol->regions, &vol->region_shares,
-                                        &vol->region_share_count, st))) {
+                                       &vol->region_share_count, st))) {
         lvcl_volume_release(vol);
         return e;
     }
@@ -63,8 +63,8 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     vol->buf.cell_slot = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                         vol->cell_count * sizeof(uint32_t), vol->cell_slot, &err);
     if (err == CL_SUCCESS)
-        vol->buf.regions = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, region_bytes,
-                                          vol->regions, &err);
+        vol->buf.regions =
+            clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, region_bytes, vol->regions, &err);
     if (err == CL_SUCCESS)
         vol->buf.region_shares = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, share_bytes,
                                                 vol->region_shares, &err);

@@ -15,7 +15,7 @@ struct lvcl_light_volume {
     lv_slot_region *regions; /* host copy of the per-slot planes (slot_count + 1) */
     float *region_shares;    /* host copy of the cut cells' region shares */
     size_t region_share_count;
-    size_t cell_count;       /* dims[0] * dims[1] * dims[2] */
+    size_t cell_count; /* dims[0] * dims[1] * dims[2] */
     int tally_parts;
     cl_mem bin_directions_buf; /* float4 per bin, filled by lvcl_volume_trace */
     size_t tally_bytes;        /* all parts */

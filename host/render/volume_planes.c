@@ -22,7 +22,7 @@
 #define SAMPLED_TRIANGLES 256
 
 typedef struct {
-    double ref[3]; /* the first triangle's normal */
+    double ref[3];   /* the first triangle's normal */
     double sum_n[3]; /* area x normal, turned to ref's side */
     double sum_d;    /* area x offset, on ref's side */
     double area;
@@ -177,8 +177,7 @@ static int choose_planes(const clusters *c, int cell, const double lo[3], double
         if (!cuts_cell(n, d, lo, h)) continue;
         int same = 0;
         for (int j = 0; j < count; j++)
-            same |= fabs(dot3(n, pn[j])) > SAME_NORMAL &&
-                fabs((dot3(n, pn[j]) > 0 ? d : -d) - pd[j]) < SAME_OFFSET * h;
+            same |= fabs(dot3(n, pn[j])) > SAME_NORMAL && fabs((dot3(n, pn[j]) > 0 ? d : -d) - pd[j]) < SAME_OFFSET * h;
         if (same) continue;
         for (int j = 0; j < 3; j++) pn[count][j] = n[j];
         pd[count] = d;

@@ -13,11 +13,11 @@
 
 typedef struct {
     lv_grid_info g;
-    __global const uint *cell_slot;      /* cell -> its first slot, | LV_CUT_CELL if it has planes */
+    __global const uint *cell_slot;         /* cell -> its first slot, | LV_CUT_CELL if it has planes */
     __global const lv_slot_region *regions; /* per slot: the cell's planes (shared_types.h) */
     __global const float *region_shares;    /* per slot of a cut cell: its exact shares (shared_types.h) */
-    __global uint *subcells;          /* LV_SUBCELL_STRIDE words per slot (shared_types.h) */
-    __global const float *lit_volume; /* per slot, lv_cell_lit_volume after the trace (lookups only) */
+    __global uint *subcells;                /* LV_SUBCELL_STRIDE words per slot (shared_types.h) */
+    __global const float *lit_volume;       /* per slot, lv_cell_lit_volume after the trace (lookups only) */
     __global long *tallies[LV_TALLY_PARTS];
 } lv_grid;
 

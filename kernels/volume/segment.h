@@ -115,8 +115,9 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
             float a = s;
             for (uint j = 0; j <= cuts; j++) {
                 float b = j < cuts ? cut[j] : s_exit;
-                uint slot = planes ? base + LV_REGION_OFFSET(layout, lv_region_of(r, planes, corner + dir * (0.5f * (a + b))))
-                                   : base;
+                uint slot = planes
+                    ? base + LV_REGION_OFFSET(layout, lv_region_of(r, planes, corner + dir * (0.5f * (a + b))))
+                    : base;
                 lv_tally_piece(grid, slot, corner, dir, a, b, h, t0, bin, weight, sigma);
                 a = b;
             }

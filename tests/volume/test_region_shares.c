@@ -18,8 +18,8 @@ int main(void)
     float wall[1][4] = {{1, 0, 0, 0.37f}};
     float s[8 * PER(4)];
     lvcl_region_shares((const float(*)[4])wall, 1, 4, s);
-    CHECK("region shares: axis-aligned wall, the regions' volumes", fabs(s[0] - 0.37) < 1e-5 && fabs(s[PER(4)] - 0.63) < 1e-5,
-          "%g and %g, not 0.37 and 0.63", s[0], s[PER(4)]);
+    CHECK("region shares: axis-aligned wall, the regions' volumes",
+          fabs(s[0] - 0.37) < 1e-5 && fabs(s[PER(4)] - 0.63) < 1e-5, "%g and %g, not 0.37 and 0.63", s[0], s[PER(4)]);
     int sub_ok = 1;
     for (unsigned i = 0; i < 64; i++) {
         double want = i % 4 == 0 ? 1.0 : i % 4 == 1 ? 0.48 : 0.0;
@@ -29,7 +29,8 @@ int main(void)
 
     /* A slanted plane cutting the corner x + y + z < 0.6: a tetrahedron of
      * volume 0.6^3 / 6, with and without subcells. */
-    float corner[1][4] = {{(float)(1 / sqrt(3.0)), (float)(1 / sqrt(3.0)), (float)(1 / sqrt(3.0)), (float)(0.6 / sqrt(3.0))}};
+    float corner[1][4] = {
+        {(float)(1 / sqrt(3.0)), (float)(1 / sqrt(3.0)), (float)(1 / sqrt(3.0)), (float)(0.6 / sqrt(3.0))}};
     double tet = 0.6 * 0.6 * 0.6 / 6;
     for (unsigned k = 0; k <= 4; k += 2) {
         lvcl_region_shares((const float(*)[4])corner, 1, k, s);
@@ -75,8 +76,8 @@ int main(void)
     }
     printf("(three planes: worst %.2e against the lattice)\n", worst);
     CHECK("region shares: three slanted planes match a 200^3 lattice", worst < 2e-3, "off by %.2e of a subcell", worst);
-    CHECK("region shares: three slanted planes, each subcell's shares add up to 1", sum_worst < 1e-5 && whole_worst < 1e-6,
-          "sum off by %.2e, the cell's volume by %.2e", sum_worst, whole_worst);
+    CHECK("region shares: three slanted planes, each subcell's shares add up to 1",
+          sum_worst < 1e-5 && whole_worst < 1e-6, "sum off by %.2e, the cell's volume by %.2e", sum_worst, whole_worst);
     free(lattice);
     CHECK_EXIT();
 }
