@@ -11,7 +11,7 @@
 #include "../../kernels/shared_types.h"
 
 /* Deepest path from the root the builder makes; the kernels' traversal stack
- * (LV_TRAVERSAL_STACK in kernels/traverse.h) must be at least this deep. */
+ * (LV_TRAVERSAL_STACK in kernels/bvh/traverse.h) must be at least this deep. */
 #define LVCL_BVH_MAX_DEPTH 60
 
 typedef struct {

@@ -11,7 +11,7 @@
  * breaks that symmetry and lets rays slip through shared edges. */
 
 /* The top-level tree and one mesh tree under it, each at most
- * LVCL_BVH_MAX_DEPTH deep (host/bvh.h), plus the marker between them. */
+ * LVCL_BVH_MAX_DEPTH deep (host/accel/bvh.h), plus the marker between them. */
 #define LV_TRAVERSAL_STACK 128
 #define LV_NO_HIT 0xffffffffu
 

@@ -105,7 +105,7 @@ lv_punctual_light point_light(double x, double y, double z, const double intensi
     return l;
 }
 
-/* ---- the camera, as kernels/camera.h and host/scene/camera.c make it ---- */
+/* ---- the camera, as kernels/scene/camera.h and host/scene/camera.c make it ---- */
 
 view vertical_view(double x, double y, double z, int looking_down, double yfov_degrees, int size)
 {
@@ -193,7 +193,7 @@ float pixel(const float *rgb, const view *v, int x, int y, int c)
 
 /* ---- closed forms on the ground plane (normal +z) ---- */
 
-/* The glTF spot cone as kernels/lights.h states it: smooth between the
+/* The glTF spot cone as kernels/light/lights.h states it: smooth between the
  * outer and inner cosines, squared. */
 static double spot_falloff(const lv_punctual_light *l, const double from_light[3])
 {

@@ -1,7 +1,7 @@
 /* Support for the direct-lighting tests (tests/light/test_point_lights.c,
  * test_area_lights.c): scenes built in memory from quads, rendered by the
  * path tracer, and the closed forms the light sources give on a Lambertian
- * ground plane. The analytic side follows the camera of kernels/camera.h
+ * ground plane. The analytic side follows the camera of kernels/scene/camera.h
  * (ray through the pixel position, box filter jittered uniformly inside the
  * pixel), so each pixel is compared with the average of the closed form
  * over its footprint. */
@@ -69,7 +69,7 @@ lv_punctual_light point_light(double x, double y, double z, const double intensi
 /* The ground: a large Lambertian square facing up, material 0. */
 quad ground(void);
 
-/* ---- the camera, as kernels/camera.h and host/scene/camera.c make it ---- */
+/* ---- the camera, as kernels/scene/camera.h and host/scene/camera.c make it ---- */
 
 typedef struct {
     lvcl_camera_desc cam;

@@ -110,7 +110,7 @@ static LVCL_DEFINE_BINDER(t_bin_radiance, T_BIN_RADIANCE_ARGS, t_bin_radiance_ar
     return radiance;
 }
 
-/* The direction-map convention of kernels/direction_map.h: bins below n^2
+/* The direction-map convention of kernels/volume/direction_map.h: bins below n^2
  * hold directions with z >= 0. */
 static int bin_goes_up(const lv_grid_info *g, uint32_t bin)
 {
