@@ -13,20 +13,21 @@
 
 /* lv_rays_trace_closest and lv_rays_trace_any: `count` rays in, a hit
  * record each out. The two share the list, named after the first. */
-#define LV_RAYS_TRACE_ARGS(X, SEP)                                                                  \
-    X(lv_rays_trace, SCENE, , scene)                                                                \
-    SEP()                                                                                           \
-    X(lv_rays_trace, BUFFER, const float4, rays) SEP() X(lv_rays_trace, VALUE, lv_u32, count) SEP() \
-        X(lv_rays_trace, BUFFER, uint4, hits)
+#define LV_RAYS_TRACE_ARGS(X, SEP)               \
+    X(lv_rays_trace, SCENE, , scene)             \
+    SEP()                                        \
+    X(lv_rays_trace, BUFFER, const float4, rays) \
+    SEP() X(lv_rays_trace, VALUE, lv_u32, count) SEP() X(lv_rays_trace, BUFFER, uint4, hits)
 
 /* A diffuse and a shadow ray from each primary hit. */
 #define LV_RAYS_SECONDARY_ARGS(X, SEP)                                                                                 \
     X(lv_rays_secondary, SCENE, , scene)                                                                               \
     SEP()                                                                                                              \
-    X(lv_rays_secondary, BUFFER, const float4, primary) SEP() X(lv_rays_secondary, BUFFER, const uint4, primary_hits)  \
-        SEP() X(lv_rays_secondary, BUFFER, const uint, hit_pixels) SEP() X(lv_rays_secondary, VALUE, lv_u32, count)    \
-            SEP() X(lv_rays_secondary, VALUE, float, offset) SEP() X(lv_rays_secondary, VALUE, lv_u32, emissive_count) \
-                SEP() X(lv_rays_secondary, BUFFER, float4, diffuse) SEP() X(lv_rays_secondary, BUFFER, float4, shadow)
+    X(lv_rays_secondary, BUFFER, const float4, primary)                                                                \
+    SEP() X(lv_rays_secondary, BUFFER, const uint4, primary_hits) SEP()                                                \
+        X(lv_rays_secondary, BUFFER, const uint, hit_pixels) SEP() X(lv_rays_secondary, VALUE, lv_u32, count) SEP()    \
+            X(lv_rays_secondary, VALUE, float, offset) SEP() X(lv_rays_secondary, VALUE, lv_u32, emissive_count) SEP() \
+                X(lv_rays_secondary, BUFFER, float4, diffuse) SEP() X(lv_rays_secondary, BUFFER, float4, shadow)
 
 LV_ARG_INDICES(LV_RAYS_PRIMARY_ARGS, lv_rays_primary);
 LV_ARG_INDICES(LV_RAYS_TRACE_ARGS, lv_rays_trace);

@@ -19,11 +19,12 @@
     SEP() X(t_direction_roundtrip, VALUE, lv_u32, per_item) SEP() X(t_direction_roundtrip, BUFFER, uint, misses)
 
 /* Monte Carlo moments of `count` (BSDF config, viewing direction) pairs. */
-#define T_BSDF_MOMENTS_ARGS(X, SEP)                                                                       \
-    X(t_bsdf_moments, BUFFER, const float, config)                                                        \
-    SEP() /* 8 floats per BSDF */                                                                         \
-    X(t_bsdf_moments, VALUE, lv_u32, count)                                                               \
-    SEP() X(t_bsdf_moments, BUFFER, const float4, wos) SEP() X(t_bsdf_moments, VALUE, lv_u32, n_wo) SEP() \
+#define T_BSDF_MOMENTS_ARGS(X, SEP)                                                                 \
+    X(t_bsdf_moments, BUFFER, const float, config)                                                  \
+    SEP() /* 8 floats per BSDF */                                                                   \
+    X(t_bsdf_moments, VALUE, lv_u32, count)                                                         \
+    SEP()                                                                                           \
+    X(t_bsdf_moments, BUFFER, const float4, wos) SEP() X(t_bsdf_moments, VALUE, lv_u32, n_wo) SEP() \
         X(t_bsdf_moments, VALUE, lv_u32, samples) SEP() X(t_bsdf_moments, BUFFER, float, out)
 
 /* What the ray kernels start with: the scene, then `count` rays of 8
