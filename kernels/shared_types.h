@@ -321,39 +321,48 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
 #define LV_SEP_COMMA() ,
 #define LV_SEP_NONE()
 
+/* The lists are laid out one argument a line by hand; the formatter would
+ * fold them. */
+/* clang-format off */
+
 /* The pixel range of the camera passes: one sample per pixel of
  * [first_pixel, first_pixel + pixel_count) per launch, added to sum. */
-#define LV_PIXEL_ARGS(X, SEP, kernel)                                                              \
-    X(kernel, VALUE, lv_camera, camera)                                                            \
-    SEP()                                                                                          \
-    X(kernel, VALUE, lv_u32, first_pixel)                                                          \
-    SEP() X(kernel, VALUE, lv_u32, pixel_count) SEP() X(kernel, VALUE, lv_u32, sample_index) SEP() \
-        X(kernel, BUFFER, float4, sum)
+#define LV_PIXEL_ARGS(X, SEP, kernel)             \
+    X(kernel, VALUE, lv_camera, camera) SEP()     \
+    X(kernel, VALUE, lv_u32, first_pixel) SEP()   \
+    X(kernel, VALUE, lv_u32, pixel_count) SEP()   \
+    X(kernel, VALUE, lv_u32, sample_index) SEP()  \
+    X(kernel, BUFFER, float4, sum)
 
-#define LV_PT_PASS_ARGS(X, SEP) X(lv_pt_pass, SCENE, , scene) SEP() LV_PIXEL_ARGS(X, SEP, lv_pt_pass)
+#define LV_PT_PASS_ARGS(X, SEP)                   \
+    X(lv_pt_pass, SCENE, , scene) SEP()           \
+    LV_PIXEL_ARGS(X, SEP, lv_pt_pass)
 
-#define LV_GATHER_PASS_ARGS(X, SEP)                                                                             \
-    X(lv_gather_pass, SCENE, , scene)                                                                           \
-    SEP()                                                                                                       \
-    X(lv_gather_pass, VOLUME, , volume)                                                                         \
-    SEP() X(lv_gather_pass, BUFFER, const float4, bin_directions) SEP() X(lv_gather_pass, VALUE, lv_u32, flags) \
-        SEP()                                            /* LV_GATHER_* */                                      \
-        X(lv_gather_pass, VALUE, float, threshold) SEP() /* near-hit distance, metres */                        \
-        LV_PIXEL_ARGS(X, SEP, lv_gather_pass)
+#define LV_GATHER_PASS_ARGS(X, SEP)                                    \
+    X(lv_gather_pass, SCENE, , scene) SEP()                            \
+    X(lv_gather_pass, VOLUME, , volume) SEP()                          \
+    X(lv_gather_pass, BUFFER, const float4, bin_directions) SEP()      \
+    X(lv_gather_pass, VALUE, lv_u32, flags) SEP()     /* LV_GATHER_* */ \
+    X(lv_gather_pass, VALUE, float, threshold) SEP()  /* near-hit distance, metres */ \
+    LV_PIXEL_ARGS(X, SEP, lv_gather_pass)
 
-#define LV_PARTICLE_TRACE_ARGS(X, SEP)                                                                                 \
-    X(lv_particle_trace, SCENE, , scene)                                                                               \
-    SEP()                                                                                                              \
-    X(lv_particle_trace, VOLUME, , volume)                                                                             \
-    SEP() X(lv_particle_trace, VALUE, lv_u32, first) SEP() /* first particle index of the batch */                     \
-        X(lv_particle_trace, VALUE, lv_u32, count) SEP() X(lv_particle_trace, VALUE, float, inv_total_particles) SEP() \
-            X(lv_particle_trace, VALUE, lv_u32, store_emitted) SEP() /* lv-all: tally the lights' own segments */      \
-        X(lv_particle_trace, BUFFER, uint, ray_counts)               /* segments, visibility rays */
+#define LV_PARTICLE_TRACE_ARGS(X, SEP)                                                       \
+    X(lv_particle_trace, SCENE, , scene) SEP()                                               \
+    X(lv_particle_trace, VOLUME, , volume) SEP()                                             \
+    X(lv_particle_trace, VALUE, lv_u32, first) SEP()         /* first particle of the batch */ \
+    X(lv_particle_trace, VALUE, lv_u32, count) SEP()                                         \
+    X(lv_particle_trace, VALUE, float, inv_total_particles) SEP()                            \
+    X(lv_particle_trace, VALUE, lv_u32, store_emitted) SEP() /* lv-all: tally the lights' own segments */ \
+    X(lv_particle_trace, BUFFER, uint, ray_counts)           /* segments, visibility rays */
 
-#define LV_LIT_VOLUMES_ARGS(X, SEP) X(lv_lit_volumes, VOLUME, , volume)
+#define LV_LIT_VOLUMES_ARGS(X, SEP)               \
+    X(lv_lit_volumes, VOLUME, , volume)
 
-#define LV_BIN_DIRECTIONS_ARGS(X, SEP) \
-    X(lv_bin_directions, VALUE, lv_u32, n) SEP() X(lv_bin_directions, BUFFER, float4, directions)
+#define LV_BIN_DIRECTIONS_ARGS(X, SEP)            \
+    X(lv_bin_directions, VALUE, lv_u32, n) SEP()  \
+    X(lv_bin_directions, BUFFER, float4, directions)
+
+/* clang-format on */
 
 /* The index of argument `name` of `kernel`: LV_ARG(lv_pt_pass, camera). A
  * block's index is that of its first argument. */

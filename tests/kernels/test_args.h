@@ -8,43 +8,56 @@
 
 #include "../../kernels/shared_types.h"
 
+/* One argument a line, by hand (the formatter would fold the lists). */
+/* clang-format off */
+
 /* Histogram of uniform directions over the 2 n^2 bins of the direction map. */
-#define T_DIRECTION_HISTOGRAM_ARGS(X, SEP)     \
-    X(t_direction_histogram, VALUE, lv_u32, n) \
-    SEP() X(t_direction_histogram, VALUE, lv_u32, per_item) SEP() X(t_direction_histogram, BUFFER, uint, counts)
+#define T_DIRECTION_HISTOGRAM_ARGS(X, SEP)              \
+    X(t_direction_histogram, VALUE, lv_u32, n) SEP()        \
+    X(t_direction_histogram, VALUE, lv_u32, per_item) SEP() \
+    X(t_direction_histogram, BUFFER, uint, counts)
 
 /* Directions drawn inside each bin mapped back to it; counts the misses. */
-#define T_DIRECTION_ROUNDTRIP_ARGS(X, SEP)     \
-    X(t_direction_roundtrip, VALUE, lv_u32, n) \
-    SEP() X(t_direction_roundtrip, VALUE, lv_u32, per_item) SEP() X(t_direction_roundtrip, BUFFER, uint, misses)
+#define T_DIRECTION_ROUNDTRIP_ARGS(X, SEP)              \
+    X(t_direction_roundtrip, VALUE, lv_u32, n) SEP()        \
+    X(t_direction_roundtrip, VALUE, lv_u32, per_item) SEP() \
+    X(t_direction_roundtrip, BUFFER, uint, misses)
 
 /* Monte Carlo moments of `count` (BSDF config, viewing direction) pairs. */
-#define T_BSDF_MOMENTS_ARGS(X, SEP)                                                                 \
-    X(t_bsdf_moments, BUFFER, const float, config)                                                  \
-    SEP() /* 8 floats per BSDF */                                                                   \
-    X(t_bsdf_moments, VALUE, lv_u32, count)                                                         \
-    SEP()                                                                                           \
-    X(t_bsdf_moments, BUFFER, const float4, wos) SEP() X(t_bsdf_moments, VALUE, lv_u32, n_wo) SEP() \
-        X(t_bsdf_moments, VALUE, lv_u32, samples) SEP() X(t_bsdf_moments, BUFFER, float, out)
+#define T_BSDF_MOMENTS_ARGS(X, SEP)                                             \
+    X(t_bsdf_moments, BUFFER, const float, config) SEP() /* 8 floats per BSDF */ \
+    X(t_bsdf_moments, VALUE, lv_u32, count) SEP()                               \
+    X(t_bsdf_moments, BUFFER, const float4, wos) SEP()                          \
+    X(t_bsdf_moments, VALUE, lv_u32, n_wo) SEP()                                \
+    X(t_bsdf_moments, VALUE, lv_u32, samples) SEP()                             \
+    X(t_bsdf_moments, BUFFER, float, out)
 
 /* What the ray kernels start with: the scene, then `count` rays of 8
  * floats (origin xyz, tmax, direction xyz, unused). */
-#define T_RAYS_IN_ARGS(X, SEP, kernel) \
-    X(kernel, SCENE, , scene) SEP() X(kernel, BUFFER, const float, rays) SEP() X(kernel, VALUE, lv_u32, count)
+#define T_RAYS_IN_ARGS(X, SEP, kernel)        \
+    X(kernel, SCENE, , scene) SEP()           \
+    X(kernel, BUFFER, const float, rays) SEP() \
+    X(kernel, VALUE, lv_u32, count)
 
 /* t_trace, t_surface and t_trace_brute_force: the rays, then 4 result
  * floats per ray. The three share the list, named after t_trace. */
-#define T_TRACE_ARGS(X, SEP) T_RAYS_IN_ARGS(X, SEP, t_trace) SEP() X(t_trace, BUFFER, float, results)
+#define T_TRACE_ARGS(X, SEP)               \
+    T_RAYS_IN_ARGS(X, SEP, t_trace) SEP()  \
+    X(t_trace, BUFFER, float, results)
 
 /* t_offset_rays: the rays, a re-shoot record per ray, 4 result floats per ray. */
-#define T_OFFSET_RAYS_ARGS(X, SEP)        \
-    T_RAYS_IN_ARGS(X, SEP, t_offset_rays) \
-    SEP() X(t_offset_rays, BUFFER, const float4, reshoot) SEP() X(t_offset_rays, BUFFER, float, results)
+#define T_OFFSET_RAYS_ARGS(X, SEP)                        \
+    T_RAYS_IN_ARGS(X, SEP, t_offset_rays) SEP()           \
+    X(t_offset_rays, BUFFER, const float4, reshoot) SEP() \
+    X(t_offset_rays, BUFFER, float, results)
 
 /* The radiance the kernels read from every bin of one stored cell. */
-#define T_BIN_RADIANCE_ARGS(X, SEP)     \
-    X(t_bin_radiance, VOLUME, , volume) \
-    SEP() X(t_bin_radiance, VALUE, lv_u32, slot) SEP() X(t_bin_radiance, BUFFER, float4, radiance)
+#define T_BIN_RADIANCE_ARGS(X, SEP)              \
+    X(t_bin_radiance, VOLUME, , volume) SEP()    \
+    X(t_bin_radiance, VALUE, lv_u32, slot) SEP() \
+    X(t_bin_radiance, BUFFER, float4, radiance)
+
+/* clang-format on */
 
 LV_ARG_INDICES(T_DIRECTION_HISTOGRAM_ARGS, t_direction_histogram);
 LV_ARG_INDICES(T_DIRECTION_ROUNDTRIP_ARGS, t_direction_roundtrip);
