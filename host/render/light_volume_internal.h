@@ -31,6 +31,12 @@ struct lvcl_light_volume {
 lvcl_error lvcl_volume_grid_choose(const lvcl_packed_scene *p, const lvcl_volume_settings *s, lv_grid_info *g,
                                    size_t *cells, lvcl_status *st);
 
+/* The cells lo..hi (clamped to the grid) that the world box lo_w..hi_w
+ * covers, and whether they span at most two along every axis: such a part
+ * of a mesh's tree is marked whole and, for the planes, sampled
+ * (volume_grid.c, volume_planes.c). */
+int lvcl_volume_box_cells(const lv_grid_info *g, const float lo_w[3], const float hi_w[3], int lo[3], int hi[3]);
+
 /* Numbers the stored cells (slot per cell, LV_EMPTY_CELL elsewhere) and
  * sets g->slot_count; LVCL_ERR_OUT_OF_MEMORY if the marks do not fit. */
 lvcl_error lvcl_volume_assign_slots(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,

@@ -23,6 +23,12 @@ static void cell_range(const lv_grid_info *g, float inv, const float lo_w[3], co
     }
 }
 
+int lvcl_volume_box_cells(const lv_grid_info *g, const float lo_w[3], const float hi_w[3], int lo[3], int hi[3])
+{
+    cell_range(g, 1.0f / g->cell_size, lo_w, hi_w, lo, hi);
+    return hi[0] - lo[0] <= 1 && hi[1] - lo[1] <= 1 && hi[2] - lo[2] <= 1;
+}
+
 static void mark_range(const lv_grid_info *g, const int lo[3], const int hi[3], uint8_t *mark)
 {
     for (int z = lo[2]; z <= hi[2]; z++)
@@ -48,8 +54,7 @@ static void mark_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, uin
             float lo_w[3], hi_w[3];
             int lo[3], hi[3];
             lvcl_transform_box(inst->world_from_object, n->bmin, n->bmax, lo_w, hi_w);
-            cell_range(g, inv, lo_w, hi_w, lo, hi);
-            if (hi[0] - lo[0] <= 1 && hi[1] - lo[1] <= 1 && hi[2] - lo[2] <= 1) {
+            if (lvcl_volume_box_cells(g, lo_w, hi_w, lo, hi)) {
                 mark_range(g, lo, hi, mark);
             } else if (n->count > 0) {
                 for (int t = n->index; t < n->index + n->count; t++) {

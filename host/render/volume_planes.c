@@ -144,12 +144,10 @@ static void subtree_triangles(const lvcl_packed_scene *p, const lv_bvh_node *n, 
 /* Whether node n, as instance inst places it, spans at most two cells along every axis. */
 static int spans_few_cells(const lv_grid_info *g, const lv_instance *inst, const lv_bvh_node *n)
 {
-    float lo[3], hi[3];
-    lvcl_transform_box(inst->world_from_object, n->bmin, n->bmax, lo, hi);
-    for (int k = 0; k < 3; k++)
-        if (floorf((hi[k] - g->origin[k]) / g->cell_size) - floorf((lo[k] - g->origin[k]) / g->cell_size) > 1.0f)
-            return 0;
-    return 1;
+    float lo_w[3], hi_w[3];
+    int lo[3], hi[3];
+    lvcl_transform_box(inst->world_from_object, n->bmin, n->bmax, lo_w, hi_w);
+    return lvcl_volume_box_cells(g, lo_w, hi_w, lo, hi);
 }
 
 /* The planes of one stored cell (corner lo): the heaviest clusters that
