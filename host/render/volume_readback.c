@@ -56,8 +56,7 @@ lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_sta
     int64_t *sum = NULL, *t = NULL;
     uint32_t *rec_sum = NULL, *rec = NULL;
     const lv_grid_info *g = &vols[0]->buf.info;
-    size_t words = ((size_t)g->slot_count + 1) * LV_SUBCELL_STRIDE,
-           tally_count = vols[0]->tally_bytes / sizeof(int64_t);
+    size_t tally_count = vols[0]->tally_bytes / sizeof(int64_t);
     lvcl_error e = lvcl_volume_read(vols[0], &sum, &rec_sum, st);
     for (int d = 1; d < count && !e; d++) {
         if ((e = lvcl_volume_read(vols[d], &t, &rec, st))) break;
@@ -85,8 +84,8 @@ lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_sta
             offset += lvcl_volume_part_bytes(vols[d], i);
         }
         if (err == CL_SUCCESS)
-            err = clEnqueueWriteBuffer(vols[d]->dev->queue, vols[d]->buf.subcells, CL_TRUE, 0, words * sizeof(uint32_t),
-                                       rec_sum, 0, NULL, NULL);
+            err = clEnqueueWriteBuffer(vols[d]->dev->queue, vols[d]->buf.subcells, CL_TRUE, 0,
+                                       lvcl_volume_record_bytes(vols[d]), rec_sum, 0, NULL, NULL);
         e = lvcl_cl_check(err, "storing the merged light volume", st);
     }
     free(sum);
