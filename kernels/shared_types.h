@@ -159,19 +159,21 @@ typedef struct {
 /* The light volume (paper section 4): a regular grid of cubic cells
  * over the scene bounds; each stored cell holds 2 n^2 directional bins of
  * RGB tallies, 64-bit fixed point (LV_TALLY_SCALE units per unit). A tally
- * accumulates (particle weight / particle count) x (track length / cell
- * size), where a particle's weight is its power over the total emitted
- * power; radiance follows as total_power x tally x cell_size / (V x bin
- * solid angle), with V the cell's lit volume. */
+ * accumulates particle weight x (track length / cell size), where a
+ * particle's weight is its power over the total emitted power; radiance
+ * follows as total_power x tally x cell_size / (particles x V x bin solid
+ * angle), with V the cell's lit volume. The particle count enters only
+ * there, so passes of particles add to the same tallies. */
 #define LV_EMPTY_CELL 0xffffffffu
 /* Set in cell_slot where the cell has planes (docs/light-volume.md,
  * "Regions"); the low 31 bits are its first slot. A cell without planes
  * never reads the region table. */
 #define LV_CUT_CELL 0x80000000u
-#define LV_TALLY_SCALE 1099511627776.0f /* 2^40 */
-/* Largest single contribution accepted, in tally units of 1: with it every
- * bin stays far below 2^63 (see docs/light-volume.md). */
-#define LV_TALLY_MAX_CONTRIBUTION 1048576.0f
+#define LV_TALLY_SCALE 16777216.0f /* 2^24 */
+/* Largest single contribution accepted, in tally units of 1 (2^36 units):
+ * 2^32 particles of weight below 32 cannot overflow a bin (see
+ * docs/light-volume.md). */
+#define LV_TALLY_MAX_CONTRIBUTION 4096.0f
 
 typedef struct {
     float origin[3];       /* corner of cell (0,0,0) */
@@ -351,7 +353,6 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
     X(lv_particle_trace, VOLUME, , volume) SEP()                                             \
     X(lv_particle_trace, VALUE, lv_u32, first) SEP()         /* first particle of the batch */ \
     X(lv_particle_trace, VALUE, lv_u32, count) SEP()                                         \
-    X(lv_particle_trace, VALUE, float, inv_total_particles) SEP()                            \
     X(lv_particle_trace, VALUE, lv_u32, store_emitted) SEP() /* lv-all: tally the lights' own segments */ \
     X(lv_particle_trace, BUFFER, uint, ray_counts)           /* segments, visibility rays */
 

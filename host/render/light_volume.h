@@ -21,7 +21,8 @@ typedef struct {
     uint64_t next, end;
 } lvcl_particle_source;
 
-void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t particles);
+/* Hands out the particle indices [first, end). */
+void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t first, uint64_t end);
 void lvcl_particle_source_destroy(lvcl_particle_source *src);
 
 /* The default share of surface hits that cast a subcell visibility ray
@@ -35,7 +36,9 @@ typedef struct {
     int dirs;                     /* n: n x n bins per hemisphere */
     int subcells;                 /* k: k x k x k subcells per cell (0 to 4), 0 = the lit volume is the whole cell */
     double visibility_rate;       /* share of surface hits that cast a visibility ray; 0 = LVCL_VISIBILITY_RATE */
-    uint64_t particles;           /* in all, over every device */
+    uint64_t particles;           /* trace the particle indices [first_particle, particles), over every device */
+    uint64_t first_particle;      /* 0: the volume is cleared first; else the trace adds to it (a pass) */
+    double deadline;              /* lvcl_seconds() after which no batch starts; 0 = none */
     lvcl_particle_source *source; /* several devices: take batches from here; NULL: trace them all */
     int store_emitted;            /* lv-all: tally the segments leaving the lights too */
     int progress;
@@ -58,10 +61,12 @@ typedef struct {
 lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *packed,
                               const lvcl_volume_settings *settings, lvcl_light_volume **vol, lvcl_status *st);
 
-/* Traces settings->particles particles (or the batches it takes from
- * settings->source) into the (cleared) volume. Particle i draws its random
- * numbers from i alone, so batches traced apart and added make the volume
- * traced at once. */
+/* Traces the particles [first_particle, particles) (or the batches it takes
+ * from settings->source) into the volume, which first_particle 0 clears
+ * first, until the deadline. Particle i draws its random numbers from i
+ * alone, and the tallies do not depend on the particle count (it divides
+ * them only where they are read), so passes traced one after another, or
+ * batches traced apart and added, make the volume traced at once. */
 lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, const lvcl_device_scene *ds,
                              const lvcl_volume_settings *settings, lvcl_status *st);
 
@@ -69,7 +74,8 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
 lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st);
 
 /* Adds the tallies and subcell records of every volume (the same grid on
- * several devices, each with its own particles) and stores the sum in each.
+ * several devices, each with its own particles) and stores the sum, and the
+ * particles of all, in each.
  * Integer tallies and counters make the sum exact and order-free. */
 lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_status *st);
 

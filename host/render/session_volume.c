@@ -35,7 +35,7 @@ lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings
     if (e) return e;
     trace_job jobs[LVCL_MAX_DEVICES];
     lvcl_particle_source source;
-    lvcl_particle_source_init(&source, settings->particles);
+    lvcl_particle_source_init(&source, settings->first_particle, settings->particles);
     for (int d = 0; d < n; d++) {
         jobs[d] = (trace_job){.sd = &s->devices[d], .vs = *settings};
         jobs[d].vs.source = n > 1 ? &source : NULL;

@@ -75,7 +75,10 @@ lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_sta
         t = NULL;
         rec = NULL;
     }
+    uint64_t particles = 0;
+    for (int d = 0; d < count; d++) particles += vols[d]->particles;
     for (int d = 0; d < count && !e; d++) {
+        vols[d]->buf.info.particles = (float)particles; /* the lookups' normalisation */
         cl_int err = CL_SUCCESS;
         size_t offset = 0;
         for (int i = 0; i < vols[d]->tally_parts && err == CL_SUCCESS && vols[d]->tally_bytes; i++) {

@@ -40,11 +40,11 @@ lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, 
     return e;
 }
 
-void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t particles)
+void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t first, uint64_t end)
 {
     pthread_mutex_init(&src->lock, NULL);
-    src->next = 0;
-    src->end = particles;
+    src->next = first;
+    src->end = end;
 }
 
 void lvcl_particle_source_destroy(lvcl_particle_source *src)
@@ -53,9 +53,11 @@ void lvcl_particle_source_destroy(lvcl_particle_source *src)
 }
 
 /* The next batch of particle indices: from the shared source, or else the
- * next slice of all the particles (cursor). Returns 0 when none is left. */
+ * next slice of the settings' range (cursor). Returns 0 when none is left
+ * or the deadline has passed. */
 static int next_batch(const lvcl_volume_settings *s, uint64_t *cursor, uint64_t *first, cl_uint *count)
 {
+    if (s->deadline > 0 && lvcl_seconds() >= s->deadline) return 0;
     uint64_t end = s->particles;
     if (s->source) {
         pthread_mutex_lock(&s->source->lock);
@@ -69,14 +71,12 @@ static int next_batch(const lvcl_volume_settings *s, uint64_t *cursor, uint64_t 
     return *count > 0;
 }
 
-lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, const lvcl_device_scene *ds,
-                             const lvcl_volume_settings *s, lvcl_status *st)
+/* Empties the tallies and subcell records and fills the bins' directions. */
+static lvcl_error clear_volume(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st)
 {
     const lvcl_device *dev = vol->dev;
     lvcl_error e;
     if ((e = fill_bin_directions(vol, prog, st))) return e;
-    if (s->particles == 0 || s->particles > UINT32_MAX)
-        return lvcl_fail(st, LVCL_ERR_USAGE, "--particles must be from 1 to %u", UINT32_MAX);
     cl_long zero = 0;
     for (int i = 0; i < vol->tally_parts; i++)
         if ((e = lvcl_cl_check(clEnqueueFillBuffer(dev->queue, vol->buf.tallies[i], &zero, sizeof zero, 0,
@@ -88,7 +88,23 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
                                                lvcl_volume_record_bytes(vol), 0, NULL, NULL),
                            "clearing the subcells", st)))
         return e;
-    vol->buf.info.particles = (float)s->particles;
+    vol->segments = vol->visibility_rays = vol->particles = 0;
+    vol->trace_seconds = 0;
+    vol->buf.info.particles = 0;
+    return LVCL_OK;
+}
+
+lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, const lvcl_device_scene *ds,
+                             const lvcl_volume_settings *s, lvcl_status *st)
+{
+    const lvcl_device *dev = vol->dev;
+    lvcl_error e;
+    if (s->particles == 0 || s->particles > UINT32_MAX)
+        return lvcl_fail(st, LVCL_ERR_USAGE, "--particles must be from 1 to %u", UINT32_MAX);
+    if (s->first_particle >= s->particles)
+        return lvcl_fail(st, LVCL_ERR_USAGE, "no particles to trace from %llu to %llu",
+                         (unsigned long long)s->first_particle, (unsigned long long)s->particles);
+    if (s->first_particle == 0 && (e = clear_volume(vol, prog, st))) return e;
     cl_int err;
     /* Per batch: segments traced, visibility rays cast. */
     cl_mem counter = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint), NULL, &err);
@@ -100,7 +116,6 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
     }
     lvcl_particle_trace_args args = {.scene = &ds->buffers,
                                      .volume = &vol->buf,
-                                     .inv_total_particles = (float)(1.0 / (double)s->particles),
                                      .store_emitted = s->store_emitted ? 1u : 0u,
                                      .ray_counts = counter};
     if ((e = lvcl_bind_lv_particle_trace(k, &args, st))) {
@@ -111,8 +126,7 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
     lvcl_progress bar;
     lvcl_progress_start(&bar, "particles", s->progress);
     double start = lvcl_seconds();
-    vol->segments = vol->visibility_rays = vol->particles = 0;
-    uint64_t cursor = 0, first;
+    uint64_t cursor = s->first_particle, first;
     cl_uint count;
     while (next_batch(s, &cursor, &first, &count)) {
         /* 32-bit counts per batch cannot overflow; the totals are 64-bit. */
@@ -132,11 +146,12 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
         vol->segments += counts[0];
         vol->visibility_rays += counts[1];
         vol->particles += count;
+        vol->buf.info.particles = (float)vol->particles;
         lvcl_progress_update(&bar, (double)(first + count), (double)s->particles, "particles");
     }
     lvcl_progress_finish(&bar);
     clReleaseKernel(k);
     clReleaseMemObject(counter);
-    vol->trace_seconds = lvcl_seconds() - start;
+    vol->trace_seconds += lvcl_seconds() - start;
     return e;
 }

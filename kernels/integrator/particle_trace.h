@@ -17,8 +17,7 @@ typedef struct {
     uint visibility_rays;
 } lv_particle_rays;
 
-/* Adds segment r, which carried `weight` (power over total power, over
- * particle count) up to hit h (surface s, if any) through a medium of
+/* Adds segment r, which carried `weight` (power over total power) up to hit h (surface s, if any) through a medium of
  * absorption sigma, to the volume; at a hit also offers a lit point and
  * may cast a visibility ray. Returns the visibility rays cast. */
 inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray r, lv_hit h, const lv_surface *s,
@@ -41,8 +40,7 @@ inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray 
 /* Traces one particle, drawing from rng, into grid. store_emitted: tally
  * the first segment (emitted light) too, which lv mode leaves to shadow
  * rays. */
-inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *grid, lv_rng *rng,
-                                          float inv_total_particles, uint store_emitted)
+inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *grid, lv_rng *rng, uint store_emitted)
 {
     lv_particle_rays n = {0u, 0u};
     lv_emission_sample es;
@@ -62,7 +60,7 @@ inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *gri
             if (lv_inside_glass(m, &s)) sigma = LV_F3(m->attenuation);
         }
         if (depth > 1 || store_emitted)
-            n.visibility_rays += lv_particle_deposit(sc, grid, r, h, &s, throughput * inv_total_particles, sigma, rng);
+            n.visibility_rays += lv_particle_deposit(sc, grid, r, h, &s, throughput, sigma, rng);
         if (h.tri == LV_NO_HIT || depth == sc->info.max_depth) break;
         throughput *= exp(-sigma * h.t);
 

@@ -39,7 +39,7 @@ inline void lv_tally_add(const lv_grid *grid, uint slot, uint bin, float3 amount
     float a[3] = {amount.x, amount.y, amount.z};
     for (int c = 0; c < 3; c++) {
         if (!(a[c] > 0.0f) || !isfinite(a[c])) continue;
-        long units = (long)(fmin(a[c], LV_TALLY_MAX_CONTRIBUTION) * LV_TALLY_SCALE);
+        long units = (long)(fmin(a[c], LV_TALLY_MAX_CONTRIBUTION) * LV_TALLY_SCALE + 0.5f); /* rounded, not cut */
         if (units > 0) lv_tally_atomic_add(&t[c], units);
     }
 }
