@@ -79,7 +79,7 @@ static lvcl_error run(const lvcl_options *o, lvcl_session **s, lvcl_render_resul
     stats->startup_seconds = lvcl_seconds() - stats->process_start;
     if ((e = lvcl_session_render(*s, &req, res, st))) return e;
     stats->result = res;
-    if (res->samples < o->spp && !o->quiet)
+    if (o->spp_given && res->samples < o->spp && !o->quiet)
         fprintf(stderr, "lvcl: time limit reached after %d of %d samples per pixel\n", res->samples, o->spp);
     if ((e = write_outputs(o, res, st))) return e;
     if (!o->quiet) {

@@ -11,6 +11,8 @@
 /* Light-volume defaults, chosen by measurement (docs/light-volume.md). */
 #define LVCL_DEFAULT_CELLS 32
 #define LVCL_DEFAULT_PARTICLES 1e6
+#define LVCL_DEFAULT_SPP 64
+#define LVCL_MAX_SPP (1 << 24)
 #define LVCL_DEFAULT_SUBCELLS 4
 
 static lvcl_error parse_int(const char *flag, const char *s, long lo, long hi, long *out, lvcl_status *st)
@@ -35,17 +37,24 @@ static lvcl_error parse_real(const char *flag, const char *s, double lo, double 
     return LVCL_OK;
 }
 
+/* Defaults that depend on other flags: under a time limit the samples, and
+ * in lv modes the particles, are as many as the time allows. */
+static void fill_defaults(lvcl_options *o)
+{
+    o->spp_given = o->spp != 0;
+    if (!o->spp) o->spp = o->time_limit > 0 ? LVCL_MAX_SPP : LVCL_DEFAULT_SPP;
+    if (!o->particles && !(o->time_limit > 0)) o->particles = LVCL_DEFAULT_PARTICLES;
+}
+
 lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_status *st)
 {
     memset(o, 0, sizeof *o);
     o->mode = "pt";
-    o->spp = 64;
     o->max_depth = 64;
     o->fast_math = 1;
     o->cells = LVCL_DEFAULT_CELLS;
     o->dirs = 11;
     o->subcells = LVCL_DEFAULT_SUBCELLS;
-    o->particles = LVCL_DEFAULT_PARTICLES;
     o->gather = "integrate";
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -95,7 +104,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         else if (!strcmp(a, "-o") || !strcmp(a, "--output")) o->output = v;
         else if (!strcmp(a, "--stats")) o->stats = v;
         else if (!strcmp(a, "--spp")) {
-            e = parse_int(a, v, 1, 1 << 24, &n, st);
+            e = parse_int(a, v, 1, LVCL_MAX_SPP, &n, st);
             o->spp = (int)n;
         } else if (!strcmp(a, "--width")) {
             e = parse_int(a, v, 1, 16384, &n, st);
@@ -151,6 +160,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
     if (strcmp(o->gather, "sample") && strcmp(o->gather, "integrate"))
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown gather '%s' (expected sample or integrate)", o->gather);
     if (!o->scene) o->scene = DEFAULT_SCENE;
+    fill_defaults(o);
     return LVCL_OK;
 }
 
@@ -168,7 +178,8 @@ void lvcl_options_print_help(const char *program)
         "  --device-memory MIB  act as a device of MIB MiB, a quarter of it in one buffer (default: the device's own)\n"
         "  --mode pt|lv|lv-all  pt: path tracing; lv: light volume for indirect light, shadow rays\n"
         "                       for direct (default pt); lv-all: the light volume answers all light\n"
-        "  --particles N        light volume: particles traced (default 1e6)\n"
+        "  --particles N        light volume: particles traced (default 1e6; under --time-limit\n"
+        "                       as many as the measured split of the time gives)\n"
         "  --cells N            light volume: cells along the longest axis (default 32)\n"
         "  --cell-size M        light volume: cell size in metres (overrides --cells)\n"
         "  --grid-offset F      light volume: shift the grid by F cells against the scene (0 to 0.999)\n"
@@ -181,14 +192,15 @@ void lvcl_options_print_help(const char *program)
         "                       continue as paths (default the cell diagonal)\n"
         "  --gather integrate|sample  lv: integrate the BSDF over all bins of the cell (default),\n"
         "                       or read the bin of one BSDF-sampled direction\n"
-        "  --spp N              samples per pixel (default 64)\n"
+        "  --spp N              samples per pixel (default 64; under --time-limit as many as fit)\n"
         "  --width N, --height N  image size (default 512 wide, height from the camera's aspect)\n"
         "  --seed N             random seed (default 0); the same seed gives the same image\n"
         "  --max-depth N        longest path in segments (default 64; 1 = emitters only)\n"
         "  -o, --output FILE    .exr (linear float) or .png (sRGB); default out/SCENE.exr and .png\n"
         "  --exposure EV        scale by 2^EV before writing 8-bit images (default 0)\n"
-        "  --time-limit S       stop sampling after S seconds (at least one sample is taken;\n"
-        "                       in lv modes the particle trace comes on top)\n"
+        "  --time-limit S       render for about S seconds, loading and kernel builds not counted;\n"
+        "                       lv modes split them between particles and gather by measurement\n"
+        "                       (at least one sample is taken; one device only)\n"
         "  --stats FILE.json    write timings, sizes and device facts as JSON\n"
         "  --no-fast-math       build kernels without -cl-fast-relaxed-math\n"
         "  -q, --quiet          no progress bar\n"

@@ -79,6 +79,14 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
                 trace_seconds > 0 ? (double)segments / trace_seconds : 0.0, g->subcells,
                 (unsigned long long)visibility_rays, vw.tally_buffers);
     }
+    const lvcl_budget_report *b = lvcl_session_budget(ss);
+    if (b->used)
+        fprintf(f,
+                ",\n  \"budget\": {\"seconds\": %.4f, \"volume_noise\": %.6g, \"gather_noise\": %.6g, "
+                "\"seconds_per_particle\": %.6g, \"seconds_per_sample\": %.6g, \"measure_seconds\": %.4f, "
+                "\"planned_particles\": %llu}",
+                s->options->time_limit, b->volume_noise, b->gather_noise, b->seconds_per_particle,
+                b->seconds_per_sample, b->measure_seconds, (unsigned long long)b->planned_particles);
     /* Each device's share of the work. */
     fprintf(f, ",\n  \"devices\": [");
     for (int d = 0; d < devices; d++) {

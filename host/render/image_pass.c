@@ -70,7 +70,7 @@ static void *render_bands(void *arg)
             return fail_pass(ps);
         int s = 0;
         while (s < ps->settings->spp) {
-            cl_uint index = (cl_uint)s;
+            cl_uint index = (cl_uint)(ps->settings->first_sample + s);
             if ((w->e = lvcl_kernel_arg(k, a->sample_index, sizeof index, &index, "the sample index", &w->st)) ||
                 (w->e = lvcl_kernel_enqueue(dev, k, count, "launching the camera pass", &w->st)) ||
                 (w->e = lvcl_cl_check(clFinish(dev->queue), "running the camera pass", &w->st)))
@@ -80,7 +80,11 @@ static void *render_bands(void *arg)
             double elapsed = lvcl_seconds() - ps->start;
             if (ps->first_launch_seconds == 0) ps->first_launch_seconds = elapsed;
             ps->launches_done++;
-            lvcl_progress_update(&ps->bar, (double)ps->launches_done, (double)ps->launches_total, ps->unit);
+            /* Under a time limit the bar shows the time spent, of the limit. */
+            if (ps->settings->time_limit > 0)
+                lvcl_progress_update(&ps->bar, elapsed < ps->settings->time_limit ? elapsed : ps->settings->time_limit,
+                                     ps->settings->time_limit, "s");
+            else lvcl_progress_update(&ps->bar, (double)ps->launches_done, (double)ps->launches_total, ps->unit);
             pthread_mutex_unlock(&ps->lock);
             /* The time limit applies to one device, whose one band is the whole image. */
             if (ps->settings->time_limit > 0 && elapsed >= ps->settings->time_limit) break;

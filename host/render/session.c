@@ -143,3 +143,8 @@ double lvcl_session_volume_seconds(const lvcl_session *s)
     }
     return slowest > 0 ? slowest + s->merge_seconds : 0;
 }
+
+const lvcl_budget_report *lvcl_session_budget(const lvcl_session *s)
+{
+    return &s->budget;
+}

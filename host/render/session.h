@@ -38,6 +38,17 @@ typedef struct {
     double threshold; /* near-hit distance in metres; 0 = the cell diagonal */
 } lvcl_render_request;
 
+/* How an lv render under a time limit spent it (session_budget.c). */
+typedef struct {
+    int used;                      /* the last render ran under a time budget */
+    double volume_noise;           /* A: the volume's share of the image's relMSE, times particles */
+    double gather_noise;           /* B: the gather's share, times samples per pixel */
+    double seconds_per_particle;   /* measured on the second pass */
+    double seconds_per_sample;     /* one sample per pixel of the image, measured on the pilots */
+    double measure_seconds;        /* the two first passes and the pilot images */
+    uint64_t planned_particles;    /* what the split chose (or --particles) */
+} lvcl_budget_report;
+
 /* One device's share of the last camera pass. */
 typedef struct {
     int bands;           /* bands rendered */
@@ -50,7 +61,10 @@ typedef struct {
 lvcl_error lvcl_session_open(lvcl_scene *scene, const lvcl_session_config *cfg, lvcl_session **session,
                              lvcl_status *st);
 
-/* Renders an image: path tracing, or particle trace then final gather. */
+/* Renders an image: path tracing, or particle trace then final gather.
+ * With req->pass.time_limit the whole render keeps to it (one device
+ * only); in lv modes with req->volume.particles 0 the particle count is
+ * chosen by measurement (session_budget.c). */
 lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
                                lvcl_status *st);
 
@@ -83,5 +97,7 @@ double lvcl_session_bvh_build_seconds(const lvcl_session *s);
 /* The light volume's build: the slowest device's particle trace plus
  * adding the devices' volumes; 0 without a volume. */
 double lvcl_session_volume_seconds(const lvcl_session *s);
+/* The last render's time budget; its `used` is 0 without one. */
+const lvcl_budget_report *lvcl_session_budget(const lvcl_session *s);
 
 #endif

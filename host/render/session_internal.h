@@ -1,6 +1,7 @@
 /* The session's private parts, shared by session.c (opening, closing,
- * accessors), session_volume.c (the light volume over every device) and
- * session_render.c (the camera passes). */
+ * accessors), session_volume.c (the light volume over every device),
+ * session_render.c (the camera passes) and session_budget.c (one time
+ * budget for an lv render). */
 #ifndef LVCL_SESSION_INTERNAL_H
 #define LVCL_SESSION_INTERNAL_H
 
@@ -24,6 +25,17 @@ struct lvcl_session {
     double merge_seconds;
     unsigned features;
     double bvh_build_seconds;
+    lvcl_budget_report budget;
 };
+
+/* A camera pass of req's mode over every device, of width x height (0 =
+ * from the camera's aspect), with these pass settings; the light volume
+ * must be traced for lv modes. */
+lvcl_error lvcl_session_camera_pass(lvcl_session *s, const lvcl_render_request *req, int width, int height,
+                                    const lvcl_pass_settings *pass, lvcl_render_result *out, lvcl_status *st);
+
+/* An lv render that keeps to req->pass.time_limit on one device. */
+lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
+                                      lvcl_status *st);
 
 #endif

@@ -29,21 +29,15 @@ static lvcl_error bind_pass_args(session_device *sd, lvcl_pass_device *pd, const
     return lvcl_bind_lv_gather_pass(pd->kernel, &a, st);
 }
 
-lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
-                               lvcl_status *st)
+lvcl_error lvcl_session_camera_pass(lvcl_session *s, const lvcl_render_request *req, int width, int height,
+                                    const lvcl_pass_settings *pass, lvcl_render_result *out, lvcl_status *st)
 {
-    lvcl_error e;
-    if (req->mode != LVCL_MODE_PT) {
-        lvcl_volume_settings vs = req->volume;
-        vs.store_emitted = req->mode == LVCL_MODE_LV_ALL;
-        if ((e = lvcl_session_trace_volume(s, &vs, st))) return e;
-    }
     int w, h;
-    lvcl_image_size(&s->scene.camera, req->width, req->height, &w, &h);
+    lvcl_image_size(&s->scene.camera, width, height, &w, &h);
     lv_camera cam = lvcl_camera_make(&s->scene.camera, s->packed.bounds_min, s->packed.bounds_max, w, h);
     lvcl_pass_device passes[LVCL_MAX_DEVICES];
     memset(passes, 0, sizeof passes);
-    e = LVCL_OK;
+    lvcl_error e = LVCL_OK;
     for (int d = 0; d < s->device_count && !e; d++) {
         session_device *sd = &s->devices[d];
         passes[d].device = &sd->device;
@@ -52,7 +46,7 @@ lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, 
             break;
         e = bind_pass_args(sd, &passes[d], req, &cam, st);
     }
-    if (!e) e = lvcl_image_pass(passes, s->device_count, &cam, &req->pass, out, st);
+    if (!e) e = lvcl_image_pass(passes, s->device_count, &cam, pass, out, st);
     for (int d = 0; d < s->device_count; d++) {
         if (passes[d].kernel) clReleaseKernel(passes[d].kernel);
         passes[d].kernel = NULL;
@@ -60,6 +54,22 @@ lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, 
             .bands = passes[d].bands, .pixels = passes[d].pixels, .busy_seconds = passes[d].busy_seconds};
     }
     return e;
+}
+
+lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
+                               lvcl_status *st)
+{
+    lvcl_error e;
+    s->budget = (lvcl_budget_report){0};
+    if (req->pass.time_limit > 0 && s->device_count > 1)
+        return lvcl_fail(st, LVCL_ERR_USAGE, "--time-limit works on one device only, not on %d", s->device_count);
+    if (req->mode == LVCL_MODE_PT) return lvcl_session_camera_pass(s, req, req->width, req->height, &req->pass, out, st);
+    /* Under a time limit the whole render keeps to it. */
+    if (req->pass.time_limit > 0) return lvcl_session_render_budget(s, req, out, st);
+    lvcl_volume_settings vs = req->volume;
+    vs.store_emitted = req->mode == LVCL_MODE_LV_ALL;
+    if ((e = lvcl_session_trace_volume(s, &vs, st))) return e;
+    return lvcl_session_camera_pass(s, req, req->width, req->height, &req->pass, out, st);
 }
 
 lvcl_error lvcl_session_render_pt(lvcl_session *s, int width, int height, const lvcl_pass_settings *settings,

@@ -1,0 +1,195 @@
+/* One time budget for a whole light-volume render (docs/light-volume.md,
+ * "Passes and one time budget"). The particles are traced in passes into
+ * one volume. After two passes, three pilot images at half the image's
+ * width and height measure how the image's error depends on particles and
+ * on samples:
+ *
+ *   relMSE ~ A / N + B / S   (N particles, S samples per pixel),
+ *
+ * A from two images of the same camera samples over the volume of N1 and
+ * of 2 N1 particles (their difference is the volume's noise alone), B from
+ * two images of different samples over the same volume. A pilot takes 16
+ * samples per pixel: with one, each lookup reads one jittered point and
+ * the volume's noise is 13 times what many samples leave (Cornell box).
+ * With the measured costs tp per particle and tg per sample, the error in
+ * the time left R is least at N = (R + N_c tp) / (tp + sqrt(B tg tp / A));
+ * the trace goes on to that N and the gather takes the rest. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "session_internal.h"
+#include "../util/timer.h"
+
+/* Particles of the first pass; the second doubles them. Small enough for
+ * a budget of a few seconds, large enough that the volume's noise falls as
+ * 1/N from there. */
+#define FIRST_PASS (1u << 17)
+/* The share of the time left the gather keeps whatever the measurements say. */
+#define GATHER_SHARE_MIN 0.05
+/* Samples per pixel of the two pilots that compare volumes, and of the one
+ * that measures the gather's noise. */
+#define PILOT_SPP 16
+#define NOISE_PILOT_SPP 4
+/* The pilots' width and height are the image's over this. */
+#define PILOT_SCALE 2
+
+/* Runs the light volume's trace over [first, end) on the session's device
+ * (one device: time limits are refused on several) and computes its lit
+ * volumes for the lookups. */
+static lvcl_error trace_pass(lvcl_session *s, const lvcl_volume_settings *base, uint64_t first, uint64_t end,
+                             double deadline, lvcl_status *st)
+{
+    session_device *sd = &s->devices[0];
+    lvcl_volume_settings vs = *base;
+    vs.first_particle = first;
+    vs.particles = end;
+    vs.deadline = deadline;
+    lvcl_error e = lvcl_volume_trace(sd->volume, &sd->program, &sd->device_scene, &vs, st);
+    if (!e) e = lvcl_volume_finish(sd->volume, &sd->program, st);
+    return e;
+}
+
+/* A pilot image of spp samples from index `first`, without progress. */
+static lvcl_error pilot(lvcl_session *s, const lvcl_render_request *req, int first, int spp, lvcl_render_result *out,
+                        lvcl_status *st)
+{
+    int w, h;
+    lvcl_image_size(&s->scene.camera, req->width, req->height, &w, &h);
+    w = w / PILOT_SCALE > 8 ? w / PILOT_SCALE : 8;
+    h = h / PILOT_SCALE > 8 ? h / PILOT_SCALE : 8;
+    lvcl_pass_settings pass = {.spp = spp, .first_sample = first};
+    return lvcl_session_camera_pass(s, req, w, h, &pass, out, st);
+}
+
+/* mean((a - b)^2 / den) over n values. */
+static double weighted_difference(const float *a, const float *b, const float *den, size_t n)
+{
+    double sum = 0;
+    for (size_t i = 0; i < n; i++) {
+        double d = (double)a[i] - b[i];
+        sum += d * d / den[i];
+    }
+    return n ? sum / (double)n : 0;
+}
+
+/* relMSE's denominators (value^2 + 0.01) from the mean of the pilots,
+ * averaged over 3 x 3 pixels, so that their noise does not weigh. */
+static float *denominators(const lvcl_render_result *img, int count)
+{
+    int w = img[0].width, h = img[0].height;
+    float *den = malloc((size_t)w * h * 3 * sizeof(float));
+    if (!den) return NULL;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            for (int c = 0; c < 3; c++) {
+                double sum = 0;
+                int n = 0;
+                for (int dy = -1; dy <= 1; dy++)
+                    for (int dx = -1; dx <= 1; dx++) {
+                        int xx = x + dx, yy = y + dy;
+                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                        for (int i = 0; i < count; i++) sum += img[i].rgb[((size_t)yy * w + xx) * 3 + c];
+                        n += count;
+                    }
+                double m = sum / n;
+                den[((size_t)y * w + x) * 3 + c] = (float)(m * m + 0.01);
+            }
+    return den;
+}
+
+/* The particle count that leaves the least error when `left` seconds
+ * remain after `traced` particles (the header's formula), within
+ * [traced, UINT32_MAX], keeping the gather its minimum share. */
+static uint64_t best_particles(const lvcl_budget_report *b, uint64_t traced, double left)
+{
+    if (!(b->volume_noise > 0) || !(b->seconds_per_particle > 0) || left <= 0) return traced;
+    double tp = b->seconds_per_particle;
+    double n = (left + (double)traced * tp) /
+               (tp + sqrt(b->gather_noise * b->seconds_per_sample * tp / b->volume_noise));
+    double most = (double)traced + (1.0 - GATHER_SHARE_MIN) * left / tp;
+    if (n > most) n = most;
+    if (n > (double)UINT32_MAX) n = (double)UINT32_MAX;
+    return n > (double)traced ? (uint64_t)n : traced;
+}
+
+/* Measures A, B and the costs after two passes (the header's recipe). */
+static lvcl_error measure(lvcl_session *s, const lvcl_render_request *req, const lvcl_volume_settings *vs,
+                          lvcl_budget_report *b, lvcl_status *st)
+{
+    lvcl_render_result img[3] = {{0}};
+    double t = lvcl_seconds();
+    lvcl_error e = trace_pass(s, vs, 0, FIRST_PASS, 0, st);
+    if (!e) e = pilot(s, req, 0, PILOT_SPP, &img[0], st);
+    double p = lvcl_seconds();
+    /* A budget this short is better spent on the gather than on measuring. */
+    if (!e && p - t > req->pass.time_limit / 4) {
+        free(img[0].rgb);
+        b->measure_seconds = p - t;
+        return LVCL_OK;
+    }
+    if (!e) e = trace_pass(s, vs, FIRST_PASS, 2 * (uint64_t)FIRST_PASS, 0, st);
+    double q = lvcl_seconds();
+    if (!e) e = pilot(s, req, 0, PILOT_SPP, &img[1], st);
+    if (!e) e = pilot(s, req, PILOT_SPP, NOISE_PILOT_SPP, &img[2], st);
+    double r = lvcl_seconds();
+    float *den = e ? NULL : denominators(img, 3);
+    if (!e && !den) e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the pilot images");
+    if (!e) {
+        size_t n = (size_t)img[0].width * img[0].height * 3;
+        /* Var(P1 - P2) = A / (2 N1); Var(Q - P2) = B / NOISE_PILOT_SPP + B / PILOT_SPP. */
+        b->volume_noise = 2.0 * FIRST_PASS * weighted_difference(img[0].rgb, img[1].rgb, den, n);
+        b->gather_noise = weighted_difference(img[2].rgb, img[1].rgb, den, n) /
+                          (1.0 / NOISE_PILOT_SPP + 1.0 / PILOT_SPP);
+        b->seconds_per_particle = (q - p) / FIRST_PASS;
+        /* Per sample of the whole image: the pilots have 1 / PILOT_SCALE^2 of its pixels. */
+        b->seconds_per_sample = (r - q) / (PILOT_SPP + NOISE_PILOT_SPP) * PILOT_SCALE * PILOT_SCALE;
+        b->measure_seconds = r - t;
+    }
+    free(den);
+    for (int i = 0; i < 3; i++) free(img[i].rgb);
+    return e;
+}
+
+lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
+                                      lvcl_status *st)
+{
+    double start = lvcl_seconds(), end = start + req->pass.time_limit;
+    session_device *sd = &s->devices[0];
+    lvcl_volume_settings vs = req->volume;
+    vs.store_emitted = req->mode == LVCL_MODE_LV_ALL;
+    vs.source = NULL;
+    lvcl_volume_release(sd->volume);
+    sd->volume = NULL;
+    lvcl_error e = lvcl_volume_create(&sd->device, &s->packed, &vs, &sd->volume, st);
+    if (e) return e;
+    lvcl_budget_report *b = &s->budget;
+    b->used = 1;
+    if (vs.particles) { /* --particles given: traced whole, the gather takes what is left */
+        if ((e = trace_pass(s, &vs, 0, vs.particles, 0, st))) return e;
+        b->planned_particles = vs.particles;
+    } else {
+        int progress = vs.progress;
+        vs.progress = 0;
+        if ((e = measure(s, req, &vs, b, st))) return e;
+        uint64_t traced = lvcl_volume_stats_of(sd->volume).particles;
+        double now = lvcl_seconds();
+        b->planned_particles = best_particles(b, traced, end - now);
+        if (progress)
+            fprintf(stderr,
+                    "lvcl: %.0f s budget: %.3g particles, then the gather (measured: volume relMSE %.3g / N, "
+                    "gather %.3g / spp, %.3g s per 10^6 particles, %.3g s per sample)\n",
+                    req->pass.time_limit, (double)b->planned_particles, b->volume_noise, b->gather_noise,
+                    b->seconds_per_particle * 1e6, b->seconds_per_sample);
+        vs.progress = progress;
+        if (b->planned_particles > traced) {
+            /* Slower than measured, the trace stops where the plan said it would end. */
+            double deadline = now + (double)(b->planned_particles - traced) * b->seconds_per_particle * 1.1;
+            if ((e = trace_pass(s, &vs, traced, b->planned_particles, deadline, st))) return e;
+        }
+    }
+    lvcl_pass_settings pass = req->pass;
+    pass.time_limit = end - lvcl_seconds();
+    if (pass.time_limit < 1e-3) pass.time_limit = 1e-3; /* at least one sample is taken */
+    return lvcl_session_camera_pass(s, req, req->width, req->height, &pass, out, st);
+}
