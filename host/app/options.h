@@ -11,18 +11,18 @@ typedef struct {
     const char *output; /* NULL = out/<scene>.exr and .png */
     const char *stats;
     int spp;
-    int spp_given; /* --spp was given (else the default, or under a time limit as many as fit) */
+    int spp_given;     /* --spp was given (else the default, or under a time limit as many as fit) */
     int width, height; /* 0 = from the camera's aspect */
     unsigned seed;
     int max_depth;
     double exposure;
-    int cells;              /* light volume: cells along the longest axis */
-    double cell_size;       /* metres, 0 = from cells */
-    double grid_offset;     /* fraction of a cell */
-    int dirs;               /* n x n bins per hemisphere */
-    int subcells;           /* k x k x k subcells per cell, 0 = none */
-    double visibility_rate; /* share of surface hits casting a visibility ray, 0 = default */
-    double particles; /* 0: as many as a time limit allows */
+    int cells;                /* light volume: cells along the longest axis */
+    double cell_size;         /* metres, 0 = from cells */
+    double grid_offset;       /* fraction of a cell */
+    int dirs;                 /* n x n bins per hemisphere */
+    int subcells;             /* k x k x k subcells per cell, 0 = none */
+    double visibility_rate;   /* share of surface hits casting a visibility ray, 0 = default */
+    double particles;         /* 0: as many as a time limit allows */
     double threshold;         /* near-hit distance, 0 = cell diagonal */
     const char *gather;       /* "sample" or "integrate" */
     double device_memory_mib; /* cap on device memory, 0 = the device's own */

@@ -40,13 +40,13 @@ typedef struct {
 
 /* How an lv render under a time limit spent it (session_budget.c). */
 typedef struct {
-    int used;                      /* the last render ran under a time budget */
-    double volume_noise;           /* A: the volume's share of the image's relMSE, times particles */
-    double gather_noise;           /* B: the gather's share, times samples per pixel */
-    double seconds_per_particle;   /* measured on the second pass */
-    double seconds_per_sample;     /* one sample per pixel of the image, measured on the pilots */
-    double measure_seconds;        /* the two first passes and the pilot images */
-    uint64_t planned_particles;    /* what the split chose (or --particles) */
+    int used;                    /* the last render ran under a time budget */
+    double volume_noise;         /* A: the volume's share of the image's relMSE, times particles */
+    double gather_noise;         /* B: the gather's share, times samples per pixel */
+    double seconds_per_particle; /* measured on the second pass */
+    double seconds_per_sample;   /* one sample per pixel of the image, measured on the pilots */
+    double measure_seconds;      /* the two first passes and the pilot images */
+    uint64_t planned_particles;  /* what the split chose (or --particles) */
 } lvcl_budget_report;
 
 /* One device's share of the last camera pass. */

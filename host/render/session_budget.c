@@ -105,8 +105,8 @@ static uint64_t best_particles(const lvcl_budget_report *b, uint64_t traced, dou
 {
     if (!(b->volume_noise > 0) || !(b->seconds_per_particle > 0) || left <= 0) return traced;
     double tp = b->seconds_per_particle;
-    double n = (left + (double)traced * tp) /
-               (tp + sqrt(b->gather_noise * b->seconds_per_sample * tp / b->volume_noise));
+    double n =
+        (left + (double)traced * tp) / (tp + sqrt(b->gather_noise * b->seconds_per_sample * tp / b->volume_noise));
     double most = (double)traced + (1.0 - GATHER_SHARE_MIN) * left / tp;
     if (n > most) n = most;
     if (n > (double)UINT32_MAX) n = (double)UINT32_MAX;
@@ -139,8 +139,8 @@ static lvcl_error measure(lvcl_session *s, const lvcl_render_request *req, const
         size_t n = (size_t)img[0].width * img[0].height * 3;
         /* Var(P1 - P2) = A / (2 N1); Var(Q - P2) = B / NOISE_PILOT_SPP + B / PILOT_SPP. */
         b->volume_noise = 2.0 * FIRST_PASS * weighted_difference(img[0].rgb, img[1].rgb, den, n);
-        b->gather_noise = weighted_difference(img[2].rgb, img[1].rgb, den, n) /
-                          (1.0 / NOISE_PILOT_SPP + 1.0 / PILOT_SPP);
+        b->gather_noise =
+            weighted_difference(img[2].rgb, img[1].rgb, den, n) / (1.0 / NOISE_PILOT_SPP + 1.0 / PILOT_SPP);
         b->seconds_per_particle = (q - p) / FIRST_PASS;
         /* Per sample of the whole image: the pilots have 1 / PILOT_SCALE^2 of its pixels. */
         b->seconds_per_sample = (r - q) / (PILOT_SPP + NOISE_PILOT_SPP) * PILOT_SCALE * PILOT_SCALE;

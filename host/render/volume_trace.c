@@ -114,10 +114,8 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
         clReleaseMemObject(counter);
         return e;
     }
-    lvcl_particle_trace_args args = {.scene = &ds->buffers,
-                                     .volume = &vol->buf,
-                                     .store_emitted = s->store_emitted ? 1u : 0u,
-                                     .ray_counts = counter};
+    lvcl_particle_trace_args args = {
+        .scene = &ds->buffers, .volume = &vol->buf, .store_emitted = s->store_emitted ? 1u : 0u, .ray_counts = counter};
     if ((e = lvcl_bind_lv_particle_trace(k, &args, st))) {
         clReleaseKernel(k);
         clReleaseMemObject(counter);

@@ -11,8 +11,7 @@
 inline float lv_tally_to_radiance(const lv_grid *grid, float lit)
 {
     float h = grid->g.cell_size;
-    return grid->g.total_power /
-           (LV_TALLY_SCALE * grid->g.particles * h * h * lit * lv_bin_solid_angle(grid->g.dirs));
+    return grid->g.total_power / (LV_TALLY_SCALE * grid->g.particles * h * h * lit * lv_bin_solid_angle(grid->g.dirs));
 }
 
 /* A bin's raw RGB tally, as floats. */

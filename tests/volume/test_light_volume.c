@@ -374,9 +374,9 @@ static void test_determinism(void)
         const lv_grid_info *g = lvcl_volume_grid(first.volume);
         size_t record_bytes = ((size_t)g->slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(uint32_t);
         int same = !memcmp(first.tallies, pass_tallies, lvcl_volume_stats_of(first.volume).tally_bytes) &&
-                   !memcmp(first.masks, pass_masks, record_bytes) &&
-                   !memcmp(first.lit, pass_lit, g->slot_count * sizeof(float)) &&
-                   lvcl_volume_grid(passes)->particles == g->particles;
+            !memcmp(first.masks, pass_masks, record_bytes) &&
+            !memcmp(first.lit, pass_lit, g->slot_count * sizeof(float)) &&
+            lvcl_volume_grid(passes)->particles == g->particles;
         CHECK("light volume: three passes of particles give the volume traced at once, bit for bit", same,
               "tallies, records or lit volumes differ (particles %g and %g)", lvcl_volume_grid(passes)->particles,
               g->particles);
