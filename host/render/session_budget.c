@@ -191,5 +191,7 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
     lvcl_pass_settings pass = req->pass;
     pass.time_limit = end - lvcl_seconds();
     if (pass.time_limit < 1e-3) pass.time_limit = 1e-3; /* at least one sample is taken */
-    return lvcl_session_camera_pass(s, req, req->width, req->height, &pass, out, st);
+    e = lvcl_session_camera_pass(s, req, req->width, req->height, &pass, out, st);
+    b->spent_seconds = lvcl_seconds() - start;
+    return e;
 }
