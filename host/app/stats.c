@@ -86,8 +86,7 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
                 "\"seconds_per_particle\": %.6g, \"seconds_per_sample\": %.6g, \"measure_seconds\": %.4f, "
                 "\"planned_particles\": %llu, \"spent_seconds\": %.4f}",
                 s->options->time_limit, b->volume_noise, b->gather_noise, b->seconds_per_particle,
-                b->seconds_per_sample, b->measure_seconds, (unsigned long long)b->planned_particles,
-                b->spent_seconds);
+                b->seconds_per_sample, b->measure_seconds, (unsigned long long)b->planned_particles, b->spent_seconds);
     /* Each device's share of the work. */
     fprintf(f, ",\n  \"devices\": [");
     for (int d = 0; d < devices; d++) {

@@ -47,6 +47,7 @@ typedef struct {
     double seconds_per_sample;   /* one sample per pixel of the image, measured on the pilots */
     double measure_seconds;      /* the two first passes and the pilot images */
     uint64_t planned_particles;  /* what the split chose (or --particles) */
+    double spent_seconds;        /* the whole render: trace, pilots and gather */
 } lvcl_budget_report;
 
 /* One device's share of the last camera pass. */
