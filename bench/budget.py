@@ -5,13 +5,15 @@ one run, each image measured against a reference (relMSE, build/lvcl-compare).
     build/venv/bin/python bench/budget.py SCENE REFERENCE.exr --budgets 10,30
         [--modes lv,pt] [--width 256 --height 256] [--build build]
         [--lvcl-args "..."] [--out DIR] [--repeats 1] [--seed S] [--pass-spp 16]
+        [--before OLD_BUILD --before-args "..."]
 
 lvcl: `lvcl -q --time-limit T --mode M ...` per mode, no --spp unless given in
 --lvcl-args.  "seconds" is what lvcl's --stats reports as spent under the
 limit: for an lv render its budget's spent_seconds (particle passes,
 pilot images and gather), else render_seconds plus particle_trace_seconds;
 "wall_seconds" is the whole process (startup, kernel build and writing the
-image included).
+image included).  --before runs the lv mode of another build as well (for
+error against time before and after a change).
 
 Mitsuba 3 (llvm_ad_rgb where it loads, else scalar_rgb; unidirectional path
 tracer, max depth 64, Russian roulette from depth 5, as
@@ -27,7 +29,7 @@ time of T (at least one pass), so it ends as near T as a pass allows.
 
 One JSON object per run goes to stdout, then a summary with, per budget, the
 ratio relmse(lvcl mode) / relmse(mitsuba) for each lvcl mode (means over the
-repeats).  A plot of relMSE against budget goes to --out (default build/bench),
+repeats).  A plot of relMSE against the seconds spent goes to --out (default build/bench),
 with the images, when matplotlib is available.
 """
 import argparse
@@ -56,12 +58,13 @@ def compare(build, image, reference):
     return json.loads(out)
 
 
-def run_lvcl(a, mode, budget, seed, image):
-    """Renders SCENE with lvcl for `budget` seconds; returns its record."""
+def run_lvcl(a, mode, budget, seed, image, build=None, extra=None):
+    """Renders SCENE with lvcl (of `build`, default --build) for `budget`
+    seconds; returns its record."""
     stats = image + ".stats.json"
-    cmd = [os.path.join(a.build, "lvcl"), "-q", "--width", str(a.width), "--height", str(a.height),
+    cmd = [os.path.join(build or a.build, "lvcl"), "-q", "--width", str(a.width), "--height", str(a.height),
            "--seed", str(seed), "--time-limit", str(budget), "--stats", stats, "-o", image,
-           "--mode", mode] + shlex.split(a.lvcl_args) + [a.scene]
+           "--mode", mode] + shlex.split(a.lvcl_args if extra is None else extra) + [a.scene]
     start = time.monotonic()
     subprocess.run(cmd, check=True)
     wall = time.monotonic() - start
@@ -69,7 +72,7 @@ def run_lvcl(a, mode, budget, seed, image):
         s = json.load(f)
     keys = ("render_seconds", "particle_trace_seconds", "startup_seconds", "kernel_build_seconds",
             "spp", "samples", "samples_per_second", "particles", "particles_per_second", "grid")
-    rec = {"renderer": "lvcl", "mode": mode, "seed": seed,
+    rec = {"renderer": "lvcl" if build is None else "lvcl-before", "mode": mode, "seed": seed,
            "seconds": round(s["budget"]["spent_seconds"] if "budget" in s else
                             s.get("render_seconds", 0.0) + s.get("particle_trace_seconds", 0.0), 4),
            "wall_seconds": round(wall, 4)}
@@ -135,7 +138,7 @@ def summarize(records, modes):
 
 
 def plot(records, path, title):
-    """relMSE against budget on log-log axes, one line per renderer and mode."""
+    """relMSE against the seconds spent on log-log axes, one line per renderer and mode."""
     try:
         import matplotlib
         matplotlib.use("Agg")
@@ -145,11 +148,11 @@ def plot(records, path, title):
         return
     fig, ax = plt.subplots(figsize=(6, 4.5))
     for label in sorted({(r["renderer"], r["mode"]) for r in records}):
-        pts = sorted((r["budget_seconds"], r["relmse"]) for r in records if (r["renderer"], r["mode"]) == label)
+        pts = sorted((r["seconds"], r["relmse"]) for r in records if (r["renderer"], r["mode"]) == label)
         ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=" ".join(label))
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("budget, seconds")
+    ax.set_xlabel("seconds spent")
     ax.set_ylabel("relMSE against the reference")
     ax.set_title(title)
     ax.grid(True, which="both", alpha=0.3)
@@ -175,6 +178,10 @@ def parse_args():
     ap.add_argument("--seed", type=int, default=17)
     ap.add_argument("--pass-spp", type=int, default=16, help="Mitsuba samples per pass (default 16)")
     ap.add_argument("--variant", default=None, help="Mitsuba variant (default llvm_ad_rgb, else scalar_rgb)")
+    ap.add_argument("--before", default=None,
+                    help="another lvcl build (say, a worktree of an older commit) whose lv mode runs too, "
+                         "labelled lvcl-before")
+    ap.add_argument("--before-args", default="", help="its extra arguments, one string")
     a = ap.parse_args()
     a.budgets = [float(b) for b in a.budgets.split(",") if b]
     a.modes = [m for m in a.modes.split(",") if m]
@@ -204,11 +211,14 @@ def main():
         for budget in a.budgets:
             for rep in range(a.repeats):
                 seed = a.seed + rep
-                runs = [("lvcl", m) for m in a.modes] + [("mitsuba", "pt")]
+                runs = ([("lvcl", m) for m in a.modes] + [("lvcl-before", "lv")] * bool(a.before) +
+                        [("mitsuba", "pt")])
                 for renderer, mode in runs:
                     image = os.path.join(a.out, f"budget_{stem}_{renderer}_{mode}_{budget:g}s_{rep}.exr")
                     if renderer == "lvcl":
                         rec = run_lvcl(a, mode, budget, seed, image)
+                    elif renderer == "lvcl-before":
+                        rec = run_lvcl(a, mode, budget, seed, image, a.before, a.before_args)
                     else:
                         rec = run_mitsuba(mi, scene, a, budget, seed, image)
                         rec.update({"variant": variant, "load_seconds": round(load, 4)})
