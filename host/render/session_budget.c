@@ -33,6 +33,8 @@
 #define NOISE_PILOT_SPP 4
 /* The pilots' width and height are the image's over this. */
 #define PILOT_SCALE 2
+/* A trace slower than measured stops this far past its planned time. */
+#define PLAN_SLACK 1.1
 
 /* Runs the light volume's trace over [first, end) on the session's device
  * (one device: time limits are refused on several) and computes its lit
@@ -183,8 +185,7 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
                     b->seconds_per_particle * 1e6, b->seconds_per_sample);
         vs.progress = progress;
         if (b->planned_particles > traced) {
-            /* Slower than measured, the trace stops where the plan said it would end. */
-            double deadline = now + (double)(b->planned_particles - traced) * b->seconds_per_particle * 1.1;
+            double deadline = now + (double)(b->planned_particles - traced) * b->seconds_per_particle * PLAN_SLACK;
             if ((e = trace_pass(s, &vs, traced, b->planned_particles, deadline, st))) return e;
         }
     }
