@@ -131,8 +131,6 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
                            const lvcl_pass_settings *settings, lvcl_render_result *out, lvcl_status *st)
 {
     memset(out, 0, sizeof *out);
-    if (n > 1 && settings->time_limit > 0)
-        return lvcl_fail(st, LVCL_ERR_USAGE, "--time-limit works on one device only, not on %d", n);
     pass_state ps = {.camera = camera, .settings = settings};
     ps.pixels = (size_t)camera->width * camera->height;
     ps.bands = n == 1 ? 1 : n * BANDS_PER_DEVICE;

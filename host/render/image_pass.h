@@ -11,7 +11,7 @@
 typedef struct {
     int spp;
     int first_sample;  /* sample indices first_sample .. first_sample + spp - 1 (0 for an image) */
-    double time_limit; /* seconds, 0 = none (one device only) */
+    double time_limit; /* seconds, 0 = none; one device only (lvcl_session_render refuses it on more) */
     int progress;      /* draw a progress bar on stderr */
 } lvcl_pass_settings;
 

@@ -161,9 +161,7 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
     lvcl_volume_settings vs = req->volume;
     vs.store_emitted = req->mode == LVCL_MODE_LV_ALL;
     vs.source = NULL;
-    lvcl_volume_release(sd->volume);
-    sd->volume = NULL;
-    lvcl_error e = lvcl_volume_create(&sd->device, &s->packed, &vs, &sd->volume, st);
+    lvcl_error e = lvcl_session_new_volume(s, 0, &vs, st);
     if (e) return e;
     lvcl_budget_report *b = &s->budget;
     b->used = 1;

@@ -28,6 +28,9 @@ struct lvcl_session {
     lvcl_budget_report budget;
 };
 
+/* Replaces device d's light volume by a new, empty one of these settings. */
+lvcl_error lvcl_session_new_volume(lvcl_session *s, int d, const lvcl_volume_settings *settings, lvcl_status *st);
+
 /* A camera pass of req's mode over every device, of width x height (0 =
  * from the camera's aspect), with these pass settings; the light volume
  * must be traced for lv modes. */

@@ -23,15 +23,19 @@ static void *trace_part(void *arg)
     return NULL;
 }
 
+lvcl_error lvcl_session_new_volume(lvcl_session *s, int d, const lvcl_volume_settings *settings, lvcl_status *st)
+{
+    session_device *sd = &s->devices[d];
+    lvcl_volume_release(sd->volume);
+    sd->volume = NULL;
+    return lvcl_volume_create(&sd->device, &s->packed, settings, &sd->volume, st);
+}
+
 lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings *settings, lvcl_status *st)
 {
     lvcl_error e = LVCL_OK;
     int n = s->device_count;
-    for (int d = 0; d < n && !e; d++) {
-        lvcl_volume_release(s->devices[d].volume);
-        s->devices[d].volume = NULL;
-        e = lvcl_volume_create(&s->devices[d].device, &s->packed, settings, &s->devices[d].volume, st);
-    }
+    for (int d = 0; d < n && !e; d++) e = lvcl_session_new_volume(s, d, settings, st);
     if (e) return e;
     trace_job jobs[LVCL_MAX_DEVICES];
     lvcl_particle_source source;
