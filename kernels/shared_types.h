@@ -185,9 +185,9 @@ typedef struct {
     float total_power;     /* luminance watts emitted by all lights */
     float particles;       /* particles traced in all (for normalisation) */
     lv_u32 subcells;       /* k: k x k x k binary subcells per cell (k <= 4), 0 = none */
-    lv_u32 slots_per_part; /* the tallies are split over buffers of this many slots each */
+    lv_u32 slots_per_part; /* the tallies are split over buffers of this many tally sets each */
     float visibility_rate; /* share of tallied surface hits that cast a subcell visibility ray */
-    lv_u32 pad;
+    lv_u32 tally_sets;     /* sets of 2 n^2 RGB tallies stored: the cells of a merged block share one */
 } lv_grid_info;
 
 /* Regions of a cut cell (docs/light-volume.md, "Regions"): a stored cell
@@ -222,7 +222,10 @@ typedef struct {
 } lv_slot_region;
 
 /* Buffers the tallies may be split over, each within the device's largest
- * allocation (slot s lies in buffer s / slots_per_part). */
+ * allocation (tally set t lies in buffer t / slots_per_part). Slot s keeps
+ * its tallies in set tally_slot[s]: its own, or, in a block of cells that
+ * the adaptive grid merged (docs/light-volume.md, "Adaptive cells"), the
+ * block's. */
 #define LV_TALLY_PARTS 4
 
 /* Subcell records, LV_SUBCELL_STRIDE 32-bit words per stored cell: a mask
@@ -291,8 +294,9 @@ typedef struct {
 #define LV_VOLUME_BUFFERS(SPLIT, ONE)                                                            \
     ONE(const uint, cell_slot)         /* cell -> first slot (| LV_CUT_CELL) or LV_EMPTY_CELL */ \
     ONE(const lv_slot_region, regions) /* per slot: the cell's planes */                         \
+    ONE(const uint, tally_slot)        /* per slot: its tally set */                             \
     ONE(const float, region_shares)    /* per slot of a cut cell: 1 + k^3 */                     \
-    SPLIT(long, tallies)               /* slot x bin x RGB, 64-bit fixed point */                \
+    SPLIT(long, tallies)               /* tally set x bin x RGB, 64-bit fixed point */           \
     ONE(uint, subcells)                /* LV_SUBCELL_STRIDE words per slot */                    \
     ONE(float, lit_volume)             /* per slot, filled by lv_lit_volumes */
 

@@ -71,6 +71,7 @@ static lvcl_error run(const lvcl_options *o, lvcl_session **s, lvcl_render_resul
                    .dirs = o->dirs,
                    .subcells = o->subcells,
                    .visibility_rate = o->visibility_rate,
+                   .merge_tolerance = o->merge_tolerance,
                    .particles = (uint64_t)o->particles,
                    .progress = !o->quiet},
         .integrate = !strcmp(o->gather, "integrate"),

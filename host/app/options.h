@@ -22,6 +22,7 @@ typedef struct {
     int dirs;                 /* n x n bins per hemisphere */
     int subcells;             /* k x k x k subcells per cell, 0 = none */
     double visibility_rate;   /* share of surface hits casting a visibility ray, 0 = default */
+    double merge_tolerance;   /* adaptive cells: blocks merge below this mean tally per bin, 0 = never */
     double particles;         /* 0: as many as a time limit allows */
     double threshold;         /* near-hit distance, 0 = cell diagonal */
     const char *gather;       /* "sample" or "integrate" */

@@ -34,21 +34,27 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
         return e;
     }
 
-    /* The tallies go in as few buffers as the device's largest allocation
-     * allows (GPUs often allow a quarter of their memory in one). */
-    size_t slot_bytes = (size_t)g->bins * 3 * sizeof(int64_t);
-    vol->tally_bytes = (size_t)g->slot_count * slot_bytes;
-    size_t per_part = dev->max_alloc / slot_bytes;
-    if (per_part > UINT32_MAX) per_part = UINT32_MAX;
-    size_t parts = per_part ? ((size_t)g->slot_count + per_part - 1) / per_part : SIZE_MAX;
+    vol->tally_slot = malloc(((size_t)g->slot_count + 1) * sizeof(uint32_t));
+    if (!vol->tally_slot) {
+        lvcl_volume_release(vol);
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for a light volume");
+    }
+    for (uint32_t i = 0; i <= g->slot_count; i++) vol->tally_slot[i] = i < g->slot_count ? i : 0;
+    g->tally_sets = g->slot_count;
+    if (s->merge_tolerance > 0 && (e = lvcl_volume_find_blocks(vol, p, st))) {
+        lvcl_volume_release(vol);
+        return e;
+    }
+
+    int fits = lvcl_volume_layout_tallies(vol);
     /* Beside the tallies: the cell index, and per slot a subcell record, a
-     * lit volume and the cell's planes (one buffer each). */
-    size_t records = ((size_t)g->slot_count + 1) * (LV_SUBCELL_STRIDE + 1) * sizeof(uint32_t);
+     * lit volume, its tally set and the cell's planes (one buffer each). */
+    size_t records = ((size_t)g->slot_count + 1) * (LV_SUBCELL_STRIDE + 2) * sizeof(uint32_t);
     size_t region_bytes = ((size_t)g->slot_count + 1) * sizeof(lv_slot_region);
     size_t share_bytes = (vol->region_share_count ? vol->region_share_count : 1) * sizeof(float);
     vol->device_bytes = vol->tally_bytes + vol->cell_count * sizeof(uint32_t) + records + region_bytes + share_bytes;
-    if (parts > LV_TALLY_PARTS || records > dev->max_alloc || region_bytes > dev->max_alloc ||
-        share_bytes > dev->max_alloc || vol->device_bytes > dev->global_mem) {
+    if (!fits || records > dev->max_alloc || region_bytes > dev->max_alloc || share_bytes > dev->max_alloc ||
+        vol->device_bytes > dev->global_mem) {
         lvcl_error e = lvcl_fail(st, LVCL_ERR_TOO_LARGE,
                                  "the light volume needs %.1f MiB (%u cells x %u bins) but %s allows %.1f MiB in one "
                                  "buffer (at most %d buffers) and %.1f MiB in all; use fewer --cells or --dirs",
@@ -57,8 +63,6 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
         lvcl_volume_release(vol);
         return e;
     }
-    vol->tally_parts = parts ? (int)parts : 1;
-    g->slots_per_part = (lv_u32)(parts > 1 ? per_part : (g->slot_count ? g->slot_count : 1));
     cl_int err;
     vol->buf.cell_slot = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                         vol->cell_count * sizeof(uint32_t), vol->cell_slot, &err);
@@ -68,9 +72,10 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     if (err == CL_SUCCESS)
         vol->buf.region_shares = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, share_bytes,
                                                 vol->region_shares, &err);
-    for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS; i++)
-        vol->buf.tallies[i] =
-            clCreateBuffer(dev->context, CL_MEM_READ_WRITE, lvcl_volume_part_bytes(vol, i), NULL, &err);
+    if (err == CL_SUCCESS)
+        vol->buf.tally_slot = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                             ((size_t)g->slot_count + 1) * sizeof(uint32_t), vol->tally_slot, &err);
+    if (err == CL_SUCCESS) err = lvcl_volume_allocate_tallies(vol);
     if (err == CL_SUCCESS)
         vol->buf.subcells =
             clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
@@ -91,13 +96,38 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     return LVCL_OK;
 }
 
+int lvcl_volume_layout_tallies(lvcl_light_volume *vol)
+{
+    lv_grid_info *g = &vol->buf.info;
+    /* The tallies go in as few buffers as the device's largest allocation
+     * allows (GPUs often allow a quarter of their memory in one). */
+    size_t set_bytes = (size_t)g->bins * 3 * sizeof(int64_t);
+    vol->tally_bytes = (size_t)g->tally_sets * set_bytes;
+    size_t per_part = vol->dev->max_alloc / set_bytes;
+    if (per_part > UINT32_MAX) per_part = UINT32_MAX;
+    size_t parts = per_part ? ((size_t)g->tally_sets + per_part - 1) / per_part : SIZE_MAX;
+    if (parts > LV_TALLY_PARTS) return 0;
+    vol->tally_parts = parts ? (int)parts : 1;
+    g->slots_per_part = (lv_u32)(parts > 1 ? per_part : (g->tally_sets ? g->tally_sets : 1));
+    return 1;
+}
+
+cl_int lvcl_volume_allocate_tallies(lvcl_light_volume *vol)
+{
+    cl_int err = CL_SUCCESS;
+    for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS; i++)
+        vol->buf.tallies[i] =
+            clCreateBuffer(vol->dev->context, CL_MEM_READ_WRITE, lvcl_volume_part_bytes(vol, i), NULL, &err);
+    return err;
+}
+
 size_t lvcl_volume_part_bytes(const lvcl_light_volume *vol, int part)
 {
-    size_t slot_bytes = (size_t)vol->buf.info.bins * 3 * sizeof(int64_t);
+    size_t set_bytes = (size_t)vol->buf.info.bins * 3 * sizeof(int64_t);
     size_t first = (size_t)part * vol->buf.info.slots_per_part;
-    size_t slots = vol->buf.info.slot_count > first ? vol->buf.info.slot_count - first : 0;
-    if (slots > vol->buf.info.slots_per_part) slots = vol->buf.info.slots_per_part;
-    return slots ? slots * slot_bytes : 8; /* OpenCL refuses empty buffers */
+    size_t sets = vol->buf.info.tally_sets > first ? vol->buf.info.tally_sets - first : 0;
+    if (sets > vol->buf.info.slots_per_part) sets = vol->buf.info.slots_per_part;
+    return sets ? sets * set_bytes : 8; /* OpenCL refuses empty buffers */
 }
 
 size_t lvcl_volume_record_bytes(const lvcl_light_volume *vol)
@@ -131,6 +161,11 @@ uint32_t lvcl_volume_slot_at(const lvcl_light_volume *vol, const float p[3])
     return r->layout ? base + LV_REGION_OFFSET(r->layout, pattern) : base;
 }
 
+uint32_t lvcl_volume_tally_set(const lvcl_light_volume *vol, uint32_t slot)
+{
+    return slot < vol->buf.info.slot_count ? vol->tally_slot[slot] : LV_EMPTY_CELL;
+}
+
 uint32_t lvcl_volume_slot(const lvcl_light_volume *vol, uint32_t x, uint32_t y, uint32_t z)
 {
     const lv_grid_info *g = &vol->buf.info;
@@ -147,6 +182,7 @@ lvcl_volume_stats lvcl_volume_stats_of(const lvcl_light_volume *vol)
                                .particles = vol->particles,
                                .segments = vol->segments,
                                .visibility_rays = vol->visibility_rays,
+                               .merged_cells = vol->merged_cells,
                                .trace_seconds = vol->trace_seconds};
 }
 
@@ -167,6 +203,8 @@ void lvcl_volume_release(lvcl_light_volume *vol)
     if (vol->bin_directions_buf) clReleaseMemObject(vol->bin_directions_buf);
     free(vol->cell_slot);
     free(vol->regions);
+    free(vol->tally_slot);
+    free(vol->block_of_slot);
     free(vol->region_shares);
     free(vol);
 }

@@ -41,6 +41,7 @@ typedef struct {
     double deadline;              /* lvcl_seconds() after which no batch starts; 0 = none */
     lvcl_particle_source *source; /* several devices: take batches from here; NULL: trace them all */
     int store_emitted;            /* lv-all: tally the segments leaving the lights too */
+    double merge_tolerance;       /* adaptive cells: see lvcl_volume_adapt; 0 = every cell keeps its tallies */
     int progress;
 } lvcl_volume_settings;
 
@@ -52,6 +53,7 @@ typedef struct {
     uint64_t particles;       /* traced here */
     uint64_t segments;        /* straight path pieces traced */
     uint64_t visibility_rays; /* subcell visibility rays cast (paper 4.1) */
+    size_t merged_cells;      /* slots sharing a merged block's tally set (lvcl_volume_adapt) */
     double trace_seconds;
 } lvcl_volume_stats;
 
@@ -70,6 +72,20 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
 lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, const lvcl_device_scene *ds,
                              const lvcl_volume_settings *settings, lvcl_status *st);
 
+/* Adaptive cells (docs/light-volume.md, "Adaptive cells"): after a trace
+ * and before lvcl_volume_finish, the stored cells of every block of
+ * 2 x 2 x 2 cells with no geometry inside whose cells' light differs, at
+ * expected_particles, by less than merge_tolerance times its noise share
+ * one tally set, the sum of theirs, from then on (later passes tally into
+ * it). Once per volume (later calls do nothing); merge_tolerance or
+ * expected_particles 0 merges nothing. The decision reads only integer
+ * tallies and subcell records, so it is the same on every device and in
+ * every run; merging adds integers, so each set equals the sum of its
+ * cells' tallies traced without merging. The volume must have been created
+ * with settings->merge_tolerance > 0. */
+lvcl_error lvcl_volume_adapt(lvcl_light_volume *vol, double expected_particles, double merge_tolerance,
+                             lvcl_status *st);
+
 /* After the trace: the per-cell lit volumes the lookups read (lv_lit_volumes). */
 lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st);
 
@@ -79,7 +95,7 @@ lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, 
  * Integer tallies and counters make the sum exact and order-free. */
 lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_status *st);
 
-/* Reads the tallies back (slot_count x bins x 3 int64, malloc'ed) and, if
+/* Reads the tallies back (tally_sets x bins x 3 int64, malloc'ed) and, if
  * masks is not NULL, the subcell records (LV_SUBCELL_STRIDE words per slot). */
 lvcl_error lvcl_volume_read(const lvcl_light_volume *vol, int64_t **tallies, uint32_t **masks, lvcl_status *st);
 
@@ -91,6 +107,9 @@ const lv_grid_info *lvcl_volume_grid(const lvcl_light_volume *vol);
 
 /* The first slot of cell (x, y, z) (its region 0), or LV_EMPTY_CELL. */
 uint32_t lvcl_volume_slot(const lvcl_light_volume *vol, uint32_t x, uint32_t y, uint32_t z);
+
+/* The tally set of a slot: its own, or its merged block's (lvcl_volume_adapt). */
+uint32_t lvcl_volume_tally_set(const lvcl_light_volume *vol, uint32_t slot);
 
 /* The slot of the region holding world point p (the lookups' slot), or
  * LV_EMPTY_CELL. */

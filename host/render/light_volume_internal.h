@@ -13,6 +13,11 @@ struct lvcl_light_volume {
                                  slots each, unused parts NULL) */
     uint32_t *cell_slot;     /* host copy of the index grid (cell -> first slot) */
     lv_slot_region *regions; /* host copy of the per-slot planes (slot_count + 1) */
+    uint32_t *tally_slot;    /* host copy of each slot's tally set (slot_count + 1) */
+    uint32_t *block_of_slot; /* per slot: the block of cells it may merge in, or LV_EMPTY_CELL (volume_adapt.c) */
+    size_t block_count;      /* blocks block_of_slot numbers */
+    int adapted;             /* lvcl_volume_adapt has merged blocks: the tally sets are fixed */
+    size_t merged_cells;     /* slots that share their block's tally set */
     float *region_shares;    /* host copy of the cut cells' region shares */
     size_t region_share_count;
     size_t cell_count; /* dims[0] * dims[1] * dims[2] */
@@ -37,6 +42,13 @@ lvcl_error lvcl_volume_grid_choose(const lvcl_packed_scene *p, const lvcl_volume
  * (volume_grid.c, volume_planes.c). */
 int lvcl_volume_box_cells(const lv_grid_info *g, const float lo_w[3], const float hi_w[3], int lo[3], int hi[3]);
 
+/* Calls visit with the world box of every placed triangle, except that a
+ * part of a mesh's tree whose placed box spans at most two cells along
+ * every axis is one box: a tile instanced hundreds of times then costs a
+ * few boxes, not its 500,000 triangles (volume_grid.c). */
+typedef void (*lvcl_box_visitor)(const lv_grid_info *g, const float lo_w[3], const float hi_w[3], void *ctx);
+void lvcl_volume_walk_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, lvcl_box_visitor visit, void *ctx);
+
 /* Numbers the stored cells (slot per cell, LV_EMPTY_CELL elsewhere) and
  * sets g->slot_count; LVCL_ERR_OUT_OF_MEMORY if the marks do not fit. */
 lvcl_error lvcl_volume_assign_slots(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
@@ -59,7 +71,24 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
  * (volume_shares.c). */
 void lvcl_region_shares(const float planes[][4], int count, uint32_t k, float *out);
 
-/* Bytes of tally buffer `part` (a buffer holds info.slots_per_part slots). */
+/* Finds the blocks of 2 x 2 x 2 cells with no geometry inside whose
+ * stored cells may share one tally set, and sets vol->block_of_slot
+ * (volume_adapt.c). */
+lvcl_error lvcl_volume_find_blocks(lvcl_light_volume *vol, const lvcl_packed_scene *p, lvcl_status *st);
+
+/* After lv_lit_volumes: gives every cell of a merged block the block's
+ * lit volume, the sum of its cells' (volume_adapt.c). */
+lvcl_error lvcl_volume_share_lit(lvcl_light_volume *vol, lvcl_status *st);
+
+/* Lays info.tally_sets out over the fewest buffers the device allows
+ * (info.slots_per_part, vol->tally_parts, vol->tally_bytes); 0 if more than
+ * LV_TALLY_PARTS would be needed. */
+int lvcl_volume_layout_tallies(lvcl_light_volume *vol);
+
+/* Allocates the tally buffers of that layout (uninitialised). */
+cl_int lvcl_volume_allocate_tallies(lvcl_light_volume *vol);
+
+/* Bytes of tally buffer `part` (a buffer holds info.slots_per_part tally sets). */
 size_t lvcl_volume_part_bytes(const lvcl_light_volume *vol, int part);
 
 /* Bytes of the subcell records (one spare slot's worth). */

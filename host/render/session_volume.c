@@ -60,6 +60,9 @@ lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings
         if ((e = lvcl_volume_merge(vols, n, st))) return e;
         s->merge_seconds = lvcl_seconds() - t;
     }
+    /* Every device holds the same tallies now, so each merges the same blocks. */
+    for (int d = 0; d < n && !e; d++)
+        e = lvcl_volume_adapt(s->devices[d].volume, (double)settings->particles, settings->merge_tolerance, st);
     for (int d = 0; d < n && !e; d++) e = lvcl_volume_finish(s->devices[d].volume, &s->devices[d].program, st);
     return e;
 }

@@ -36,14 +36,8 @@ static void mark_range(const lv_grid_info *g, const int lo[3], const int hi[3], 
             for (int x = lo[0]; x <= hi[0]; x++) mark[cell_index(g, x, y, z)] = 1;
 }
 
-/* Marks the cells the geometry touches: each placed triangle's bounding box
- * (conservative for slanted triangles; see docs/light-volume.md), except
- * that a part of a mesh's tree whose placed box spans at most two cells
- * along every axis marks that box whole. A tile instanced hundreds of
- * times then costs a few boxes, not its 500,000 triangles. */
-static void mark_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, uint8_t *mark)
+void lvcl_volume_walk_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, lvcl_box_visitor visit, void *ctx)
 {
-    float inv = 1.0f / g->cell_size;
     int stack[LVCL_BVH_MAX_DEPTH + 1];
     for (size_t in = 0; in < p->instance_count; in++) {
         const lv_instance *inst = &p->instances[in];
@@ -55,7 +49,7 @@ static void mark_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, uin
             int lo[3], hi[3];
             lvcl_transform_box(inst->world_from_object, n->bmin, n->bmax, lo_w, hi_w);
             if (lvcl_volume_box_cells(g, lo_w, hi_w, lo, hi)) {
-                mark_range(g, lo, hi, mark);
+                visit(g, lo_w, hi_w, ctx);
             } else if (n->count > 0) {
                 for (int t = n->index; t < n->index + n->count; t++) {
                     float v[9];
@@ -64,8 +58,7 @@ static void mark_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, uin
                         lo_w[k] = fminf(v[k], fminf(v[3 + k], v[6 + k]));
                         hi_w[k] = fmaxf(v[k], fmaxf(v[3 + k], v[6 + k]));
                     }
-                    cell_range(g, inv, lo_w, hi_w, lo, hi);
-                    mark_range(g, lo, hi, mark);
+                    visit(g, lo_w, hi_w, ctx);
                 }
             } else {
                 stack[top++] = (int)(n - p->nodes) + 1;
@@ -73,6 +66,15 @@ static void mark_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, uin
             }
         }
     }
+}
+
+/* Marks the cells a box of geometry touches (conservative for slanted
+ * triangles; see docs/light-volume.md). */
+static void mark_box(const lv_grid_info *g, const float lo_w[3], const float hi_w[3], void *mark)
+{
+    int lo[3], hi[3];
+    cell_range(g, 1.0f / g->cell_size, lo_w, hi_w, lo, hi);
+    mark_range(g, lo, hi, mark);
 }
 
 /* A lookup jitters up to half a cell from a surface, so the cells next to
@@ -141,7 +143,7 @@ lvcl_error lvcl_volume_assign_slots(const lvcl_packed_scene *p, lv_grid_info *g,
 {
     uint8_t *mark = calloc(cells, 1);
     if (!mark) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for a %zu-cell grid", cells);
-    mark_geometry(p, g, mark);
+    lvcl_volume_walk_geometry(p, g, mark_box, mark);
     g->slot_count = (lv_u32)assign_slots(g, mark, slot);
     free(mark);
     return LVCL_OK;

@@ -37,7 +37,7 @@ lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, 
         !(e = lvcl_kernel_enqueue(dev, k, vol->buf.info.slot_count, "computing the lit volumes", st)))
         e = lvcl_cl_check(clFinish(dev->queue), "computing the lit volumes", st);
     clReleaseKernel(k);
-    return e;
+    return e ? e : lvcl_volume_share_lit(vol, st);
 }
 
 void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t first, uint64_t end)

@@ -2,8 +2,9 @@
  * slot's tallies live. See lv_grid_info in shared_types.h for the layout:
  * cell_slot maps a cell (x + dims.x (y + dims.y z)) to its first slot (with
  * LV_CUT_CELL set if it has planes) or
- * LV_EMPTY_CELL; slot s, bin b, channel c is, with q = slots_per_part,
- * tallies[s / q][((s % q) * bins + b) * 3 + c]. docs/light-volume.md
+ * LV_EMPTY_CELL; slot s, bin b, channel c is, with t = tally_slot[s] and
+ * q = slots_per_part, tallies[t / q][((t % q) * bins + b) * 3 + c] (the
+ * cells of a merged block share t). docs/light-volume.md
  * describes the estimator the tallies feed. */
 #ifndef LV_VOLUME_GRID_H
 #define LV_VOLUME_GRID_H
@@ -16,6 +17,7 @@ typedef struct {
     __global const uint *cell_slot;         /* cell -> its first slot, | LV_CUT_CELL if it has planes */
     __global const lv_slot_region *regions; /* per slot: the cell's planes (shared_types.h) */
     __global const float *region_shares;    /* per slot of a cut cell: its exact shares (shared_types.h) */
+    __global const uint *tally_slot;        /* per slot: its tally set (shared by a merged block) */
     __global uint *subcells;                /* LV_SUBCELL_STRIDE words per slot (shared_types.h) */
     __global const float *lit_volume;       /* per slot, lv_cell_lit_volume after the trace (lookups only) */
     __global long *tallies[LV_TALLY_PARTS];
@@ -24,10 +26,11 @@ typedef struct {
 /* The three (RGB) tallies of one bin of a stored cell. */
 inline __global long *lv_tally_bin(const lv_grid *grid, uint slot, uint bin)
 {
+    uint set = grid->tally_slot[slot];
     /* Most grids fit one buffer: skip the division there. */
-    uint part = slot < grid->g.slots_per_part ? 0u : slot / grid->g.slots_per_part;
-    uint local_slot = slot - part * grid->g.slots_per_part;
-    return grid->tallies[part] + ((size_t)local_slot * grid->g.bins + bin) * 3;
+    uint part = set < grid->g.slots_per_part ? 0u : set / grid->g.slots_per_part;
+    uint in_part = set - part * grid->g.slots_per_part;
+    return grid->tallies[part] + ((size_t)in_part * grid->g.bins + bin) * 3;
 }
 
 inline float3 lv_grid_origin(const lv_grid *grid)

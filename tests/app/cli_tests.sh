@@ -50,6 +50,8 @@ expect_error "zero particles" 2 --mode lv --particles 0 cornell
 expect_error "too many direction bins" 2 --mode lv --dirs 65 cornell
 expect_error "grid offset out of range" 2 --mode lv --grid-offset 1.5 cornell
 expect_error "visibility rate out of range" 2 --mode lv --visibility-rate 2 cornell
+expect_error "merge tolerance not a number" 2 --mode lv --merge-tolerance lots cornell
+expect_error "merge tolerance negative" 2 --mode lv --merge-tolerance -1 cornell
 expect_error "unknown device name" 2 --device tpu cornell
 expect_error "bad device list" 2 --device 0,x cornell
 expect_error "device listed twice" 2 --device 0,0 cornell

@@ -2,7 +2,9 @@
  * dim room looks at the shared wall. The geometry is scenes/make_two_rooms.py's,
  * built in memory. Cells the wall cuts hold both rooms' light; their
  * regions must keep it apart, for walls from one polygon to 30 cm, with
- * the grid at several offsets and sizes, and --subcells 0 to 4.
+ * the grid at several offsets and sizes, and --subcells 0 to 4; and with
+ * adaptive cells merging every block the geometry allows (a block that
+ * held the wall would join the rooms).
  *
  * (a) Leak: the bright lamp red and the dim one blue; the walls are grey,
  *     so the true red radiance in the dim room is 0 while its own blue
@@ -112,9 +114,18 @@ static void two_rooms(float thickness, const float bright[3], const float dim[3]
     cam->aspect = 1.0f;
 }
 
+/* A merge tolerance that merges every block free of geometry. */
+#define MERGE_ALL 1e12
+/* Cells whose boundaries hold the one-polygon wall (the grid starts a cell
+ * below x = -X): its cells on both sides are uncut, and only the adaptive
+ * cells' test for a wall between two cells of a block keeps them apart. */
+#define ON_WALL(n) ((WALL_X + X) / (float)(n))
+
 typedef struct {
     float thickness, offset;
     int cells, subcells;
+    double merge;    /* adaptive cells' tolerance, 0 = off */
+    float cell_size; /* metres, 0: from cells */
 } setup;
 
 static int render(float thickness, const float bright[3], const float dim[3], const setup *u, uint64_t particles,
@@ -126,6 +137,8 @@ static int render(float thickness, const float bright[3], const float dim[3], co
     lvcl_render_request req = harness_request(LVCL_MODE_LV, size, spp, u->cells, particles);
     req.volume.subcells = u->subcells;
     req.volume.offset = u->offset;
+    req.volume.merge_tolerance = u->merge;
+    req.volume.cell_size = u->cell_size;
     if (harness_render(&scene, NULL, 5, &req, r, &st)) {
         CHECK("two rooms: render", 0, "%s", st.message);
         return 0;
@@ -143,10 +156,26 @@ static double channel_mean(const lvcl_render_result *r, int c)
 static void test_leak(void)
 {
     const setup setups[] = {
-        {0.0f, 0.37f, 32, 4},  {0.005f, 0.5f, 32, 4}, {0.02f, 0.5f, 32, 4},   {0.02f, 0.0f, 16, 4},
-        {0.06f, 0.37f, 16, 4}, {0.3f, 0.5f, 32, 4},   {0.0f, 0.5f, 16, 0},    {0.005f, 0.37f, 32, 0},
-        {0.02f, 0.5f, 32, 0},  {0.06f, 0.0f, 32, 0},  {0.005f, 0.37f, 16, 1}, {0.02f, 0.5f, 32, 2},
+        {0.0f, 0.37f, 32, 4},
+        {0.005f, 0.5f, 32, 4},
+        {0.02f, 0.5f, 32, 4},
+        {0.02f, 0.0f, 16, 4},
+        {0.06f, 0.37f, 16, 4},
+        {0.3f, 0.5f, 32, 4},
+        {0.0f, 0.5f, 16, 0},
+        {0.005f, 0.37f, 32, 0},
+        {0.02f, 0.5f, 32, 0},
+        {0.06f, 0.0f, 32, 0},
+        {0.005f, 0.37f, 16, 1},
+        {0.02f, 0.5f, 32, 2},
         {0.06f, 0.5f, 32, 3},
+        {0.0f, 0.0f, 16, 4, MERGE_ALL},
+        {0.02f, 0.37f, 32, 4, MERGE_ALL},
+        {0.005f, 0.5f, 32, 0, MERGE_ALL},
+        {0.06f, 0.37f, 16, 2, MERGE_ALL},
+        {0.0f, 0.0f, 0, 4, MERGE_ALL, ON_WALL(20)},
+        {0.0f, 0.0f, 0, 0, MERGE_ALL, ON_WALL(13)},
+        {0.0f, 0.0f, 0, 2, MERGE_ALL, ON_WALL(9)},
     };
     const float ratios[] = {25.0f, 1000.0f};
     double worst = 0;
@@ -158,8 +187,9 @@ static void test_leak(void)
         if (!render(u->thickness, bright, dim, u, 200000, 32, 4, &r)) return;
         double red = channel_mean(&r, 0), blue = channel_mean(&r, 2), leak = red / (ratio * blue);
         free(r.rgb);
-        printf("  leak: wall %.3f m, offset %.2f, %d cells, %d subcells, %.0fx: red %.3g, blue %.3g\n", u->thickness,
-               u->offset, u->cells, u->subcells, ratio, red, blue);
+        printf("  leak: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, cell %.4g m, %.0fx: red %.3g, "
+               "blue %.3g\n",
+               u->thickness, u->offset, u->cells, u->subcells, u->merge, u->cell_size, ratio, red, blue);
         if (!(leak <= worst)) worst = leak;
         CHECK("two rooms: the bright room's light does not leak into the dim one", blue > 0 && leak < 1e-4,
               "wall %.3f m, offset %.2f, %d cells, %d subcells, %.0fx: red / (ratio blue) = %.3g", u->thickness,
@@ -170,8 +200,14 @@ static void test_leak(void)
 
 static void test_on_off(void)
 {
-    const setup setups[] = {
-        {0.0f, 0.5f, 32, 4}, {0.02f, 0.37f, 32, 4}, {0.06f, 0.0f, 16, 4}, {0.005f, 0.5f, 16, 0}, {0.3f, 0.37f, 32, 0}};
+    const setup setups[] = {{0.0f, 0.5f, 32, 4},
+                            {0.02f, 0.37f, 32, 4},
+                            {0.06f, 0.0f, 16, 4},
+                            {0.005f, 0.5f, 16, 0},
+                            {0.3f, 0.37f, 32, 0},
+                            {0.0f, 0.0f, 32, 4, 1.0},
+                            {0.02f, 0.5f, 16, 0, MERGE_ALL},
+                            {0.0f, 0.0f, 0, 4, MERGE_ALL, ON_WALL(20)}};
     const int size = 32, block = 8, nb = size / block;
     for (size_t i = 0; i < sizeof setups / sizeof *setups; i++) {
         const setup *u = &setups[i];
@@ -198,9 +234,9 @@ static void test_on_off(void)
             }
         for (int k = 0; k < nb * nb; k++) var += (d[k] - mean) * (d[k] - mean) / (nb * nb - 1);
         for (int k = 0; k < nb * nb; k++) worst = fmax(worst, fabs(d[k]) / sqrt(var));
-        printf("  on/off: wall %.3f m, offset %.2f, %d cells, %d subcells: mean ratio %.4f, worst block %.2f "
-               "standard deviations (block difference sd %.3g)\n",
-               u->thickness, u->offset, u->cells, u->subcells, ratio, worst, sqrt(var));
+        printf("  on/off: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, cell %.4g m: mean ratio %.4f, "
+               "worst block %.2f standard deviations (block difference sd %.3g)\n",
+               u->thickness, u->offset, u->cells, u->subcells, u->merge, u->cell_size, ratio, worst, sqrt(var));
         CHECK("two rooms: the dim room's mean is the same with the bright lamp on and off within 3%",
               fabs(ratio - 1) < 0.03, "wall %.3f m, offset %.2f, %d cells, %d subcells: on / off %.4f", u->thickness,
               u->offset, u->cells, u->subcells, ratio);
