@@ -1,12 +1,12 @@
 /* Adaptive cells (docs/light-volume.md, "Adaptive cells"): where the
- * particles say a cell's light is too sparse for its own tallies to be
- * more than noise, the stored cells of its 2 x 2 x 2 block share one tally
- * set, a cell twice the size. A block may merge only if no geometry lies
- * inside it (on its outer faces is fine): its cells then all see each
- * other, so one set holds light of one side of every surface. Merging adds
- * integer tallies, so a volume merged after any pass equals one merged
- * from the start, and the same tallies make the same decision on every
- * device. */
+ * particles cannot tell the cells of a 2 x 2 x 2 block apart (their
+ * differences, at the particle count expected, stay within a tolerance of
+ * their noise), its stored cells share one tally set, a cell twice the
+ * size. A block may merge only if no geometry lies inside it (on its outer
+ * faces is fine): its cells then all see each other, so one set holds
+ * light of one side of every surface. Merging adds integer tallies, so a
+ * set equals the sum of its cells' tallies whenever it was merged, and the
+ * same tallies make the same decision on every device. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
