@@ -170,7 +170,7 @@ uint32_t lvcl_volume_slot(const lvcl_light_volume *vol, uint32_t x, uint32_t y, 
 {
     const lv_grid_info *g = &vol->buf.info;
     if (x >= g->dims[0] || y >= g->dims[1] || z >= g->dims[2]) return LV_EMPTY_CELL;
-    uint32_t entry = vol->cell_slot[(size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z)];
+    uint32_t entry = vol->cell_slot[lvcl_volume_cell_index(g, (int)x, (int)y, (int)z)];
     return entry == LV_EMPTY_CELL ? entry : entry & ~LV_CUT_CELL;
 }
 

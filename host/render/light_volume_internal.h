@@ -31,6 +31,12 @@ struct lvcl_light_volume {
     uint64_t visibility_rays;
 };
 
+/* The index of cell (x, y, z) in the grid's cell arrays (cell_slot). */
+static inline size_t lvcl_volume_cell_index(const lv_grid_info *g, int x, int y, int z)
+{
+    return (size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z);
+}
+
 /* Fills g's placement (origin, cell size, dims), bins and light totals from
  * the settings over the packed scene's bounds; *cells is the cell count. */
 lvcl_error lvcl_volume_grid_choose(const lvcl_packed_scene *p, const lvcl_volume_settings *s, lv_grid_info *g,

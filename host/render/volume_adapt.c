@@ -20,11 +20,6 @@
 /* A box within this (cells) of a cell boundary lies on it. */
 #define ON_BOUNDARY 1e-3f
 
-static size_t cell_index(const lv_grid_info *g, int x, int y, int z)
-{
-    return (size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z);
-}
-
 /* Flags the cells whose inside a box of geometry reaches, or, for a box
  * flat on a cell boundary (an axis-aligned wall there), the faces it lies
  * on. Conservative for slanted triangles, whose box covers more cells. */
@@ -49,7 +44,7 @@ static void mark_inside(const lv_grid_info *g, const float lo_w[3], const float 
     uint8_t bit = flat ? WALL_ON_LOW_FACE(flat_axis) : GEOMETRY_INSIDE;
     for (int z = lo[2]; z <= hi[2]; z++)
         for (int y = lo[1]; y <= hi[1]; y++)
-            for (int x = lo[0]; x <= hi[0]; x++) flags[cell_index(g, x, y, z)] |= bit;
+            for (int x = lo[0]; x <= hi[0]; x++) flags[lvcl_volume_cell_index(g, x, y, z)] |= bit;
 }
 
 /* The block grid of phase `phase` (bit k: blocks start at odd cells along
@@ -90,7 +85,7 @@ static void count_members(const lv_grid_info *g, const uint32_t *cell_slot, cons
         for (int y = 0; y < (int)g->dims[1]; y++)
             for (int x = 0; x < (int)g->dims[0]; x++) {
                 int c[3] = {x, y, z};
-                uint8_t f = flags[cell_index(g, x, y, z)];
+                uint8_t f = flags[lvcl_volume_cell_index(g, x, y, z)];
                 int blocked = (f & GEOMETRY_INSIDE) != 0;
                 for (int k = 0; k < 3; k++)
                     if ((c[k] + b->phase[k]) % 2 == 1 && c[k] > 0 && (f & WALL_ON_LOW_FACE(k))) blocked = 1;
@@ -99,7 +94,7 @@ static void count_members(const lv_grid_info *g, const uint32_t *cell_slot, cons
     for (int z = 0; z < (int)g->dims[2]; z++)
         for (int y = 0; y < (int)g->dims[1]; y++)
             for (int x = 0; x < (int)g->dims[0]; x++) {
-                uint32_t entry = cell_slot[cell_index(g, x, y, z)];
+                uint32_t entry = cell_slot[lvcl_volume_cell_index(g, x, y, z)];
                 uint8_t *m = &members[block_index(b, x, y, z)];
                 if (*m != BLOCKED && entry != LV_EMPTY_CELL && !(entry & LV_CUT_CELL)) (*m)++;
             }
@@ -149,7 +144,7 @@ lvcl_error lvcl_volume_find_blocks(lvcl_light_volume *vol, const lvcl_packed_sce
     for (int z = 0; z < (int)g->dims[2]; z++)
         for (int y = 0; y < (int)g->dims[1]; y++)
             for (int x = 0; x < (int)g->dims[0]; x++) {
-                uint32_t entry = vol->cell_slot[cell_index(g, x, y, z)];
+                uint32_t entry = vol->cell_slot[lvcl_volume_cell_index(g, x, y, z)];
                 size_t bi = block_index(&b, x, y, z);
                 if (members[bi] >= 2 && entry != LV_EMPTY_CELL && !(entry & LV_CUT_CELL))
                     vol->block_of_slot[entry] = (uint32_t)bi;

@@ -6,11 +6,6 @@
 
 #include "light_volume_internal.h"
 
-static size_t cell_index(const lv_grid_info *g, int x, int y, int z)
-{
-    return (size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z);
-}
-
 /* Cell coordinates covering the world box lo..hi (clamped to the grid). A
  * surface lying on a cell boundary belongs to the cells on both sides. */
 static void cell_range(const lv_grid_info *g, float inv, const float lo_w[3], const float hi_w[3], int lo[3], int hi[3])
@@ -33,7 +28,7 @@ static void mark_range(const lv_grid_info *g, const int lo[3], const int hi[3], 
 {
     for (int z = lo[2]; z <= hi[2]; z++)
         for (int y = lo[1]; y <= hi[1]; y++)
-            for (int x = lo[0]; x <= hi[0]; x++) mark[cell_index(g, x, y, z)] = 1;
+            for (int x = lo[0]; x <= hi[0]; x++) mark[lvcl_volume_cell_index(g, x, y, z)] = 1;
 }
 
 void lvcl_volume_walk_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, lvcl_box_visitor visit, void *ctx)
@@ -93,9 +88,9 @@ static size_t assign_slots(const lv_grid_info *g, const uint8_t *mark, uint32_t 
                             if (a < 0 || b < 0 || c < 0 || a >= (int)g->dims[0] || b >= (int)g->dims[1] ||
                                 c >= (int)g->dims[2])
                                 continue;
-                            near = mark[cell_index(g, a, b, c)];
+                            near = mark[lvcl_volume_cell_index(g, a, b, c)];
                         }
-                slot[cell_index(g, x, y, z)] = near ? (uint32_t)count++ : LV_EMPTY_CELL;
+                slot[lvcl_volume_cell_index(g, x, y, z)] = near ? (uint32_t)count++ : LV_EMPTY_CELL;
             }
     return count;
 }

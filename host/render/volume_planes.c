@@ -123,7 +123,7 @@ static void add_triangle(clusters *c, const lv_grid_info *g, const uint32_t *sto
     for (int z = lo[2]; z <= hi[2]; z++)
         for (int y = lo[1]; y <= hi[1]; y++)
             for (int x = lo[0]; x <= hi[0]; x++) {
-                uint32_t s = stored[(size_t)x + g->dims[0] * ((size_t)y + g->dims[1] * (size_t)z)];
+                uint32_t s = stored[lvcl_volume_cell_index(g, x, y, z)];
                 if (s == LV_EMPTY_CELL) continue;
                 double corner[3] = {g->origin[0] + x * h, g->origin[1] + y * h, g->origin[2] + z * h};
                 if (cuts_cell(n, d, corner, h)) add_to_cell(c, (int)s, n, d, area, h);

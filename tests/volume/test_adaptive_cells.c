@@ -88,7 +88,8 @@ static void test_merged_sums(const lvcl_session *ss, int cells)
           cells, same_tallies ? "equal" : "differ", merged_cells, g->slot_count);
     CHECK("adaptive cells: a merged set's lit volume is the sum of its cells'", same_lit, "%d cells", cells);
     const lv_grid_info *ga = lvcl_volume_grid(again.volume);
-    int same_run = ga->tally_sets == g->tally_sets && !memcmp(again.tallies, merged.tallies, sets * per_set * 8);
+    int same_run =
+        ga->tally_sets == g->tally_sets && !memcmp(again.tallies, merged.tallies, sets * per_set * sizeof(int64_t));
     for (uint32_t s = 0; s < g->slot_count && same_run; s++)
         same_run = lvcl_volume_tally_set(again.volume, s) == lvcl_volume_tally_set(merged.volume, s);
     CHECK("adaptive cells: the same tallies merge the same blocks, bit for bit", same_run, "%d cells", cells);
