@@ -115,14 +115,16 @@ done
 # Under a time limit an lv render measures, chooses its particle count and
 # samples as many as fit, and its image is the one a fixed render of the
 # particles and samples it reports gives: the passes and the plan change
-# nothing but those two numbers.
-"$lvcl" -q --mode lv --time-limit 4 --cells 8 --width 32 --stats "$tmp/budget.json" -o "$tmp/budget.exr" cornell \
+# nothing but those two numbers. How many passes run depends on the
+# machine's speed (a slow one skips the measurement and gathers after the
+# first), so the count is reported, not asserted.
+"$lvcl" -q --mode lv --time-limit 6 --cells 8 --width 32 --stats "$tmp/budget.json" -o "$tmp/budget.exr" cornell \
     2>"$tmp/err"
 status=$?
 particles=$(awk -F': ' '/^  "particles"/ { print $2 + 0 }' "$tmp/budget.json" 2>/dev/null)
 spp=$(awk -F': ' '/^  "spp"/ { print $2 + 0 }' "$tmp/budget.json" 2>/dev/null)
-if [ $status -eq 0 ] && grep -q '"budget": {' "$tmp/budget.json" && [ "${particles:-0}" -gt 262144 ] && [ "${spp:-0}" -gt 1 ] &&
+if [ $status -eq 0 ] && grep -q '"budget": {' "$tmp/budget.json" && [ "${particles:-0}" -ge 131072 ] && [ "${spp:-0}" -gt 1 ] &&
     "$lvcl" -q --mode lv --particles "$particles" --spp "$spp" --cells 8 --width 32 -o "$tmp/fixed.exr" cornell &&
     "$build/lvcl-compare" "$tmp/budget.exr" "$tmp/fixed.exr" | grep -q '"rmse": 0,'
-then pass "time-limited lv render equals the fixed render of its particles and spp ($particles, $spp)"
+then pass "time-limited lv render equals the fixed render of its particles and spp ($particles, $spp; $([ "$particles" -gt 262144 ] && echo 'measured plan' || echo 'first pass only'))"
 else fail "time-limited lv render equals the fixed render of its particles and spp" "status $status, particles ${particles:-?}, spp ${spp:-?}: $(cat "$tmp/err")"; fi
