@@ -240,6 +240,24 @@ typedef struct {
 #define LV_SUBCELL_LIT_POINT (2 + 2 * LV_SUBCELL_MAX)
 #define LV_SUBCELL_STRIDE (2 + 3 * LV_SUBCELL_MAX)
 
+/* The bin table (lv_bin_table; kernels/volume/direction_map.h), floats.
+ * First, for each group of LV_BIN_GROUP consecutive bins (the last one
+ * padded with zeros), LV_BIN_GROUP_FLOATS floats read for every bin, one
+ * vector of the group's values each: the x, y and z of the bins' central
+ * directions, the sines of their angular radii, and the x, y and z of the
+ * means of their unit directions. Then LV_BIN_EDGE_FLOATS per bin, read
+ * only for bins that a horizon may cut: the x, y and z components of eight
+ * points of its edge (the square's corners and the middles of its sides),
+ * and those of the centres of its LV_BIN_SUBDIRS equal-area parts. */
+#define LV_BIN_GROUP 16
+#define LV_BIN_GROUP_FLOATS (7 * LV_BIN_GROUP)
+#define LV_BIN_EDGE_POINTS 8
+#define LV_BIN_SUBDIR_SIDE 4
+#define LV_BIN_SUBDIRS (LV_BIN_SUBDIR_SIDE * LV_BIN_SUBDIR_SIDE)
+#define LV_BIN_EDGE_FLOATS (3 * (LV_BIN_EDGE_POINTS + LV_BIN_SUBDIRS))
+#define LV_BIN_GROUPS(bins) (((bins) + LV_BIN_GROUP - 1) / LV_BIN_GROUP)
+#define LV_BIN_TABLE_FLOATS(bins) (LV_BIN_GROUPS(bins) * LV_BIN_GROUP_FLOATS + (bins)*LV_BIN_EDGE_FLOATS)
+
 /* Luminance of linear RGB (Rec. 709 weights): light power, light selection
  * and the volume's normalisation use it on both sides. */
 #define LV_LUMINANCE(r, g, b) (0.2126f * (r) + 0.7152f * (g) + 0.0722f * (b))
@@ -347,7 +365,7 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
 #define LV_GATHER_PASS_ARGS(X, SEP)                                    \
     X(lv_gather_pass, SCENE, , scene) SEP()                            \
     X(lv_gather_pass, VOLUME, , volume) SEP()                          \
-    X(lv_gather_pass, BUFFER, const float4, bin_directions) SEP()      \
+    X(lv_gather_pass, BUFFER, const float, bin_table) SEP()       \
     X(lv_gather_pass, VALUE, lv_u32, flags) SEP()     /* LV_GATHER_* */ \
     X(lv_gather_pass, VALUE, float, threshold) SEP()  /* near-hit distance, metres */ \
     LV_PIXEL_ARGS(X, SEP, lv_gather_pass)
@@ -363,9 +381,9 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
 #define LV_LIT_VOLUMES_ARGS(X, SEP)               \
     X(lv_lit_volumes, VOLUME, , volume)
 
-#define LV_BIN_DIRECTIONS_ARGS(X, SEP)            \
-    X(lv_bin_directions, VALUE, lv_u32, n) SEP()  \
-    X(lv_bin_directions, BUFFER, float4, directions)
+#define LV_BIN_TABLE_ARGS(X, SEP)            \
+    X(lv_bin_table, VALUE, lv_u32, n) SEP()  \
+    X(lv_bin_table, BUFFER, float, table)
 
 /* clang-format on */
 
@@ -383,6 +401,6 @@ LV_ARG_INDICES(LV_PT_PASS_ARGS, lv_pt_pass);
 LV_ARG_INDICES(LV_GATHER_PASS_ARGS, lv_gather_pass);
 LV_ARG_INDICES(LV_PARTICLE_TRACE_ARGS, lv_particle_trace);
 LV_ARG_INDICES(LV_LIT_VOLUMES_ARGS, lv_lit_volumes);
-LV_ARG_INDICES(LV_BIN_DIRECTIONS_ARGS, lv_bin_directions);
+LV_ARG_INDICES(LV_BIN_TABLE_ARGS, lv_bin_table);
 
 #endif

@@ -55,13 +55,13 @@ typedef LVCL_KERNEL_ARGS(LV_PT_PASS_ARGS) lvcl_pt_pass_args;
 typedef LVCL_KERNEL_ARGS(LV_GATHER_PASS_ARGS) lvcl_gather_pass_args;
 typedef LVCL_KERNEL_ARGS(LV_PARTICLE_TRACE_ARGS) lvcl_particle_trace_args;
 typedef LVCL_KERNEL_ARGS(LV_LIT_VOLUMES_ARGS) lvcl_lit_volumes_args;
-typedef LVCL_KERNEL_ARGS(LV_BIN_DIRECTIONS_ARGS) lvcl_bin_directions_args;
+typedef LVCL_KERNEL_ARGS(LV_BIN_TABLE_ARGS) lvcl_bin_table_args;
 
 lvcl_error lvcl_bind_lv_pt_pass(cl_kernel k, const lvcl_pt_pass_args *a, lvcl_status *st);
 lvcl_error lvcl_bind_lv_gather_pass(cl_kernel k, const lvcl_gather_pass_args *a, lvcl_status *st);
 lvcl_error lvcl_bind_lv_particle_trace(cl_kernel k, const lvcl_particle_trace_args *a, lvcl_status *st);
 lvcl_error lvcl_bind_lv_lit_volumes(cl_kernel k, const lvcl_lit_volumes_args *a, lvcl_status *st);
-lvcl_error lvcl_bind_lv_bin_directions(cl_kernel k, const lvcl_bin_directions_args *a, lvcl_status *st);
+lvcl_error lvcl_bind_lv_bin_table(cl_kernel k, const lvcl_bin_table_args *a, lvcl_status *st);
 
 /* Defines lvcl_error lvcl_bind_<kernel>(cl_kernel, const args_type *, lvcl_status *),
  * which binds every argument of LIST at its LV_ARG index (the production

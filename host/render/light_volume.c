@@ -84,8 +84,8 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
         vol->buf.lit_volume =
             clCreateBuffer(dev->context, CL_MEM_READ_WRITE, ((size_t)g->slot_count + 1) * sizeof(float), NULL, &err);
     if (err == CL_SUCCESS)
-        vol->bin_directions_buf =
-            clCreateBuffer(dev->context, CL_MEM_READ_WRITE, g->bins * 4 * sizeof(float), NULL, &err);
+        vol->bin_table_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
+                                            (size_t)LV_BIN_TABLE_FLOATS(g->bins) * sizeof(float), NULL, &err);
     if (err != CL_SUCCESS) {
         char what[300];
         snprintf(what, sizeof what, "allocating the light volume on %s", dev->name);
@@ -191,16 +191,16 @@ const lvcl_volume_buffers *lvcl_volume_kernel_buffers(const lvcl_light_volume *v
     return &vol->buf;
 }
 
-cl_mem lvcl_volume_bin_directions(const lvcl_light_volume *vol)
+cl_mem lvcl_volume_bin_table(const lvcl_light_volume *vol)
 {
-    return vol->bin_directions_buf;
+    return vol->bin_table_buf;
 }
 
 void lvcl_volume_release(lvcl_light_volume *vol)
 {
     if (!vol) return;
     lvcl_volume_buffers_release(&vol->buf);
-    if (vol->bin_directions_buf) clReleaseMemObject(vol->bin_directions_buf);
+    if (vol->bin_table_buf) clReleaseMemObject(vol->bin_table_buf);
     free(vol->cell_slot);
     free(vol->regions);
     free(vol->tally_slot);

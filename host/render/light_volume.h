@@ -118,9 +118,10 @@ uint32_t lvcl_volume_slot_at(const lvcl_light_volume *vol, const float p[3]);
 lvcl_volume_stats lvcl_volume_stats_of(const lvcl_light_volume *vol);
 
 /* The buffers the kernels take (the volume block of the contract) and the
- * bins' central directions, for binding kernels that read the volume. */
+ * bin table (kernels/shared_types.h), for binding kernels that read the
+ * volume. */
 const lvcl_volume_buffers *lvcl_volume_kernel_buffers(const lvcl_light_volume *vol);
-cl_mem lvcl_volume_bin_directions(const lvcl_light_volume *vol);
+cl_mem lvcl_volume_bin_table(const lvcl_light_volume *vol);
 
 /* Releases everything; NULL is allowed. */
 void lvcl_volume_release(lvcl_light_volume *vol);

@@ -22,9 +22,9 @@ struct lvcl_light_volume {
     size_t region_share_count;
     size_t cell_count; /* dims[0] * dims[1] * dims[2] */
     int tally_parts;
-    cl_mem bin_directions_buf; /* float4 per bin, filled by lvcl_volume_trace */
-    size_t tally_bytes;        /* all parts */
-    size_t device_bytes;       /* everything the volume holds on the device */
+    cl_mem bin_table_buf; /* LV_BIN_TABLE_FLOATS(bins) floats, filled by lvcl_volume_trace */
+    size_t tally_bytes;   /* all parts */
+    size_t device_bytes;  /* everything the volume holds on the device */
     double trace_seconds;
     uint64_t particles;
     uint64_t segments;

@@ -12,16 +12,17 @@
  * progress and for --time-limit to be checked often. */
 #define BATCH (1u << 18)
 
-/* Runs lv_bin_directions: the table of the bins' central directions. */
-static lvcl_error fill_bin_directions(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st)
+/* Runs lv_bin_table: the bins' directions for the integrating gather. */
+static lvcl_error fill_bin_table(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st)
 {
     const lvcl_device *dev = vol->dev;
     cl_kernel k;
-    lvcl_error e = lvcl_kernel_create(prog, "lv_bin_directions", &k, st);
+    lvcl_error e = lvcl_kernel_create(prog, "lv_bin_table", &k, st);
     if (e) return e;
-    lvcl_bin_directions_args args = {.n = vol->buf.info.dirs, .directions = vol->bin_directions_buf};
-    if (!(e = lvcl_bind_lv_bin_directions(k, &args, st)))
-        e = lvcl_kernel_enqueue(dev, k, vol->buf.info.bins, "computing the bin directions", st);
+    lvcl_bin_table_args args = {.n = vol->buf.info.dirs, .table = vol->bin_table_buf};
+    if (!(e = lvcl_bind_lv_bin_table(k, &args, st)))
+        e = lvcl_kernel_enqueue(dev, k, (size_t)LV_BIN_GROUPS(vol->buf.info.bins) * LV_BIN_GROUP,
+                                "computing the bin table", st);
     clReleaseKernel(k);
     return e;
 }
@@ -76,7 +77,7 @@ static lvcl_error clear_volume(lvcl_light_volume *vol, const lvcl_program *prog,
 {
     const lvcl_device *dev = vol->dev;
     lvcl_error e;
-    if ((e = fill_bin_directions(vol, prog, st))) return e;
+    if ((e = fill_bin_table(vol, prog, st))) return e;
     cl_long zero = 0;
     for (int i = 0; i < vol->tally_parts; i++)
         if ((e = lvcl_cl_check(clEnqueueFillBuffer(dev->queue, vol->buf.tallies[i], &zero, sizeof zero, 0,

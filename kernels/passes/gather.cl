@@ -10,7 +10,7 @@ __kernel void lv_gather_pass(LV_KERNEL_PARAMS(LV_GATHER_PASS_ARGS))
     uint pixel = first_pixel + (uint)get_global_id(0);
     lv_gather g;
     LV_VOLUME_OPEN(g.grid);
-    g.bin_directions = bin_directions;
+    g.bin_table = bin_table;
     g.flags = flags;
     g.threshold = threshold;
     lv_rng rng = lv_rng_make(sc.info.seed, pixel, sample_index);

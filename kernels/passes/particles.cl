@@ -30,9 +30,9 @@ __kernel void lv_lit_volumes(LV_KERNEL_PARAMS(LV_LIT_VOLUMES_ARGS))
     lit_volume[slot] = lv_cell_lit_volume(&grid, slot);
 }
 
-/* The central direction of every bin, for gathers that visit them all. */
-__kernel void lv_bin_directions(LV_KERNEL_PARAMS(LV_BIN_DIRECTIONS_ARGS))
+/* The bin table (shared_types.h), for gathers that visit every bin. */
+__kernel void lv_bin_table(LV_KERNEL_PARAMS(LV_BIN_TABLE_ARGS))
 {
     uint bin = get_global_id(0);
-    if (bin < 2u * n * n) directions[bin] = (float4)(lv_bin_direction(bin, n, (float2)(0.5f, 0.5f)), 0.0f);
+    if (bin < LV_BIN_GROUPS(2u * n * n) * LV_BIN_GROUP) lv_fill_bin_table(bin, n, table);
 }

@@ -57,6 +57,21 @@
     X(t_bin_radiance, VALUE, lv_u32, slot) SEP() \
     X(t_bin_radiance, BUFFER, float4, radiance)
 
+/* The bin table of n x n bins per hemisphere (lv_fill_bin_table). */
+#define T_BIN_TABLE_ARGS(X, SEP)              \
+    X(t_bin_table, VALUE, lv_u32, n) SEP()        \
+    X(t_bin_table, BUFFER, float, table)
+
+/* Per pair of normals (shading xyz, geometric xyz; 8 floats): the sum over
+ * the bins of their mean cosine times their solid angle, from the table,
+ * from the bins' central directions, and by dense quadrature. */
+#define T_BIN_COSINE_ARGS(X, SEP)                      \
+    X(t_bin_cosine, VALUE, lv_u32, n) SEP()                \
+    X(t_bin_cosine, BUFFER, const float, table) SEP()      \
+    X(t_bin_cosine, BUFFER, const float4, normals) SEP()   \
+    X(t_bin_cosine, VALUE, lv_u32, count) SEP()            \
+    X(t_bin_cosine, BUFFER, float4, sums)
+
 /* clang-format on */
 
 LV_ARG_INDICES(T_DIRECTION_HISTOGRAM_ARGS, t_direction_histogram);
@@ -65,5 +80,7 @@ LV_ARG_INDICES(T_BSDF_MOMENTS_ARGS, t_bsdf_moments);
 LV_ARG_INDICES(T_TRACE_ARGS, t_trace);
 LV_ARG_INDICES(T_OFFSET_RAYS_ARGS, t_offset_rays);
 LV_ARG_INDICES(T_BIN_RADIANCE_ARGS, t_bin_radiance);
+LV_ARG_INDICES(T_BIN_TABLE_ARGS, t_bin_table);
+LV_ARG_INDICES(T_BIN_COSINE_ARGS, t_bin_cosine);
 
 #endif

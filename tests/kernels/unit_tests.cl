@@ -36,6 +36,44 @@ __kernel void t_direction_roundtrip(LV_KERNEL_PARAMS(T_DIRECTION_ROUNDTRIP_ARGS)
     }
 }
 
+/* The bin table, as lv_bin_table fills it. */
+__kernel void t_bin_table(LV_KERNEL_PARAMS(T_BIN_TABLE_ARGS))
+{
+    uint bin = get_global_id(0);
+    if (bin < LV_BIN_GROUPS(2u * n * n) * LV_BIN_GROUP) lv_fill_bin_table(bin, n, table);
+}
+
+/* x: the table's sum of mean cosines times solid angle (the integrating
+ * gather's weights); y: the same from each bin's central direction (the
+ * rule it replaced); z: the integral by 32 x 32 points per bin. Normals
+ * pair 2i (shading) and 2i + 1 (geometric). */
+__kernel void t_bin_cosine(LV_KERNEL_PARAMS(T_BIN_COSINE_ARGS))
+{
+    uint i = get_global_id(0);
+    if (i >= count) return;
+    float3 ns = normals[2 * i].xyz, ng = normals[2 * i + 1].xyz;
+    float omega = lv_bin_solid_angle(n), table_sum = 0.0f, centre_sum = 0.0f, dense_sum = 0.0f;
+    const uint dense = 32u;
+    uint bins = 2u * n * n;
+    for (uint first = 0; first < bins; first += LV_BIN_GROUP) {
+        float w[LV_BIN_GROUP];
+        lv_bin_mean_cosines(table, bins, first, ns, ng, w);
+        for (uint l = 0; l < LV_BIN_GROUP && first + l < bins; l++) table_sum += w[l] * omega;
+    }
+    for (uint bin = 0; bin < bins; bin++) {
+        float3 from = -lv_bin_direction(bin, n, (float2)(0.5f));
+        if (dot(from, ng) > 0.0f) centre_sum += fmax(dot(from, ns), 0.0f) * omega;
+        float part = 0.0f;
+        for (uint v = 0; v < dense; v++)
+            for (uint u = 0; u < dense; u++) {
+                float3 w = -lv_bin_direction(bin, n, ((float2)((float)u, (float)v) + 0.5f) / (float)dense);
+                if (dot(w, ng) > 0.0f) part += fmax(dot(w, ns), 0.0f);
+            }
+        dense_sum += part / (float)(dense * dense) * omega;
+    }
+    sums[i] = (float4)(table_sum, centre_sum, dense_sum, 0.0f);
+}
+
 /* Monte Carlo moments of one BSDF seen from one direction. config: 8 floats
  * per BSDF (type, base rgb, alpha, ior, specular, mode); wos: 4 floats per
  * direction. out: 8 floats per (config, wo):
