@@ -109,14 +109,17 @@ inline int lv_intersect_triangle(const lv_sheared_ray *s, float4 v0, float4 v1, 
 
 /* Entry distance of the ray into a node's box, or LV_FAR if it misses
  * within [0, tmax]. The far distance is widened by a few ulps so that
- * rounding never culls a box the ray grazes (Ize 2013). */
+ * rounding never culls a box the ray grazes (Ize 2013). min and max, not
+ * fmin and fmax: no operand is NaN (lv_safe_inverse keeps inv_dir finite),
+ * and PoCL builds fmin and fmax with NaN handling, which cost a quarter of
+ * the diffuse-ray throughput (bench/RAYS.md workloads, same hits). */
 inline float lv_box_entry(__global const lv_bvh_node *node, float3 origin, float3 inv_dir, float tmax)
 {
     float3 lo = (LV_F3(node->bmin) - origin) * inv_dir;
     float3 hi = (LV_F3(node->bmax) - origin) * inv_dir;
-    float3 tn = fmin(lo, hi), tf = fmax(lo, hi);
-    float t0 = fmax(fmax(tn.x, tn.y), fmax(tn.z, 0.0f));
-    float t1 = fmin(fmin(tf.x, tf.y), fmin(tf.z, tmax)) * 1.0000004f;
+    float3 tn = min(lo, hi), tf = max(lo, hi);
+    float t0 = max(max(tn.x, tn.y), max(tn.z, 0.0f));
+    float t1 = min(min(tf.x, tf.y), min(tf.z, tmax)) * 1.0000004f;
     return t0 <= t1 ? t0 : LV_FAR;
 }
 

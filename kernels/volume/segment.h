@@ -71,9 +71,9 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
     float3 o = (origin - lv_grid_origin(grid)) / h;
     float3 inv = lv_safe_inverse(dir);
     float3 lo = (0.0f - o) * inv, hi = (dims - o) * inv;
-    float3 tn = fmin(lo, hi), tf = fmax(lo, hi);
-    float s0 = fmax(t0 / h, fmax(tn.x, fmax(tn.y, tn.z)));
-    float s1 = fmin(t1 / h, fmin(tf.x, fmin(tf.y, tf.z)));
+    float3 tn = min(lo, hi), tf = max(lo, hi); /* finite: min and max as in lv_box_entry */
+    float s0 = max(t0 / h, max(tn.x, max(tn.y, tn.z)));
+    float s1 = min(t1 / h, min(tf.x, min(tf.y, tf.z)));
     if (!(s0 < s1)) return;
 
     float3 p = o + dir * (0.5f * (s0 + fmin(s1, s0 + 1e-3f)));
@@ -86,7 +86,7 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
     float s = s0;
     int3 idims = convert_int3(dims);
     while (s < s1) {
-        float s_exit = fmin(s1, fmin(s_next.x, fmin(s_next.y, s_next.z)));
+        float s_exit = min(s1, min(s_next.x, min(s_next.y, s_next.z)));
         uint entry = grid->cell_slot[cell.x + idims.x * (cell.y + idims.y * cell.z)];
         if (entry != LV_EMPTY_CELL && s_exit > s && !(entry & LV_CUT_CELL)) {
             /* No planes: one piece, and no read of the region table. */
