@@ -332,15 +332,12 @@ class Converter:
                  "metallic": m["metallic"], "roughness": float(m["roughness"]),
                  "eta": m["ior"]}
         elif kind == "plastic":
-            self.note("%s: glTF dielectric (diffuse + GGX specular) -> Mitsuba "
-                      "%splastic: approximate" % (m["name"], "rough" if m["roughness"] > 0 else ""))
-            spec = [m["specular"] * c for c in m["specular_color"]]
-            b = {"type": "roughplastic" if m["roughness"] > 0 else "plastic",
-                 "diffuse_reflectance": self.base_color(m),
-                 "specular_reflectance": _rgb(spec),
-                 "int_ior": m["ior"], "ext_ior": 1.0, "nonlinear": False}
-            if m["roughness"] > 0:
-                b.update({"distribution": "ggx", "alpha": alpha})
+            # lvcl's own layering (gltf_plastic.py), not Mitsuba's plastic.
+            if any(c != 1.0 for c in m["specular_color"]):
+                self.note("%s: specularColorFactor ignored, as lvcl does" % m["name"])
+            f0 = ((m["ior"] - 1.0) / (m["ior"] + 1.0)) ** 2
+            b = {"type": "gltf_plastic", "base": self.base_color(m), "specular": _rgb([m["specular"]] * 3),
+                 "f0": f0, "alpha": m["roughness"] ** 2}
         elif kind == "solid_dielectric":
             if m["roughness"] > 0:
                 b = {"type": "roughdielectric", "distribution": "ggx", "alpha": alpha,
@@ -464,6 +461,8 @@ def convert(path, width=None, height=None, spp=64, workdir=None, seed=0,
             max_depth=64, rr_depth=5, camera_index=None):
     """Return (scene_dict, info).  Writes PLY/texture files into workdir."""
     import mitsuba as mi
+    import gltf_plastic
+    gltf_plastic.register()
     g = Gltf(path)
     doc = g.doc
     if workdir is None:
