@@ -136,7 +136,8 @@ int main(void)
     harness_open(NULL, &dev, &prog);
     test_direction_map(11);
     test_direction_map(4);
-    for (unsigned n = 4; n <= 12; n += 4) test_bin_cosines(n);
+    const unsigned sizes[] = {2, 4, 8, 12};
+    for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++) test_bin_cosines(sizes[i]);
     harness_close(&dev, &prog);
     CHECK_EXIT();
 }
