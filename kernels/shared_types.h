@@ -258,6 +258,10 @@ typedef struct {
 #define LV_BIN_GROUPS(bins) (((bins) + LV_BIN_GROUP - 1) / LV_BIN_GROUP)
 #define LV_BIN_TABLE_FLOATS(bins) (LV_BIN_GROUPS(bins) * LV_BIN_GROUP_FLOATS + (bins)*LV_BIN_EDGE_FLOATS)
 
+/* Numbers of a camera sample drawn from the pixel's lattice
+ * (kernels/util/rng.h). */
+#define LV_LATTICE_DIMS 8
+
 /* Luminance of linear RGB (Rec. 709 weights): light power, light selection
  * and the volume's normalisation use it on both sides. */
 #define LV_LUMINANCE(r, g, b) (0.2126f * (r) + 0.7152f * (g) + 0.0722f * (b))

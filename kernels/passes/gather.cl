@@ -13,7 +13,7 @@ __kernel void lv_gather_pass(LV_KERNEL_PARAMS(LV_GATHER_PASS_ARGS))
     g.bin_table = bin_table;
     g.flags = flags;
     g.threshold = threshold;
-    lv_rng rng = lv_rng_make(sc.info.seed, pixel, sample_index);
+    lv_rng rng = lv_rng_make_lattice(sc.info.seed, pixel, sample_index);
     lv_ray r = lv_camera_ray(camera, pixel % camera.width, pixel / camera.width, lv_rng_next2(&rng));
     float3 l = lv_gather_radiance(&sc, r, &rng, sc.info.max_depth, &g);
     sum[pixel] += (float4)(l, 1.0f);

@@ -5,6 +5,8 @@
 #ifndef LV_RNG_H
 #define LV_RNG_H
 
+#include "../shared_types.h"
+
 /* A 32-bit integer hash with good avalanche (a xorshift-multiply chain). */
 inline uint lv_hash(uint x)
 {
@@ -19,6 +21,8 @@ inline uint lv_hash(uint x)
 typedef struct {
     uint key;
     uint counter;
+    uint shift;  /* a camera stream's per-pixel lattice shift key; 0: none */
+    uint sample; /* its sample index */
 } lv_rng;
 
 inline lv_rng lv_rng_make(uint seed, uint item, uint sample)
@@ -26,13 +30,37 @@ inline lv_rng lv_rng_make(uint seed, uint item, uint sample)
     lv_rng r;
     r.key = lv_hash(lv_hash(lv_hash(seed) ^ item) + sample * 0x9e3779b9u);
     r.counter = 0;
+    r.shift = 0;
+    r.sample = sample;
+    return r;
+}
+
+/* A camera sample's first LV_LATTICE_DIMS numbers (its pixel jitter and
+ * its first vertex's lookup and light sample) come from a rank-1 lattice
+ * over the pixel's samples: sample s, dimension d is s g_d + u_d mod 1,
+ * with g the 8-dimensional R sequence's generator (Roberts 2018) and u a
+ * random shift per pixel and dimension (Cranley and Patterson 1976). Every
+ * sample is still uniform in the unit cube, so each is unbiased; the
+ * samples of a pixel are spread evenly along every dimension instead of
+ * independently. In 32-bit integers, so every device computes the same
+ * numbers. LV_LATTICE_DIMS is in shared_types.h, for the tests. */
+__constant uint lv_lattice_generators[LV_LATTICE_DIMS] = {0xebedeed9u, 0xd96eb1a8u, 0xc862b36du, 0xb8acd90cu,
+                                                          0xaa324f90u, 0x9cda5e69u, 0x908e3d2cu, 0x8538ecb5u};
+
+inline lv_rng lv_rng_make_lattice(uint seed, uint pixel, uint sample)
+{
+    lv_rng r = lv_rng_make(seed, pixel, sample);
+    r.shift = lv_hash(lv_hash(seed) ^ pixel) | 1u;
     return r;
 }
 
 /* Uniform in [0, 1): the top 24 bits, so 1 is never returned. */
 inline float lv_rng_next(lv_rng *r)
 {
-    uint h = lv_hash(r->key ^ lv_hash(r->counter++ + 0x632be5abu));
+    uint n = r->counter++;
+    uint h = r->shift && n < LV_LATTICE_DIMS
+        ? lv_hash(r->shift + n * 0x9e3779b9u) + r->sample * lv_lattice_generators[n]
+        : lv_hash(r->key ^ lv_hash(n + 0x632be5abu));
     return (float)(h >> 8) * 0x1p-24f;
 }
 

@@ -72,6 +72,14 @@
     X(t_bin_cosine, VALUE, lv_u32, count) SEP()            \
     X(t_bin_cosine, BUFFER, float4, sums)
 
+/* The first `dims` numbers of the camera streams (pixel, sample) for
+ * `pixels` pixels and `samples` samples each, pixel-major. */
+#define T_CAMERA_STREAMS_ARGS(X, SEP)                \
+    X(t_camera_streams, VALUE, lv_u32, seed) SEP()       \
+    X(t_camera_streams, VALUE, lv_u32, samples) SEP()    \
+    X(t_camera_streams, VALUE, lv_u32, dims) SEP()       \
+    X(t_camera_streams, BUFFER, float, out)
+
 /* clang-format on */
 
 LV_ARG_INDICES(T_DIRECTION_HISTOGRAM_ARGS, t_direction_histogram);
@@ -82,5 +90,6 @@ LV_ARG_INDICES(T_OFFSET_RAYS_ARGS, t_offset_rays);
 LV_ARG_INDICES(T_BIN_RADIANCE_ARGS, t_bin_radiance);
 LV_ARG_INDICES(T_BIN_TABLE_ARGS, t_bin_table);
 LV_ARG_INDICES(T_BIN_COSINE_ARGS, t_bin_cosine);
+LV_ARG_INDICES(T_CAMERA_STREAMS_ARGS, t_camera_streams);
 
 #endif

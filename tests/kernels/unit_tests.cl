@@ -74,6 +74,15 @@ __kernel void t_bin_cosine(LV_KERNEL_PARAMS(T_BIN_COSINE_ARGS))
     sums[i] = (float4)(table_sum, centre_sum, dense_sum, 0.0f);
 }
 
+/* One work-item per (pixel, sample): the first `dims` numbers of its
+ * camera stream, as the camera passes draw them. */
+__kernel void t_camera_streams(LV_KERNEL_PARAMS(T_CAMERA_STREAMS_ARGS))
+{
+    uint i = get_global_id(0), pixel = i / samples, sample = i % samples;
+    lv_rng rng = lv_rng_make_lattice(seed, pixel, sample);
+    for (uint d = 0; d < dims; d++) out[(size_t)i * dims + d] = lv_rng_next(&rng);
+}
+
 /* Monte Carlo moments of one BSDF seen from one direction. config: 8 floats
  * per BSDF (type, base rgb, alpha, ior, specular, mode); wos: 4 floats per
  * direction. out: 8 floats per (config, wo):
