@@ -258,9 +258,13 @@ typedef struct {
 #define LV_BIN_GROUPS(bins) (((bins) + LV_BIN_GROUP - 1) / LV_BIN_GROUP)
 #define LV_BIN_TABLE_FLOATS(bins) (LV_BIN_GROUPS(bins) * LV_BIN_GROUP_FLOATS + (bins)*LV_BIN_EDGE_FLOATS)
 
-/* Numbers of a camera sample drawn from the pixel's lattice
- * (kernels/util/rng.h). */
+/* Numbers of a camera sample drawn from the pixel's lattice, and the
+ * lattice's generator in 32-bit fixed point (kernels/util/rng.h). */
 #define LV_LATTICE_DIMS 8
+#define LV_LATTICE_GENERATORS                                                                                  \
+    {                                                                                                          \
+        0xebedeed9u, 0xd96eb1a8u, 0xc862b36du, 0xb8acd90cu, 0xaa324f90u, 0x9cda5e69u, 0x908e3d2cu, 0x8538ecb5u \
+    }
 
 /* Luminance of linear RGB (Rec. 709 weights): light power, light selection
  * and the volume's normalisation use it on both sides. */

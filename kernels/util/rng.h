@@ -43,10 +43,9 @@ inline lv_rng lv_rng_make(uint seed, uint item, uint sample)
  * sample is still uniform in the unit cube, so each is unbiased; a pixel's
  * samples are correlated along the lattice instead of independent, which
  * lowers the images' error (docs/design.md, "Sampling"). In 32-bit
- * integers, so every device computes the same numbers. LV_LATTICE_DIMS is
- * in shared_types.h, for the tests. */
-__constant uint lv_lattice_generators[LV_LATTICE_DIMS] = {0xebedeed9u, 0xd96eb1a8u, 0xc862b36du, 0xb8acd90cu,
-                                                          0xaa324f90u, 0x9cda5e69u, 0x908e3d2cu, 0x8538ecb5u};
+ * integers, so every device computes the same numbers. LV_LATTICE_DIMS and
+ * the generator are in shared_types.h, for the tests. */
+__constant uint lv_lattice_generators[LV_LATTICE_DIMS] = LV_LATTICE_GENERATORS;
 
 inline lv_rng lv_rng_make_lattice(uint seed, uint pixel, uint sample)
 {

@@ -51,14 +51,13 @@ int main(void)
 
     /* Sample s + 1 is sample s moved by the generator, mod 1 (to the 2^-24
      * the numbers keep). */
-    static const double generator[LV_LATTICE_DIMS] = {0.9215993196, 0.8493453059, 0.7827560561, 0.7213874487,
-                                                      0.6648301820, 0.6127070434, 0.5646703943, 0.5203998512};
+    static const uint32_t generator[LV_LATTICE_DIMS] = LV_LATTICE_GENERATORS;
     double worst_step = 0;
     for (int p = 0; p < PIXELS; p++)
         for (int q = 0; q + 1 < SAMPLES; q++)
             for (int d = 0; d < LV_LATTICE_DIMS; d++) {
                 const float *x = v + ((size_t)p * SAMPLES + q) * DIMS;
-                double step = x[DIMS + d] - x[d] - generator[d];
+                double step = x[DIMS + d] - x[d] - generator[d] * 0x1p-32;
                 step -= floor(step + 0.5);
                 worst_step = fmax(worst_step, fabs(step));
             }
