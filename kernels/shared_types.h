@@ -359,12 +359,19 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
 
 /* The pixel range of the camera passes: one sample per pixel of
  * [first_pixel, first_pixel + pixel_count) per launch, added to sum. */
-#define LV_PIXEL_ARGS(X, SEP, kernel)             \
-    X(kernel, VALUE, lv_camera, camera) SEP()     \
-    X(kernel, VALUE, lv_u32, first_pixel) SEP()   \
-    X(kernel, VALUE, lv_u32, pixel_count) SEP()   \
-    X(kernel, VALUE, lv_u32, sample_index) SEP()  \
-    X(kernel, BUFFER, float4, sum)
+/* A launch takes one sample of each of the pixels pixel_list[first_pixel ..
+ * first_pixel + pixel_count); a pixel's sample index is first_sample plus
+ * the samples its sum holds, so pixels may hold different counts (adaptive
+ * sampling, host/render/image_pass.c). sum_sq adds the square of each
+ * sample's channel mean, for the pixel's variance. */
+#define LV_PIXEL_ARGS(X, SEP, kernel)                \
+    X(kernel, VALUE, lv_camera, camera) SEP()        \
+    X(kernel, BUFFER, const uint, pixel_list) SEP()  \
+    X(kernel, VALUE, lv_u32, first_pixel) SEP()      \
+    X(kernel, VALUE, lv_u32, pixel_count) SEP()      \
+    X(kernel, VALUE, lv_u32, first_sample) SEP()     \
+    X(kernel, BUFFER, float4, sum) SEP()             \
+    X(kernel, BUFFER, float, sum_sq)
 
 #define LV_PT_PASS_ARGS(X, SEP)                   \
     X(lv_pt_pass, SCENE, , scene) SEP()           \

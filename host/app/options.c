@@ -62,6 +62,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
     o->subcells = LVCL_DEFAULT_SUBCELLS;
     o->merge_tolerance = LVCL_DEFAULT_MERGE_TOLERANCE;
     o->gather = "integrate";
+    o->adaptive = "on";
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         /* Flags that take no value. */
@@ -112,6 +113,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
                                            "--particles",
                                            "--threshold",
                                            "--gather",
+                                           "--adaptive",
                                            "--device-memory",
                                            "--visibility-rate",
                                            "--merge-tolerance"};
@@ -176,6 +178,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
             e = parse_real(a, v, 1e-12, 1e12, &x, st);
             o->threshold = x;
         } else if (!strcmp(a, "--gather")) o->gather = v;
+        else if (!strcmp(a, "--adaptive")) o->adaptive = v;
         else if (!strcmp(a, "--device-memory")) {
             e = parse_real(a, v, 0.01, 1e9, &x, st);
             o->device_memory_mib = x;
@@ -186,6 +189,8 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown mode '%s' (expected pt, lv or lv-all)", o->mode);
     if (strcmp(o->gather, "sample") && strcmp(o->gather, "integrate"))
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown gather '%s' (expected sample or integrate)", o->gather);
+    if (strcmp(o->adaptive, "on") && strcmp(o->adaptive, "off"))
+        return lvcl_fail(st, LVCL_ERR_USAGE, "unknown --adaptive '%s' (expected on or off)", o->adaptive);
     if (!o->scene) o->scene = DEFAULT_SCENE;
     fill_defaults(o);
     return LVCL_OK;
@@ -219,10 +224,12 @@ void lvcl_options_print_help(const char *program)
         "                       tally set where their cells differ by less than T times their noise at\n"
         "                       the particle count (default 0: off; 0.25 measured neutral, see docs)\n"
         "  --threshold M        lv: BSDF rays meeting a rough surface closer than M metres\n"
-        "                       continue as paths (default the cell diagonal)\n"
+        "                       continue as paths (default half the cell diagonal)\n"
         "  --gather integrate|sample  lv: integrate the BSDF over all bins of the cell (default),\n"
         "                       or read the bin of one BSDF-sampled direction\n"
         "  --spp N              samples per pixel (default 64; under --time-limit as many as fit)\n"
+        "  --adaptive on|off    after the first 8 samples per pixel, give each further 8 (on average)\n"
+        "                       to the pixels whose neighbours show the most error (default on)\n"
         "  --width N, --height N  image size (default 512 wide, height from the camera's aspect)\n"
         "  --seed N             random seed (default 0); the same seed gives the same image\n"
         "  --max-depth N        longest path in segments (default 64; 1 = emitters only)\n"

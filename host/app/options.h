@@ -24,8 +24,9 @@ typedef struct {
     double visibility_rate;   /* share of surface hits casting a visibility ray, 0 = default */
     double merge_tolerance;   /* adaptive cells: blocks merge below this mean tally per bin, 0 = never */
     double particles;         /* 0: as many as a time limit allows */
-    double threshold;         /* near-hit distance, 0 = cell diagonal */
+    double threshold;         /* near-hit distance, 0 = half the cell diagonal */
     const char *gather;       /* "sample" or "integrate" */
+    const char *adaptive;     /* "on" or "off": adaptive sampling */
     double device_memory_mib; /* cap on device memory, 0 = the device's own */
     double time_limit;
     int quiet;

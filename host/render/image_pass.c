@@ -1,10 +1,13 @@
 #include "image_pass.h"
 
+#include <math.h>
 #include <pthread.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "../util/parallel.h"
+#include "adaptive_sampling.h"
 #include "../device/program.h"
 #include "../util/progress.h"
 #include "../util/timer.h"
@@ -32,7 +35,7 @@ typedef struct {
     pass_state *ps;
     lvcl_pass_device *pd;
     int index;
-    cl_mem sum;
+    cl_mem sum, sum_sq, list; /* the image's sums; the pixels a launch samples */
     lvcl_error e;
     lvcl_status st;
 } worker;
@@ -46,17 +49,57 @@ static void *fail_pass(pass_state *ps)
     return NULL;
 }
 
+/* One launch: a sample of each of the `count` pixels of the worker's list
+ * from `first` on. */
+static lvcl_error launch(worker *w, cl_uint first, cl_uint count)
+{
+    cl_kernel k = w->pd->kernel;
+    const lvcl_pixel_arg_indices *a = &w->pd->pixel_args;
+    if ((w->e = lvcl_kernel_arg(k, a->first_pixel, sizeof first, &first, "the launch's first pixel", &w->st)) ||
+        (w->e = lvcl_kernel_arg(k, a->pixel_count, sizeof count, &count, "the launch's pixel count", &w->st)) ||
+        (w->e = lvcl_kernel_enqueue(w->pd->device, k, count, "launching the camera pass", &w->st)))
+        return w->e;
+    return w->e = lvcl_cl_check(clFinish(w->pd->device->queue), "running the camera pass", &w->st);
+}
+
+/* After a launch: the time so far, and the progress bar at `done` of
+ * `total` (launches, or samples per pixel). */
+static double launched(pass_state *ps, double done, double total)
+{
+    pthread_mutex_lock(&ps->lock);
+    double elapsed = lvcl_seconds() - ps->start;
+    if (ps->first_launch_seconds == 0) ps->first_launch_seconds = elapsed;
+    /* Under a time limit the bar shows the time spent, of the limit. */
+    if (ps->settings->time_limit > 0)
+        lvcl_progress_update(&ps->bar, elapsed < ps->settings->time_limit ? elapsed : ps->settings->time_limit,
+                             ps->settings->time_limit, "s");
+    else lvcl_progress_update(&ps->bar, done, total, ps->unit);
+    pthread_mutex_unlock(&ps->lock);
+    return elapsed;
+}
+
+/* Bind the arguments every launch of the worker shares. */
+static lvcl_error bind_shared(worker *w)
+{
+    pass_state *ps = w->ps;
+    cl_kernel k = w->pd->kernel;
+    const lvcl_pixel_arg_indices *a = &w->pd->pixel_args;
+    cl_uint first_sample = (cl_uint)ps->settings->first_sample;
+    if ((w->e = lvcl_kernel_arg(k, a->camera, sizeof *ps->camera, ps->camera, "the camera", &w->st)) ||
+        (w->e = lvcl_kernel_arg(k, a->pixel_list, sizeof(cl_mem), &w->list, "the pixel list", &w->st)) ||
+        (w->e = lvcl_kernel_arg(k, a->first_sample, sizeof first_sample, &first_sample, "the first sample", &w->st)) ||
+        (w->e = lvcl_kernel_arg(k, a->sum, sizeof(cl_mem), &w->sum, "the image sum", &w->st)) ||
+        (w->e = lvcl_kernel_arg(k, a->sum_sq, sizeof(cl_mem), &w->sum_sq, "the image's squares", &w->st)))
+        return w->e;
+    return LVCL_OK;
+}
+
 /* Renders bands until none is left: all samples of one band per turn. */
 static void *render_bands(void *arg)
 {
     worker *w = arg;
     pass_state *ps = w->ps;
-    const lvcl_device *dev = w->pd->device;
-    cl_kernel k = w->pd->kernel;
-    const lvcl_pixel_arg_indices *a = &w->pd->pixel_args;
-    if ((w->e = lvcl_kernel_arg(k, a->camera, sizeof *ps->camera, ps->camera, "the camera", &w->st)) ||
-        (w->e = lvcl_kernel_arg(k, a->sum, sizeof(cl_mem), &w->sum, "the image sum", &w->st)))
-        return fail_pass(ps);
+    if (bind_shared(w)) return fail_pass(ps);
     for (;;) {
         pthread_mutex_lock(&ps->lock);
         int band = ps->failed ? ps->bands : ps->next_band++;
@@ -65,27 +108,14 @@ static void *render_bands(void *arg)
         double band_start = lvcl_seconds();
         cl_uint first = (cl_uint)((size_t)band * ps->band_pixels);
         cl_uint count = (cl_uint)(ps->pixels - first < ps->band_pixels ? ps->pixels - first : ps->band_pixels);
-        if ((w->e = lvcl_kernel_arg(k, a->first_pixel, sizeof first, &first, "the band's first pixel", &w->st)) ||
-            (w->e = lvcl_kernel_arg(k, a->pixel_count, sizeof count, &count, "the band's pixel count", &w->st)))
-            return fail_pass(ps);
         int s = 0;
         while (s < ps->settings->spp) {
-            cl_uint index = (cl_uint)(ps->settings->first_sample + s);
-            if ((w->e = lvcl_kernel_arg(k, a->sample_index, sizeof index, &index, "the sample index", &w->st)) ||
-                (w->e = lvcl_kernel_enqueue(dev, k, count, "launching the camera pass", &w->st)) ||
-                (w->e = lvcl_cl_check(clFinish(dev->queue), "running the camera pass", &w->st)))
-                return fail_pass(ps);
+            if (launch(w, first, count)) return fail_pass(ps);
             s++;
             pthread_mutex_lock(&ps->lock);
-            double elapsed = lvcl_seconds() - ps->start;
-            if (ps->first_launch_seconds == 0) ps->first_launch_seconds = elapsed;
-            ps->launches_done++;
-            /* Under a time limit the bar shows the time spent, of the limit. */
-            if (ps->settings->time_limit > 0)
-                lvcl_progress_update(&ps->bar, elapsed < ps->settings->time_limit ? elapsed : ps->settings->time_limit,
-                                     ps->settings->time_limit, "s");
-            else lvcl_progress_update(&ps->bar, (double)ps->launches_done, (double)ps->launches_total, ps->unit);
+            long done = ++ps->launches_done;
             pthread_mutex_unlock(&ps->lock);
+            double elapsed = launched(ps, (double)done, (double)ps->launches_total);
             /* The time limit applies to one device, whose one band is the whole image. */
             if (ps->settings->time_limit > 0 && elapsed >= ps->settings->time_limit) break;
         }
@@ -98,6 +128,108 @@ static void *render_bands(void *arg)
         w->pd->busy_seconds += lvcl_seconds() - band_start;
     }
     return NULL;
+}
+
+/* One device, adaptive sampling: a first epoch of uniform samples (as a
+ * band), then epochs of LVCL_EPOCH_SPP samples per pixel on average that
+ * lvcl_adaptive_plan shares out. Under a time limit an epoch runs only as
+ * far as the time measured so far says it fits, in whole samples per pixel,
+ * so that --spp of the count reached repeats the image exactly. */
+static void *render_adaptive(void *arg)
+{
+    worker *w = arg;
+    pass_state *ps = w->ps;
+    const lvcl_pass_settings *set = ps->settings;
+    double start = lvcl_seconds();
+    size_t n = ps->pixels;
+    float *sum = malloc(n * 4 * sizeof *sum), *sum_sq = malloc(n * sizeof *sum_sq);
+    uint32_t *list = malloc(n * sizeof *list), rounds[LVCL_EPOCH_MAX_SHARE * LVCL_EPOCH_SPP];
+    if (!sum || !sum_sq || !list) {
+        w->e = lvcl_fail(&w->st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for adaptive sampling");
+        goto done;
+    }
+    if (bind_shared(w)) goto done;
+    int taken = 0;
+    double elapsed = 0;
+    while (taken < set->spp && taken < LVCL_EPOCH_SPP) {
+        if (launch(w, 0, (cl_uint)n)) goto done;
+        elapsed = launched(ps, ++taken, set->spp);
+        if (set->time_limit > 0 && elapsed >= set->time_limit) break;
+    }
+    int last = set->time_limit > 0 && elapsed >= set->time_limit;
+    for (uint32_t epoch = 1; taken < set->spp && !last; epoch++) {
+        int spp = set->spp - taken < LVCL_EPOCH_SPP ? set->spp - taken : LVCL_EPOCH_SPP;
+        if (set->time_limit > 0) {
+            /* An epoch cut short is the last, as a fixed count's is. */
+            int fit = (int)floor((set->time_limit - elapsed) / (elapsed / taken));
+            if (fit < spp) spp = fit, last = 1;
+            if (spp <= 0) break;
+        }
+        cl_command_queue q = w->pd->device->queue;
+        if ((w->e = lvcl_cl_check(clEnqueueReadBuffer(q, w->sum, CL_TRUE, 0, n * 4 * sizeof *sum, sum, 0, NULL, NULL),
+                                  "reading the image for adaptive sampling", &w->st)) ||
+            (w->e =
+                 lvcl_cl_check(clEnqueueReadBuffer(q, w->sum_sq, CL_TRUE, 0, n * sizeof *sum_sq, sum_sq, 0, NULL, NULL),
+                               "reading the image for adaptive sampling", &w->st)))
+            goto done;
+        int count = lvcl_adaptive_plan(sum, sum_sq, ps->camera->width, ps->camera->height, (size_t)spp * n, epoch, list,
+                                       rounds);
+        if (count < 0) {
+            w->e = lvcl_fail(&w->st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for adaptive sampling");
+            goto done;
+        }
+        if (count > 0 &&
+            (w->e = lvcl_cl_check(
+                 clEnqueueWriteBuffer(q, w->list, CL_TRUE, 0, rounds[0] * sizeof *list, list, 0, NULL, NULL),
+                 "uploading the pixel list", &w->st)))
+            goto done;
+        for (int j = 0; j < count; j++) {
+            if (launch(w, 0, rounds[j])) goto done;
+            elapsed = launched(ps, taken + spp * (j + 1.0) / count, set->spp);
+        }
+        taken += spp;
+    }
+    ps->samples = taken;
+    ps->owner[0] = w->index;
+    w->pd->bands = 1;
+    w->pd->pixels = n;
+    w->pd->busy_seconds = lvcl_seconds() - start;
+done:
+    free(sum);
+    free(sum_sq);
+    free(list);
+    if (w->e) fail_pass(ps);
+    return NULL;
+}
+
+/* The worker's image sums (cleared) and its pixel list, every pixel in
+ * order (bands launch ranges of it; adaptive epochs overwrite it). */
+static lvcl_error create_buffers(worker *w, size_t pixels, lvcl_status *st)
+{
+    const lvcl_device *dev = w->pd->device;
+    cl_int err;
+    float zero = 0.0f;
+    uint32_t *order = malloc(pixels * sizeof *order);
+    if (!order) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the pixel list");
+    for (size_t i = 0; i < pixels; i++) order[i] = (uint32_t)i;
+    lvcl_error e = LVCL_OK;
+    w->sum = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, pixels * 4 * sizeof(float), NULL, &err);
+    if (!(e = lvcl_cl_check(err, "allocating the image", st)))
+        w->sum_sq = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, pixels * sizeof(float), NULL, &err);
+    if (!e && !(e = lvcl_cl_check(err, "allocating the image", st)))
+        w->list =
+            clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, pixels * sizeof *order, order, &err);
+    if (!e) e = lvcl_cl_check(err, "allocating the pixel list", st);
+    if (!e)
+        e = lvcl_cl_check(
+            clEnqueueFillBuffer(dev->queue, w->sum, &zero, sizeof zero, 0, pixels * 4 * sizeof(float), 0, NULL, NULL),
+            "clearing the image", st);
+    if (!e)
+        e = lvcl_cl_check(
+            clEnqueueFillBuffer(dev->queue, w->sum_sq, &zero, sizeof zero, 0, pixels * sizeof(float), 0, NULL, NULL),
+            "clearing the image", st);
+    free(order);
+    return e;
 }
 
 /* Reads each device's sums and takes from each the bands it rendered. */
@@ -150,25 +282,21 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
     pthread_mutex_init(&ps.lock, NULL);
 
     lvcl_error e = LVCL_OK;
-    float zero = 0.0f;
     for (int d = 0; d < n && !e; d++) {
-        cl_int err;
         workers[d] = (worker){.ps = &ps, .pd = &devices[d], .index = d};
         devices[d].bands = 0;
         devices[d].pixels = 0;
         devices[d].busy_seconds = 0;
-        workers[d].sum =
-            clCreateBuffer(devices[d].device->context, CL_MEM_READ_WRITE, ps.pixels * 4 * sizeof(float), NULL, &err);
-        if (!(e = lvcl_cl_check(err, "allocating the image", st)))
-            e = lvcl_cl_check(clEnqueueFillBuffer(devices[d].device->queue, workers[d].sum, &zero, sizeof zero, 0,
-                                                  ps.pixels * 4 * sizeof(float), 0, NULL, NULL),
-                              "clearing the image", st);
+        e = create_buffers(&workers[d], ps.pixels, st);
     }
+    /* Adaptive sampling needs the whole image on one device, and epochs to share. */
+    int adaptive = n == 1 && settings->adaptive && (settings->spp > LVCL_EPOCH_SPP || settings->time_limit > 0);
     if (!e) {
         lvcl_progress_start(&ps.bar, "render", settings->progress);
         ps.start = lvcl_seconds();
         lvcl_status thread_st = {0};
-        lvcl_error threads_failed = lvcl_run_parallel(render_bands, workers, sizeof workers[0], n, &thread_st);
+        lvcl_error threads_failed =
+            lvcl_run_parallel(adaptive ? render_adaptive : render_bands, workers, sizeof workers[0], n, &thread_st);
         lvcl_progress_finish(&ps.bar);
         out->render_seconds = lvcl_seconds() - ps.start;
         out->first_launch_seconds = ps.first_launch_seconds;
@@ -191,8 +319,11 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
         free(out->rgb);
         out->rgb = NULL;
     }
-    for (int d = 0; d < n; d++)
+    for (int d = 0; d < n; d++) {
         if (workers[d].sum) clReleaseMemObject(workers[d].sum);
+        if (workers[d].sum_sq) clReleaseMemObject(workers[d].sum_sq);
+        if (workers[d].list) clReleaseMemObject(workers[d].list);
+    }
     pthread_mutex_destroy(&ps.lock);
     free(ps.owner);
     free(workers);

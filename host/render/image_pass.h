@@ -13,6 +13,7 @@ typedef struct {
     int first_sample;  /* sample indices first_sample .. first_sample + spp - 1 (0 for an image) */
     double time_limit; /* seconds, 0 = none; one device only (lvcl_session_render refuses it on more) */
     int progress;      /* draw a progress bar on stderr */
+    int adaptive;      /* adaptive sampling (adaptive_sampling.h); one device only, uniform on several */
 } lvcl_pass_settings;
 
 typedef struct {
@@ -24,8 +25,8 @@ typedef struct {
 } lvcl_render_result;
 
 /* One device's share of a pass. The caller has bound the kernel's
- * arguments but its pixel arguments (LV_PIXEL_ARGS: camera, pixel range,
- * sample index, sum), which the pass binds at the indices pixel_args names.
+ * arguments but its pixel arguments (LV_PIXEL_ARGS: camera, pixel list and
+ * range, first sample, sums), which the pass binds at the indices pixel_args names.
  * The pass fills in the work the device did. */
 typedef struct {
     const lvcl_device *device;

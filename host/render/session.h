@@ -35,7 +35,7 @@ typedef struct {
     lvcl_pass_settings pass;
     lvcl_volume_settings volume;
     int integrate;    /* the gather integrates over all bins instead of sampling one */
-    double threshold; /* near-hit distance in metres; 0 = the cell diagonal */
+    double threshold; /* near-hit distance in metres; 0 = half the cell diagonal */
 } lvcl_render_request;
 
 /* How an lv render under a time limit spent it (session_budget.c). */

@@ -117,6 +117,52 @@ static void test_convergence(const char *label, const char *scene_name, const ch
     free(ref.rgb);
 }
 
+/* Adaptive sampling (host/render/adaptive_sampling.c) against uniform
+ * sampling of the same pixels' streams: the path tracer's image at 64 spp
+ * stays unbiased (channel means within 1% of the reference) and loses no
+ * accuracy, and with at most one epoch (8 spp) it is the uniform image. */
+static void test_adaptive(const char *ref_path)
+{
+    image ref;
+    if (!read_reference(ref_path, &ref)) {
+        SKIP("adaptive sampling", "tests/reference/cornell.exr not found");
+        return;
+    }
+    image im[2][2];
+    const int spps[2] = {8, 64};
+    for (int k = 0; k < 2; k++)
+        for (int a = 0; a < 2; a++) {
+            lvcl_scene scene;
+            lvcl_render_request req = {.mode = LVCL_MODE_PT,
+                                       .width = ref.width,
+                                       .height = ref.height,
+                                       .pass = {.spp = spps[k], .adaptive = a}};
+            if (!load("cornell", &scene) || !render_request("adaptive sampling", &scene, NULL, 7, &req, &im[k][a])) {
+                free(ref.rgb);
+                return;
+            }
+        }
+    size_t n = (size_t)ref.width * ref.height;
+    CHECK("adaptive sampling: one epoch (8 spp) is the uniform image",
+          !memcmp(im[0][0].rgb, im[0][1].rgb, n * 3 * sizeof(float)), "images differ");
+    double e_uniform = lvcl_relmse(im[1][0].rgb, ref.rgb, n * 3),
+           e_adaptive = lvcl_relmse(im[1][1].rgb, ref.rgb, n * 3);
+    printf("  cornell pt 64 spp: relMSE uniform %.4g, adaptive %.4g\n", e_uniform, e_adaptive);
+    CHECK("adaptive sampling: Cornell box pt at 64 spp no less accurate than uniform", e_adaptive <= e_uniform,
+          "relMSE %.4g against %.4g", e_adaptive, e_uniform);
+    double mean[3], mean_ref[3];
+    lvcl_mean_rgb(im[1][1].rgb, n, mean);
+    lvcl_mean_rgb(ref.rgb, n, mean_ref);
+    int unbiased = 1;
+    for (int c = 0; c < 3; c++) unbiased &= fabs(mean[c] / mean_ref[c] - 1) < 0.01;
+    CHECK("adaptive sampling: channel means within 1% of the reference", unbiased && all_finite(&im[1][1]),
+          "means %.5f %.5f %.5f against %.5f %.5f %.5f", mean[0], mean[1], mean[2], mean_ref[0], mean_ref[1],
+          mean_ref[2]);
+    for (int k = 0; k < 2; k++)
+        for (int a = 0; a < 2; a++) free(im[k][a].rgb);
+    free(ref.rgb);
+}
+
 static void scale_scene(lvcl_scene *s, float k)
 {
     for (size_t i = 0; i < 3 * s->vertex_count; i++) s->positions[i] *= k;
@@ -226,6 +272,7 @@ int main(int argc, char **argv)
     snprintf(ref, sizeof ref, "%s/reference/cornell.exr", tests_dir);
     const int cornell_spp[] = {16, 64, 256};
     test_convergence("cornell", "cornell", ref, cornell_spp, 3, 0.0015);
+    test_adaptive(ref);
     snprintf(ref, sizeof ref, "%s/../../shared/reference/cornell-spheres.mitsuba.exr", tests_dir);
     char scene[4096];
     snprintf(scene, sizeof scene, "%s/../../shared/reference/cornell-spheres.glb", tests_dir);
