@@ -266,6 +266,23 @@ typedef struct {
         0xebedeed9u, 0xd96eb1a8u, 0xc862b36du, 0xb8acd90cu, 0xaa324f90u, 0x9cda5e69u, 0x908e3d2cu, 0x8538ecb5u \
     }
 
+/* A 32-bit integer hash with good avalanche (a xorshift-multiply chain):
+ * the kernels' random numbers (kernels/util/rng.h) and the dither of
+ * adaptive sampling's plan on the host (host/render/adaptive_sampling.c). */
+#ifdef __OPENCL_C_VERSION__
+inline lv_u32 lv_hash(lv_u32 x)
+#else
+static inline lv_u32 lv_hash(lv_u32 x)
+#endif
+{
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
 /* Luminance of linear RGB (Rec. 709 weights): light power, light selection
  * and the volume's normalisation use it on both sides. */
 #define LV_LUMINANCE(r, g, b) (0.2126f * (r) + 0.7152f * (g) + 0.0722f * (b))

@@ -3,6 +3,8 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "../../kernels/shared_types.h"
+
 /* relMSE's guard against dark pixels (host/io/metrics.c). */
 #define DARK_GUARD 0.01
 /* The neighbourhood whose error a pixel's share follows: the 24 pixels
@@ -13,16 +15,6 @@
 #define SHARE_FLOOR 0.1
 
 #define MAX_SHARE (LVCL_EPOCH_MAX_SHARE * LVCL_EPOCH_SPP)
-
-static uint32_t hash32(uint32_t x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
 
 int lvcl_adaptive_plan(const float *sum, const float *sum_sq, uint32_t width, uint32_t height, size_t samples,
                        uint32_t epoch, uint32_t *list, uint32_t *rounds)
@@ -76,7 +68,7 @@ int lvcl_adaptive_plan(const float *sum, const float *sum_sq, uint32_t width, ui
     for (size_t i = 0; i < pixels; i++) {
         /* Without any variance seen the epoch stays uniform. */
         double want = mean > 0 ? scale * (weight[i] + SHARE_FLOOR * mean) : (double)samples / (double)pixels;
-        double dither = (hash32(hash32((uint32_t)i) ^ (epoch * 0x9e3779b9u)) >> 8) * 0x1p-24;
+        double dither = (lv_hash(lv_hash((uint32_t)i) ^ (epoch * 0x9e3779b9u)) >> 8) * 0x1p-24;
         double k = floor(want + dither);
         share[i] = (uint8_t)(k > MAX_SHARE ? MAX_SHARE : k);
         count[share[i]]++;

@@ -78,7 +78,7 @@ static double launched(pass_state *ps, double done, double total)
     return elapsed;
 }
 
-/* Bind the arguments every launch of the worker shares. */
+/* Binds the arguments every launch of the worker shares. */
 static lvcl_error bind_shared(worker *w)
 {
     pass_state *ps = w->ps;

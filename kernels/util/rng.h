@@ -7,16 +7,7 @@
 
 #include "../shared_types.h"
 
-/* A 32-bit integer hash with good avalanche (a xorshift-multiply chain). */
-inline uint lv_hash(uint x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
+/* lv_hash, the hash every stream is made of, is in shared_types.h. */
 
 typedef struct {
     uint key;
