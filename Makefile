@@ -133,7 +133,8 @@ test: all
 ASAN_FLAGS := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 test-asan: $(BUILD)/.deps-ok
 	$(MAKE) BUILD=$(BUILD)/asan CFLAGS="$(ASAN_FLAGS)" CXXFLAGS="$(ASAN_FLAGS)" \
-	  $(BUILD)/asan/lvcl $(BUILD)/asan/lvcl-compare $(BUILD)/asan/tests/test_gltf_import
+	  $(BUILD)/asan/lvcl $(BUILD)/asan/lvcl-compare $(BUILD)/asan/tests/test_gltf_import \
+	  $(BUILD)/asan/tests/test_adaptive_sampling
 	@ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=tests/asan/lsan.supp:print_suppressions=0 \
 	  tests/run.sh $(BUILD)/asan --asan
 

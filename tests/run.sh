@@ -45,7 +45,7 @@ wanted() {
 }
 
 if [ -n "$asan" ]; then
-    programs="$build/tests/test_gltf_import"
+    programs="$build/tests/test_gltf_import $build/tests/test_adaptive_sampling"
 else
     programs=$(ls "$build"/tests/test_* 2>/dev/null)
 fi
