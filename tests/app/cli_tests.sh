@@ -63,9 +63,20 @@ expect_error "unwritable output" 1 --spp 1 --width 8 -o "$tmp/no/such/dir/x.png"
 expect_error "unknown output format" 1 --spp 1 --width 8 -o "$tmp/x.unknownformat" cornell
 expect_error "device memory not a number" 2 --device-memory lots cornell
 expect_error "light volume over the device memory" 1 --device-memory 2 --mode lv --spp 1 --width 8 cornell
+expect_error "unknown adaptive setting" 2 --adaptive maybe cornell
 
 if "$lvcl" --help | grep -q -- '--device'; then pass "--help lists the flags"; else fail "--help" "no --device in the text"; fi
 if "$lvcl" --list-devices | grep -q '^0 '; then pass "--list-devices"; else fail "--list-devices" "no device 0"; fi
+
+# Adaptive sampling: the same command gives the same image (its plan reads
+# only the image's sums), and it differs from uniform sampling past 8 spp.
+"$lvcl" -q --spp 24 --width 48 -o "$tmp/ad1.exr" cornell 2>/dev/null
+"$lvcl" -q --spp 24 --width 48 -o "$tmp/ad2.exr" cornell 2>/dev/null
+"$lvcl" -q --spp 24 --width 48 --adaptive off -o "$tmp/ad0.exr" cornell 2>/dev/null
+if "$build/lvcl-compare" "$tmp/ad1.exr" "$tmp/ad2.exr" | grep -q '"rmse": 0,' &&
+    ! "$build/lvcl-compare" "$tmp/ad1.exr" "$tmp/ad0.exr" | grep -q '"rmse": 0,'; then
+    pass "adaptive sampling repeats its image and differs from uniform"
+else fail "adaptive sampling repeats its image and differs from uniform" "$("$build/lvcl-compare" "$tmp/ad1.exr" "$tmp/ad2.exr")"; fi
 
 # A small render writes both default outputs, in out/ under the working directory.
 (cd "$tmp" && "$OLDPWD/$lvcl" -q --spp 2 --width 32 cornell) 2>"$tmp/err"
