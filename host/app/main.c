@@ -7,6 +7,7 @@
 
 #include "../io/image_io.h"
 #include "options.h"
+#include "../render/adaptive_sampling.h"
 #include "../render/session.h"
 #include "stats.h"
 #include "../util/timer.h"
@@ -83,6 +84,10 @@ static lvcl_error run(const lvcl_options *o, lvcl_session **s, lvcl_render_resul
     stats->startup_seconds = lvcl_seconds() - stats->process_start;
     if ((e = lvcl_session_render(*s, &req, res, st))) return e;
     stats->result = res;
+    if (req.pass.adaptive && !res->adaptive && lvcl_session_device_count(*s) > 1 && res->samples > LVCL_EPOCH_SPP &&
+        !o->quiet)
+        fprintf(stderr, "lvcl: adaptive sampling needs one device; the %d devices sampled uniformly\n",
+                lvcl_session_device_count(*s));
     if (o->spp_given && res->samples < o->spp && !o->quiet)
         fprintf(stderr, "lvcl: time limit reached after %d of %d samples per pixel\n", res->samples, o->spp);
     if ((e = write_outputs(o, res, st))) return e;

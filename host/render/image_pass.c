@@ -301,6 +301,7 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
         out->render_seconds = lvcl_seconds() - ps.start;
         out->first_launch_seconds = ps.first_launch_seconds;
         out->samples = ps.samples;
+        out->adaptive = adaptive;
         for (int d = 0; d < n && !e; d++)
             if (workers[d].e) {
                 *st = workers[d].st;

@@ -20,6 +20,7 @@ typedef struct {
     float *rgb; /* width x height x 3, malloc'ed; the caller frees it */
     int width, height;
     int samples;                 /* samples per pixel actually taken */
+    int adaptive;                /* the samples were placed by adaptive sampling (one device, past one epoch) */
     double first_launch_seconds; /* first launch, which may compile machine code */
     double render_seconds;
 } lvcl_render_result;

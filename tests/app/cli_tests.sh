@@ -88,7 +88,7 @@ else fail "default outputs in out/" "$(cat "$tmp/err")"; fi
 "$lvcl" -q --spp 2 --width 32 --stats "$tmp/s2.json" -o "$tmp/b.exr" cornell 2>/dev/null
 missing=""
 for key in device triangles bvh_build_seconds bvh_bytes kernel_build_seconds kernel_from_cache render_seconds \
-    samples_per_second startup_seconds; do
+    samples_per_second startup_seconds adaptive; do
     grep -q "\"$key\"" "$tmp/s1.json" 2>/dev/null || missing="$missing $key"
 done
 if [ -z "$missing" ]; then pass "stats fields"; else fail "stats fields" "missing:$missing"; fi
