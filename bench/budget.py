@@ -12,7 +12,10 @@ lvcl: `lvcl -q --time-limit T --mode M ...` per mode, no --spp unless given in
 limit: for an lv render its budget's spent_seconds (particle passes,
 pilot images and gather), else render_seconds plus particle_trace_seconds;
 "wall_seconds" is the whole process (startup, kernel build and writing the
-image included).  --before runs the lv mode of another build as well (for
+image included).  Before the first budget each lvcl build renders every mode
+once under a 2-second limit, image thrown away: a build whose kernels
+changed would otherwise spend up to 3 s of its first budget on PoCL's
+first-launch compiles (the program build is not counted, those are).  --before runs the lv mode of another build as well (for
 error against time before and after a change).
 
 Mitsuba 3 (llvm_ad_rgb where it loads, else scalar_rgb; unidirectional path
@@ -199,6 +202,14 @@ def parse_args():
     return a
 
 
+def warm_lvcl(a, mode, build, extra, workdir):
+    """Fills the kernel caches of `build` for `mode` at the image size."""
+    image = os.path.join(workdir, "warm.exr")
+    cmd = [os.path.join(build, "lvcl"), "-q", "--width", str(a.width), "--height", str(a.height),
+           "--time-limit", "2", "-o", image, "--mode", mode] + shlex.split(extra) + [a.scene]
+    subprocess.run(cmd, check=True)
+
+
 def main():
     a = parse_args()
     os.makedirs(a.out, exist_ok=True)
@@ -208,6 +219,10 @@ def main():
     with tempfile.TemporaryDirectory(prefix="lvcl_budget_") as workdir:
         mi, scene, variant, load = load_mitsuba(a, workdir)
         print(f"budget: Mitsuba {variant}, scene loaded in {load:.2f} s", file=sys.stderr)
+        for m in a.modes:
+            warm_lvcl(a, m, a.build, a.lvcl_args, workdir)
+        if a.before:
+            warm_lvcl(a, "lv", a.before, a.before_args, workdir)
         for budget in a.budgets:
             for rep in range(a.repeats):
                 seed = a.seed + rep
