@@ -174,7 +174,7 @@ references: $(VENV)/.stamp
 	$(VENV)/bin/python $(REFDIR)/render_reference.py scenes/glass-table.gltf $(REFDIR)/glass-table.exr \
 	  --spp 20480 --width 256 --height 256 --pass-spp 512
 	$(VENV)/bin/python $(REFDIR)/render_reference.py scenes/kitchen.gltf $(REFDIR)/kitchen.exr \
-	  --spp 8192 --width 160 --height 120 --pass-spp 512
+	  --spp 32768 --width 160 --height 120 --pass-spp 512
 
 # Renders the shared references' scenes with the converter and compares, to
 # show the converter agrees with the independent one (needs ../shared).
