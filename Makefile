@@ -172,7 +172,7 @@ references: $(VENV)/.stamp
 	$(VENV)/bin/python $(REFDIR)/render_reference.py scenes/furnace.gltf $(REFDIR)/furnace.exr \
 	  --spp 4096 --width 64 --height 64 --pass-spp 1024
 	$(VENV)/bin/python $(REFDIR)/render_reference.py scenes/glass-table.gltf $(REFDIR)/glass-table.exr \
-	  --spp 20480 --width 256 --height 256 --pass-spp 512
+	  --spp 40960 --width 256 --height 256 --pass-spp 512
 	$(VENV)/bin/python $(REFDIR)/render_reference.py scenes/kitchen.gltf $(REFDIR)/kitchen.exr \
 	  --spp 32768 --width 160 --height 120 --pass-spp 512
 
