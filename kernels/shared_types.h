@@ -374,13 +374,12 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
  * fold them. */
 /* clang-format off */
 
-/* The pixel range of the camera passes: one sample per pixel of
- * [first_pixel, first_pixel + pixel_count) per launch, added to sum. */
-/* A launch takes one sample of each of the pixels pixel_list[first_pixel ..
- * first_pixel + pixel_count); a pixel's sample index is first_sample plus
- * the samples its sum holds, so pixels may hold different counts (adaptive
- * sampling, host/render/image_pass.c). sum_sq adds the square of each
- * sample's channel mean, for the pixel's variance. */
+/* The camera passes' pixel arguments. A launch takes one sample of each
+ * of the pixels pixel_list[first_pixel .. first_pixel + pixel_count); a
+ * pixel's sample index is first_sample plus the samples its sum holds, so
+ * pixels may hold different counts (adaptive sampling,
+ * host/render/image_pass.c). sum_sq adds the square of each sample's
+ * channel mean, for the pixel's variance. */
 #define LV_PIXEL_ARGS(X, SEP, kernel)                \
     X(kernel, VALUE, lv_camera, camera) SEP()        \
     X(kernel, BUFFER, const uint, pixel_list) SEP()  \

@@ -7,7 +7,7 @@ double lvcl_relmse(const float *a, const float *ref, size_t count)
     double sum = 0.0;
     for (size_t i = 0; i < count; i++) {
         double d = (double)a[i] - ref[i];
-        sum += d * d / ((double)ref[i] * ref[i] + 0.01);
+        sum += d * d / ((double)ref[i] * ref[i] + LVCL_RELMSE_GUARD);
     }
     return count ? sum / (double)count : 0.0;
 }

@@ -4,7 +4,11 @@
 
 #include <stddef.h>
 
-/* mean((a - ref)^2 / (ref^2 + 0.01)) over pixels and channels. */
+/* relMSE's guard against dark pixels: the 0.01 in its denominator, which
+ * the light volume's time budget and adaptive sampling weigh errors by too. */
+#define LVCL_RELMSE_GUARD 0.01
+
+/* mean((a - ref)^2 / (ref^2 + LVCL_RELMSE_GUARD)) over pixels and channels. */
 double lvcl_relmse(const float *a, const float *ref, size_t count);
 
 /* sqrt(mean((a - ref)^2)). */

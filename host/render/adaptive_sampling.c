@@ -4,9 +4,8 @@
 #include <stdlib.h>
 
 #include "../../kernels/shared_types.h"
+#include "../io/metrics.h"
 
-/* relMSE's guard against dark pixels (host/io/metrics.c). */
-#define DARK_GUARD 0.01
 /* The neighbourhood whose error a pixel's share follows: the 24 pixels
  * around it in a 5 x 5 square. A 3 x 3 one followed the path tracer's
  * fireflies on the glass table and lost there (docs/design.md). */
@@ -33,7 +32,7 @@ int lvcl_adaptive_plan(const float *sum, const float *sum_sq, uint32_t width, ui
     for (size_t i = 0; i < pixels; i++) {
         double n = sum[4 * i + 3], m = n > 0 ? (sum[4 * i] + sum[4 * i + 1] + sum[4 * i + 2]) / (3.0 * n) : 0;
         variance[i] = n > 1 ? fmax(0.0, (sum_sq[i] - n * m * m) / (n - 1)) : 0;
-        guard[i] = m * m + DARK_GUARD;
+        guard[i] = m * m + LVCL_RELMSE_GUARD;
     }
     /* Each pixel's error per sample, from its neighbours only. */
     double *weight = malloc(pixels * sizeof *weight);

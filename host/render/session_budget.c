@@ -18,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "../io/metrics.h"
 #include "session_internal.h"
 #include "../util/timer.h"
 
@@ -86,7 +87,7 @@ static double weighted_difference(const float *a, const float *b, const float *d
     return n ? sum / (double)n : 0;
 }
 
-/* relMSE's denominators (value^2 + 0.01) from the mean of the pilots,
+/* relMSE's denominators (value^2 + LVCL_RELMSE_GUARD) from the mean of the pilots,
  * averaged over 3 x 3 pixels, so that their noise does not weigh. */
 static float *denominators(const lvcl_render_result *img, int count)
 {
@@ -106,7 +107,7 @@ static float *denominators(const lvcl_render_result *img, int count)
                         n += count;
                     }
                 double m = sum / n;
-                den[((size_t)y * w + x) * 3 + c] = (float)(m * m + 0.01);
+                den[((size_t)y * w + x) * 3 + c] = (float)(m * m + LVCL_RELMSE_GUARD);
             }
     return den;
 }
