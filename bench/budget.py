@@ -202,14 +202,6 @@ def parse_args():
     return a
 
 
-def warm_lvcl(a, mode, build, extra, workdir):
-    """Fills the kernel caches of `build` for `mode` at the image size."""
-    image = os.path.join(workdir, "warm.exr")
-    cmd = [os.path.join(build, "lvcl"), "-q", "--width", str(a.width), "--height", str(a.height),
-           "--time-limit", "2", "-o", image, "--mode", mode] + shlex.split(extra) + [a.scene]
-    subprocess.run(cmd, check=True)
-
-
 def main():
     a = parse_args()
     os.makedirs(a.out, exist_ok=True)
@@ -219,10 +211,12 @@ def main():
     with tempfile.TemporaryDirectory(prefix="lvcl_budget_") as workdir:
         mi, scene, variant, load = load_mitsuba(a, workdir)
         print(f"budget: Mitsuba {variant}, scene loaded in {load:.2f} s", file=sys.stderr)
+        # Fill the kernel caches at the image size; these images are thrown away.
+        warm = os.path.join(workdir, "warm.exr")
         for m in a.modes:
-            warm_lvcl(a, m, a.build, a.lvcl_args, workdir)
+            run_lvcl(a, m, 2, a.seed, warm)
         if a.before:
-            warm_lvcl(a, "lv", a.before, a.before_args, workdir)
+            run_lvcl(a, "lv", 2, a.seed, warm, a.before, a.before_args)
         for budget in a.budgets:
             for rep in range(a.repeats):
                 seed = a.seed + rep
