@@ -76,6 +76,8 @@ static lvcl_error run(const lvcl_options *o, lvcl_session **s, lvcl_render_resul
                    .subcells = o->subcells,
                    .visibility_rate = o->visibility_rate,
                    .merge_tolerance = o->merge_tolerance,
+                   .refine_density = o->refine_density,
+                   .refine_memory = (uint64_t)(o->refine_memory_mib * 1048576.0),
                    .particles = (uint64_t)o->particles,
                    .progress = !o->quiet},
         .integrate = !strcmp(o->gather, "integrate"),

@@ -19,6 +19,9 @@
 #define LVCL_MAX_SPP (1 << 24)
 #define LVCL_DEFAULT_SUBCELLS 4
 #define LVCL_DEFAULT_MERGE_TOLERANCE 0
+/* --refine on: the density a cell's pieces per particle x sqrt(particles)
+ * must reach for it to split (docs/light-volume.md, "Refined cells"). */
+#define LVCL_REFINE_DENSITY 4.0
 
 static lvcl_error parse_int(const char *flag, const char *s, long lo, long hi, long *out, lvcl_status *st)
 {
@@ -116,7 +119,9 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
                                            "--adaptive",
                                            "--device-memory",
                                            "--visibility-rate",
-                                           "--merge-tolerance"};
+                                           "--merge-tolerance",
+                                           "--refine",
+                                           "--refine-memory"};
         int known = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++) known |= !strcmp(a, with_value[k]);
         if (!known) return lvcl_fail(st, LVCL_ERR_USAGE, "unknown option '%s' (see --help)", a);
@@ -179,7 +184,16 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
             o->threshold = x;
         } else if (!strcmp(a, "--gather")) o->gather = v;
         else if (!strcmp(a, "--adaptive")) o->adaptive = v;
-        else if (!strcmp(a, "--device-memory")) {
+        else if (!strcmp(a, "--refine")) {
+            if (!strcmp(v, "off")) o->refine_density = 0;
+            else if (!strcmp(v, "on")) o->refine_density = LVCL_REFINE_DENSITY;
+            else if (parse_real(a, v, 1e-6, 1e12, &x, st))
+                return lvcl_fail(st, LVCL_ERR_USAGE, "--refine expects on, off or a density above 0, not '%s'", v);
+            else o->refine_density = x;
+        } else if (!strcmp(a, "--refine-memory")) {
+            e = parse_real(a, v, 1, 1e9, &x, st);
+            o->refine_memory_mib = x;
+        } else if (!strcmp(a, "--device-memory")) {
             e = parse_real(a, v, 0.01, 1e9, &x, st);
             o->device_memory_mib = x;
         }
@@ -191,6 +205,8 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown gather '%s' (expected sample or integrate)", o->gather);
     if (strcmp(o->adaptive, "on") && strcmp(o->adaptive, "off"))
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown --adaptive '%s' (expected on or off)", o->adaptive);
+    if (o->refine_density > 0 && o->merge_tolerance > 0)
+        return lvcl_fail(st, LVCL_ERR_USAGE, "--refine cannot be combined with --merge-tolerance");
     if (!o->scene) o->scene = DEFAULT_SCENE;
     fill_defaults(o);
     return LVCL_OK;
@@ -223,6 +239,11 @@ void lvcl_options_print_help(const char *program)
         "  --merge-tolerance T  light volume: adaptive cells: 2x2x2 blocks with no geometry inside share one\n"
         "                       tally set where their cells differ by less than T times their noise at\n"
         "                       the particle count (default 0: off; 0.25 measured neutral, see docs)\n"
+        "  --refine on|off|D    light volume: split the cells the particles cross most densely into\n"
+        "                       octants (beside their walls' planes) after a first part of the trace\n"
+        "                       (default off; D: the density threshold, on = 4; see docs)\n"
+        "  --refine-memory MIB  light volume: memory the refined volume may take (default: twice\n"
+        "                       the unrefined volume's)\n"
         "  --threshold M        lv: BSDF rays meeting a rough surface closer than M metres\n"
         "                       continue as paths (default half the cell diagonal)\n"
         "  --gather integrate|sample  lv: integrate the BSDF over all bins of the cell (default),\n"

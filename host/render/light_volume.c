@@ -2,7 +2,6 @@
  * few buffers as the device allows, checked against its memory budget and
  * allocated; the accessors of the opaque handle. */
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -46,6 +45,18 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
         return e;
     }
 
+    if ((e = lvcl_volume_place(vol, st)) || (e = lvcl_volume_allocate(vol, st))) {
+        lvcl_volume_release(vol);
+        return e;
+    }
+    *out = vol;
+    return LVCL_OK;
+}
+
+lvcl_error lvcl_volume_place(lvcl_light_volume *vol, lvcl_status *st)
+{
+    const lvcl_device *dev = vol->dev;
+    const lv_grid_info *g = &vol->buf.info;
     int fits = lvcl_volume_layout_tallies(vol);
     /* Beside the tallies: the cell index, and per slot a subcell record, a
      * lit volume, its tally set and the cell's planes (one buffer each). */
@@ -54,15 +65,21 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     size_t share_bytes = (vol->region_share_count ? vol->region_share_count : 1) * sizeof(float);
     vol->device_bytes = vol->tally_bytes + vol->cell_count * sizeof(uint32_t) + records + region_bytes + share_bytes;
     if (!fits || records > dev->max_alloc || region_bytes > dev->max_alloc || share_bytes > dev->max_alloc ||
-        vol->device_bytes > dev->global_mem) {
-        lvcl_error e = lvcl_fail(st, LVCL_ERR_TOO_LARGE,
-                                 "the light volume needs %.1f MiB (%u cells x %u bins) but %s allows %.1f MiB in one "
-                                 "buffer (at most %d buffers) and %.1f MiB in all; use fewer --cells or --dirs",
-                                 vol->device_bytes / 1048576.0, g->slot_count, g->bins, dev->name,
-                                 dev->max_alloc / 1048576.0, LV_TALLY_PARTS, dev->global_mem / 1048576.0);
-        lvcl_volume_release(vol);
-        return e;
-    }
+        vol->device_bytes > dev->global_mem)
+        return lvcl_fail(st, LVCL_ERR_TOO_LARGE,
+                         "the light volume needs %.1f MiB (%u cells x %u bins) but %s allows %.1f MiB in one "
+                         "buffer (at most %d buffers) and %.1f MiB in all; use fewer --cells or --dirs",
+                         vol->device_bytes / 1048576.0, g->slot_count, g->bins, dev->name, dev->max_alloc / 1048576.0,
+                         LV_TALLY_PARTS, dev->global_mem / 1048576.0);
+    return LVCL_OK;
+}
+
+lvcl_error lvcl_volume_allocate(lvcl_light_volume *vol, lvcl_status *st)
+{
+    const lvcl_device *dev = vol->dev;
+    const lv_grid_info *g = &vol->buf.info;
+    size_t region_bytes = ((size_t)g->slot_count + 1) * sizeof(lv_slot_region);
+    size_t share_bytes = (vol->region_share_count ? vol->region_share_count : 1) * sizeof(float);
     cl_int err;
     vol->buf.cell_slot = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                         vol->cell_count * sizeof(uint32_t), vol->cell_slot, &err);
@@ -77,22 +94,16 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
                                              ((size_t)g->slot_count + 1) * sizeof(uint32_t), vol->tally_slot, &err);
     if (err == CL_SUCCESS) err = lvcl_volume_allocate_tallies(vol);
     if (err == CL_SUCCESS)
-        vol->buf.subcells =
-            clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
-                           ((size_t)g->slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(cl_uint), NULL, &err);
+        vol->buf.subcells = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, lvcl_volume_record_bytes(vol), NULL, &err);
     if (err == CL_SUCCESS)
         vol->buf.lit_volume =
             clCreateBuffer(dev->context, CL_MEM_READ_WRITE, ((size_t)g->slot_count + 1) * sizeof(float), NULL, &err);
-    if (err == CL_SUCCESS)
+    if (err == CL_SUCCESS && !vol->bin_table_buf)
         vol->bin_table_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
                                             (size_t)LV_BIN_TABLE_FLOATS(g->bins) * sizeof(float), NULL, &err);
-    if (err != CL_SUCCESS) {
-        char what[300];
-        snprintf(what, sizeof what, "allocating the light volume on %s", dev->name);
-        lvcl_volume_release(vol);
-        return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "%s failed: %s", what, lvcl_cl_error_name(err));
-    }
-    *out = vol;
+    if (err != CL_SUCCESS)
+        return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "allocating the light volume on %s failed: %s", dev->name,
+                         lvcl_cl_error_name(err));
     return LVCL_OK;
 }
 
@@ -183,6 +194,7 @@ lvcl_volume_stats lvcl_volume_stats_of(const lvcl_light_volume *vol)
                                .segments = vol->segments,
                                .visibility_rays = vol->visibility_rays,
                                .merged_cells = vol->merged_cells,
+                               .split_cells = vol->split_cells,
                                .trace_seconds = vol->trace_seconds};
 }
 
@@ -205,6 +217,7 @@ void lvcl_volume_release(lvcl_light_volume *vol)
     free(vol->regions);
     free(vol->tally_slot);
     free(vol->block_of_slot);
+    free(vol->split_slot);
     free(vol->region_shares);
     free(vol);
 }

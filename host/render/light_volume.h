@@ -42,6 +42,8 @@ typedef struct {
     lvcl_particle_source *source; /* several devices: take batches from here; NULL: trace them all */
     int store_emitted;            /* lv-all: tally the segments leaving the lights too */
     double merge_tolerance;       /* adaptive cells: see lvcl_volume_adapt; 0 = every cell keeps its tallies */
+    double refine_density;        /* refined cells: see lvcl_volume_refine; 0 = no cell is split */
+    uint64_t refine_memory;       /* bytes a refined volume may take on the device; 0 = twice the unrefined */
     int progress;
 } lvcl_volume_settings;
 
@@ -54,6 +56,7 @@ typedef struct {
     uint64_t segments;        /* straight path pieces traced */
     uint64_t visibility_rays; /* subcell visibility rays cast (paper 4.1) */
     size_t merged_cells;      /* slots sharing a merged block's tally set (lvcl_volume_adapt) */
+    size_t split_cells;       /* cells split by lvcl_volume_refine */
     double trace_seconds;
 } lvcl_volume_stats;
 
@@ -85,6 +88,28 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
  * with settings->merge_tolerance > 0. */
 lvcl_error lvcl_volume_adapt(lvcl_light_volume *vol, double expected_particles, double merge_tolerance,
                              lvcl_status *st);
+
+/* Refined cells (docs/light-volume.md, "Refined cells"): after a part of
+ * the trace and before lvcl_volume_finish, splits the stored cells whose
+ * tallies say the particles cross them densely (pieces per particle x
+ * expected_particles at least density x sqrt(expected_particles)), the
+ * densest first while the volume stays within `memory` bytes on the
+ * device (0: twice its size), by planes through their middle along the
+ * axes their own planes leave free. A split cell's tallies restart from
+ * the particles traced so far; the lit volumes scale for it, so each
+ * region's estimate stays unbiased. Once per volume; density 0 splits
+ * nothing. The decision reads only integer tallies: the same on every
+ * device and run. Not with merged cells (--merge-tolerance). */
+/* A fixed-count trace with refined cells splits them after this share
+ * (1 / LVCL_SPLIT_AFTER) of its particles. */
+#define LVCL_SPLIT_AFTER 4
+lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles, double density, uint64_t memory,
+                              lvcl_status *st);
+
+/* Empties the tallies and subcell records but keeps the particle count:
+ * after lvcl_volume_merge, on every device but the first, so that the
+ * next merge counts the particles traced so far once. */
+lvcl_error lvcl_volume_empty(lvcl_light_volume *vol, lvcl_status *st);
 
 /* After the trace: the per-cell lit volumes the lookups read (lv_lit_volumes). */
 lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st);

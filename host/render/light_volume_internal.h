@@ -18,6 +18,10 @@ struct lvcl_light_volume {
     size_t block_count;      /* blocks block_of_slot numbers */
     int adapted;             /* lvcl_volume_adapt has merged blocks: the tally sets are fixed */
     size_t merged_cells;     /* slots that share their block's tally set */
+    int refined;             /* lvcl_volume_refine has run: the layout is fixed */
+    size_t split_cells;      /* cells it split (volume_refine.c) */
+    double split_from;       /* the particle count when it split them */
+    uint8_t *split_slot;     /* per slot: 1 in a split cell, whose tallies hold particles from split_from on */
     float *region_shares;    /* host copy of the cut cells' region shares */
     size_t region_share_count;
     size_t cell_count; /* dims[0] * dims[1] * dims[2] */
@@ -30,6 +34,18 @@ struct lvcl_light_volume {
     uint64_t segments;
     uint64_t visibility_rays;
 };
+
+/* The mean tally (units of one) that one particle's piece of segment adds
+ * to a cell's bins, per channel: a weight near one (power over total
+ * power, kept near one by the BSDF weights and Russian roulette) times the
+ * mean chord of a cube, 2/3 of its side. Tallies over it count pieces;
+ * adaptive cells take a bin's variance as this times its tally, as if its
+ * pieces were alike. */
+#define LVCL_PIECE_TALLY 0.67
+
+/* Planes whose normals are within 25 degrees (cos 25 degrees) are one
+ * wall's to the regions of cut cells (volume_planes.c, volume_refine.c). */
+#define LVCL_SAME_NORMAL 0.9063077870366499
 
 /* The index of cell (x, y, z) in the grid's cell arrays (cell_slot). */
 static inline size_t lvcl_volume_cell_index(const lv_grid_info *g, int x, int y, int z)
@@ -70,6 +86,28 @@ lvcl_error lvcl_volume_assign_slots(const lvcl_packed_scene *p, lv_grid_info *g,
 lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
                                      lv_slot_region **regions, float **shares, size_t *share_count, lvcl_status *st);
 
+/* One stored cell's planes (cell units, lv_slot_region's convention). */
+typedef struct {
+    float planes[LV_REGION_PLANES][4];
+    uint8_t count;
+} lvcl_cell_planes;
+
+/* Fills out[] with stored cell s's region shares as lvcl_region_shares
+ * would (per pattern, the region's volume then its subcells'), where they
+ * are known already; returns 0 where they must be computed. */
+typedef int (*lvcl_known_shares)(void *ctx, uint32_t s, float *out);
+
+/* Gives a stored cell cut by P planes 2^P consecutive slots (fewer where a
+ * region is empty): on entry slot[] numbers the stored cells
+ * (g->slot_count of them) and planes[] holds each one's; on return slot[]
+ * holds each cell's first slot (| LV_CUT_CELL where it has planes),
+ * g->slot_count the slots, and *regions, *shares and *share_count are as
+ * lvcl_volume_build_regions gives them. `known` (may be NULL) saves
+ * computing the shares of cells whose planes did not change. */
+lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl_cell_planes *planes,
+                                       lvcl_known_shares known, void *ctx, uint32_t *slot, lv_slot_region **regions,
+                                       float **shares, size_t *share_count, lvcl_status *st);
+
 /* The exact shares of the 2^count regions of a cell with these planes (cell
  * units, lv_slot_region's convention) and k^3 subcells (k = 0: none): per
  * region m, at out[m (1 + max(k^3, 1))], the region's volume over the
@@ -85,6 +123,18 @@ lvcl_error lvcl_volume_find_blocks(lvcl_light_volume *vol, const lvcl_packed_sce
 /* After lv_lit_volumes: gives every cell of a merged block the block's
  * lit volume, the sum of its cells' (volume_adapt.c). */
 lvcl_error lvcl_volume_share_lit(lvcl_light_volume *vol, lvcl_status *st);
+
+/* After lv_lit_volumes: scales the lit volume of every slot of a split
+ * cell by the share of the particles it was traced (volume_refine.c). */
+lvcl_error lvcl_volume_scale_split(lvcl_light_volume *vol, lvcl_status *st);
+
+/* Lays the tallies out (lvcl_volume_layout_tallies), totals the device
+ * memory the volume takes and checks it against the device. */
+lvcl_error lvcl_volume_place(lvcl_light_volume *vol, lvcl_status *st);
+
+/* Creates the volume's device buffers (the tallies and subcell records
+ * uninitialised) from the host copies of its layout. */
+lvcl_error lvcl_volume_allocate(lvcl_light_volume *vol, lvcl_status *st);
 
 /* Lays info.tally_sets out over the fewest buffers the device allows
  * (info.slots_per_part, vol->tally_parts, vol->tally_bytes); 0 if more than

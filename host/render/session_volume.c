@@ -31,21 +31,23 @@ lvcl_error lvcl_session_new_volume(lvcl_session *s, int d, const lvcl_volume_set
     return lvcl_volume_create(&sd->device, &s->packed, settings, &sd->volume, st);
 }
 
-lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings *settings, lvcl_status *st)
+/* Traces the particles [first, end) over every device (a faster device
+ * takes more batches) and, on several, adds their volumes. */
+static lvcl_error trace_devices(lvcl_session *s, const lvcl_volume_settings *settings, uint64_t first, uint64_t end,
+                                lvcl_status *st)
 {
-    lvcl_error e = LVCL_OK;
     int n = s->device_count;
-    for (int d = 0; d < n && !e; d++) e = lvcl_session_new_volume(s, d, settings, st);
-    if (e) return e;
     trace_job jobs[LVCL_MAX_DEVICES];
     lvcl_particle_source source;
-    lvcl_particle_source_init(&source, settings->first_particle, settings->particles);
+    lvcl_particle_source_init(&source, first, end);
     for (int d = 0; d < n; d++) {
         jobs[d] = (trace_job){.sd = &s->devices[d], .vs = *settings};
+        jobs[d].vs.first_particle = first;
+        jobs[d].vs.particles = end;
         jobs[d].vs.source = n > 1 ? &source : NULL;
         jobs[d].vs.progress = settings->progress && d == 0;
     }
-    e = lvcl_run_parallel(trace_part, jobs, sizeof jobs[0], n, st);
+    lvcl_error e = lvcl_run_parallel(trace_part, jobs, sizeof jobs[0], n, st);
     lvcl_particle_source_destroy(&source);
     if (e) return e;
     for (int d = 0; d < n; d++)
@@ -58,8 +60,30 @@ lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings
         for (int d = 0; d < n; d++) vols[d] = s->devices[d].volume;
         double t = lvcl_seconds();
         if ((e = lvcl_volume_merge(vols, n, st))) return e;
-        s->merge_seconds = lvcl_seconds() - t;
+        s->merge_seconds += lvcl_seconds() - t;
     }
+    return LVCL_OK;
+}
+
+lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings *settings, lvcl_status *st)
+{
+    lvcl_error e = LVCL_OK;
+    int n = s->device_count;
+    for (int d = 0; d < n && !e; d++) e = lvcl_session_new_volume(s, d, settings, st);
+    if (e) return e;
+    s->merge_seconds = 0;
+    uint64_t split_at = settings->refine_density > 0 ? settings->particles / LVCL_SPLIT_AFTER : 0;
+    if (split_at > 0) {
+        /* Refined cells: every device holds the same tallies after the
+         * merge, so each splits the same cells; all but the first then
+         * empty theirs, so that the next merge counts them once. */
+        if ((e = trace_devices(s, settings, 0, split_at, st))) return e;
+        for (int d = 0; d < n && !e; d++)
+            e = lvcl_volume_refine(s->devices[d].volume, (double)settings->particles, settings->refine_density,
+                                   settings->refine_memory, st);
+        for (int d = 1; d < n && !e; d++) e = lvcl_volume_empty(s->devices[d].volume, st);
+    }
+    if (!e) e = trace_devices(s, settings, split_at, settings->particles, st);
     /* Every device holds the same tallies now, so each merges the same blocks. */
     for (int d = 0; d < n && !e; d++)
         e = lvcl_volume_adapt(s->devices[d].volume, (double)settings->particles, settings->merge_tolerance, st);

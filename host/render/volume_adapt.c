@@ -182,12 +182,6 @@ static lvcl_error store_sets(lvcl_light_volume *vol, const int64_t *sets, lvcl_s
     return lvcl_cl_check(err, "storing the light volume's merged cells", st);
 }
 
-/* The mean tally (units of one) that one particle's piece of segment adds
- * to a bin, per channel: a weight near one (power over total power, kept
- * near one by the BSDF weights and Russian roulette) times the mean chord
- * of a cube, 2/3 of its side. The noise test below takes a bin's variance
- * as this times its tally, as if its pieces were alike. */
-#define PIECE_TALLY 0.67
 #define PI 3.14159265358979323846
 
 /* The lit volume of an uncut slot as lv_cell_lit_volume computes it, in
@@ -249,7 +243,7 @@ static int block_should_merge(const int64_t *tallies, const uint32_t *records, u
         volume += lit[i];
     }
     /* Per cell and moment: the sum, and the sum with squared weights (its
-     * variance over PIECE_TALLY). */
+     * variance over LVCL_PIECE_TALLY). */
     double m[8][MOMENTS] = {{0}}, m2[8][MOMENTS] = {{0}}, total[MOMENTS] = {0}, total2[MOMENTS] = {0};
     for (uint32_t i = 0; i < count; i++)
         for (uint32_t b = 0; b < bins; b++) {
@@ -270,7 +264,8 @@ static int block_should_merge(const int64_t *tallies, const uint32_t *records, u
     for (int j = 0; j < MOMENTS; j++) {
         if (!(total[j] > 0)) continue;
         for (uint32_t i = 0; i < count; i++) {
-            double share = lit[i] / volume, expected = total[j] * share, variance = PIECE_TALLY * total2[j] * share;
+            double share = lit[i] / volume, expected = total[j] * share,
+                   variance = LVCL_PIECE_TALLY * total2[j] * share;
             if (variance > 0) chi2 += (m[i][j] - expected) * (m[i][j] - expected) / variance;
         }
         df += count - 1;

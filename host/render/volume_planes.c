@@ -11,8 +11,7 @@
 /* Triangles join a cluster whose normal is within 25 degrees of theirs
  * (either way round: both faces of a thin wall join) and whose offset is
  * within a quarter cell. */
-#define SAME_NORMAL 0.9063077870366499 /* cos 25 degrees */
-#define SAME_OFFSET 0.25               /* cells */
+#define SAME_OFFSET 0.25 /* cells */
 /* A plane must cut the cell by more than this (cells) to split it. */
 #define CUT_MARGIN 1e-3
 /* A part of a mesh's tree that spans at most two cells along every axis
@@ -69,7 +68,7 @@ static void add_to_cell(clusters *c, int cell, const double n[3], double d, doub
     for (int i = c->head[cell]; i >= 0; i = c->pool[i].next) {
         cluster *k = &c->pool[i];
         double cosine = dot3(n, k->ref);
-        if (fabs(cosine) <= SAME_NORMAL) continue;
+        if (fabs(cosine) <= LVCL_SAME_NORMAL) continue;
         double s = cosine > 0 ? 1.0 : -1.0;
         if (fabs(s * d - k->sum_d / k->area) >= SAME_OFFSET * h) continue;
         for (int j = 0; j < 3; j++) k->sum_n[j] += s * area * n[j];
@@ -175,7 +174,8 @@ static int choose_planes(const clusters *c, int cell, const double lo[3], double
         if (!cuts_cell(n, d, lo, h)) continue;
         int same = 0;
         for (int j = 0; j < count; j++)
-            same |= fabs(dot3(n, pn[j])) > SAME_NORMAL && fabs((dot3(n, pn[j]) > 0 ? d : -d) - pd[j]) < SAME_OFFSET * h;
+            same |= fabs(dot3(n, pn[j])) > LVCL_SAME_NORMAL &&
+                fabs((dot3(n, pn[j]) > 0 ? d : -d) - pd[j]) < SAME_OFFSET * h;
         if (same) continue;
         for (int j = 0; j < 3; j++) pn[count][j] = n[j];
         pd[count] = d;
@@ -196,12 +196,10 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
     size_t stored = g->slot_count;
     clusters c = {0};
     c.head = malloc((stored ? stored : 1) * sizeof *c.head);
-    float(*planes)[LV_REGION_PLANES][4] = malloc((stored ? stored : 1) * sizeof *planes);
-    uint8_t *count = malloc(stored ? stored : 1);
-    if (!c.head || !planes || !count) {
+    lvcl_cell_planes *planes = malloc((stored ? stored : 1) * sizeof *planes);
+    if (!c.head || !planes) {
         free(c.head);
         free(planes);
-        free(count);
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' planes");
     }
     for (size_t i = 0; i < stored; i++) c.head[i] = -1;
@@ -228,6 +226,34 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
             }
         }
     }
+    if (!c.failed)
+        for (size_t z = 0, i = 0; z < g->dims[2]; z++)
+            for (size_t y = 0; y < g->dims[1]; y++)
+                for (size_t x = 0; x < g->dims[0]; x++, i++) {
+                    uint32_t s = slot[i];
+                    if (s == LV_EMPTY_CELL) continue;
+                    double lo[3] = {g->origin[0] + (double)x * g->cell_size, g->origin[1] + (double)y * g->cell_size,
+                                    g->origin[2] + (double)z * g->cell_size};
+                    planes[s].count = (uint8_t)choose_planes(&c, (int)s, lo, g->cell_size, planes[s].planes);
+                }
+    int failed = c.failed;
+    free(c.head);
+    free(c.pool);
+    lvcl_error e = failed
+        ? lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' planes")
+        : lvcl_volume_lay_out_regions(g, cells, planes, NULL, NULL, slot, regions, shares, share_count, st);
+    free(planes);
+    return e;
+}
+
+lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl_cell_planes *planes,
+                                       lvcl_known_shares known, void *ctx, uint32_t *slot, lv_slot_region **regions,
+                                       float **shares, size_t *share_count, lvcl_status *st)
+{
+    *regions = NULL;
+    *shares = NULL;
+    *share_count = 0;
+    size_t stored = g->slot_count;
     /* Per stored cell: its first slot, its layout (P and the pattern ->
      * slot map), which patterns have a region of their own and where
      * their shares start. */
@@ -238,66 +264,55 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
     uint32_t *first = malloc((stored ? stored : 1) * sizeof *first);
     uint8_t *kept = malloc(stored ? stored : 1);
     float *sh = NULL, tmp[(1u << LV_REGION_PLANES) * (1u + LV_SUBCELL_MAX)];
-    int failed = c.failed || !base || !layout || !first || !kept;
-    if (!failed) {
-        for (size_t z = 0, i = 0; z < g->dims[2]; z++)
-            for (size_t y = 0; y < g->dims[1]; y++)
-                for (size_t x = 0; x < g->dims[0]; x++, i++) {
-                    uint32_t s = slot[i];
-                    if (s == LV_EMPTY_CELL) continue;
-                    double lo[3] = {g->origin[0] + (double)x * g->cell_size, g->origin[1] + (double)y * g->cell_size,
-                                    g->origin[2] + (double)z * g->cell_size};
-                    count[s] = (uint8_t)choose_planes(&c, (int)s, lo, g->cell_size, planes[s]);
-                }
-        for (size_t s = 0; s < stored && !failed; s++) {
-            base[s] = (uint32_t)total;
-            layout[s] = 0;
-            first[s] = LV_NO_SHARES;
-            kept[s] = 1;
-            if (!count[s]) {
-                total++;
-                continue;
-            }
-            /* The exact shares (volume_shares.c); a pattern whose region
-             * has under a millionth of the cell gets no slot. */
-            uint32_t patterns = 1u << count[s], index[1u << LV_REGION_PLANES], n = 0;
-            lvcl_region_shares((const float(*)[4])planes[s], count[s], k, tmp);
-            kept[s] = 0;
-            for (uint32_t m = 0; m < patterns; m++)
-                if (tmp[m * per] > 1e-6f) kept[s] |= (uint8_t)(1u << m), index[m] = n++;
-            if (!n) kept[s] = 1, index[0] = n++; /* rounding only: keep one */
-            layout[s] = count[s];
-            for (uint32_t m = 0; m < patterns; m++) {
-                /* An empty pattern reads the kept one fewest planes away. */
-                uint32_t best = m;
-                for (uint32_t q = 0; !(kept[s] >> best & 1u) && q < patterns; q++)
-                    if (kept[s] >> q & 1u) best = q;
-                for (uint32_t q = 0; q < patterns && !(kept[s] >> m & 1u); q++)
-                    if (kept[s] >> q & 1u && __builtin_popcount(q ^ m) < __builtin_popcount(best ^ m)) best = q;
-                layout[s] |= index[best] << (8u + 3u * m);
-            }
-            if (share_total + (size_t)n * per > share_cap) {
-                size_t cap = share_cap ? 2 * share_cap : 65536;
-                while (cap < share_total + (size_t)n * per) cap *= 2;
-                float *grown = realloc(sh, cap * sizeof *sh);
-                if (!grown) {
-                    failed = 1;
-                    break;
-                }
-                sh = grown;
-                share_cap = cap;
-            }
-            first[s] = (uint32_t)share_total;
-            for (uint32_t m = 0; m < patterns; m++)
-                if (kept[s] >> m & 1u) {
-                    memcpy(sh + share_total, tmp + m * per, per * sizeof *sh);
-                    share_total += per;
-                }
-            total += n;
+    int failed = !base || !layout || !first || !kept;
+    for (size_t s = 0; s < stored && !failed; s++) {
+        uint32_t count = planes[s].count;
+        base[s] = (uint32_t)total;
+        layout[s] = 0;
+        first[s] = LV_NO_SHARES;
+        kept[s] = 1;
+        if (!count) {
+            total++;
+            continue;
         }
+        /* The exact shares (volume_shares.c); a pattern whose region
+         * has under a millionth of the cell gets no slot. */
+        uint32_t patterns = 1u << count, index[1u << LV_REGION_PLANES], n = 0;
+        if (!known || !known(ctx, (uint32_t)s, tmp))
+            lvcl_region_shares((const float(*)[4])planes[s].planes, (int)count, k, tmp);
+        kept[s] = 0;
+        for (uint32_t m = 0; m < patterns; m++)
+            if (tmp[m * per] > 1e-6f) kept[s] |= (uint8_t)(1u << m), index[m] = n++;
+        if (!n) kept[s] = 1, index[0] = n++; /* rounding only: keep one */
+        layout[s] = count;
+        for (uint32_t m = 0; m < patterns; m++) {
+            /* An empty pattern reads the kept one fewest planes away. */
+            uint32_t best = m;
+            for (uint32_t q = 0; !(kept[s] >> best & 1u) && q < patterns; q++)
+                if (kept[s] >> q & 1u) best = q;
+            for (uint32_t q = 0; q < patterns && !(kept[s] >> m & 1u); q++)
+                if (kept[s] >> q & 1u && __builtin_popcount(q ^ m) < __builtin_popcount(best ^ m)) best = q;
+            layout[s] |= index[best] << (8u + 3u * m);
+        }
+        if (share_total + (size_t)n * per > share_cap) {
+            size_t cap = share_cap ? 2 * share_cap : 65536;
+            while (cap < share_total + (size_t)n * per) cap *= 2;
+            float *grown = realloc(sh, cap * sizeof *sh);
+            if (!grown) {
+                failed = 1;
+                break;
+            }
+            sh = grown;
+            share_cap = cap;
+        }
+        first[s] = (uint32_t)share_total;
+        for (uint32_t m = 0; m < patterns; m++)
+            if (kept[s] >> m & 1u) {
+                memcpy(sh + share_total, tmp + m * per, per * sizeof *sh);
+                share_total += per;
+            }
+        total += n;
     }
-    free(c.head);
-    free(c.pool);
     lv_slot_region *r = NULL;
     if (!failed && !sh) sh = calloc(1, sizeof *sh);
     if (!failed && sh && total < LV_CUT_CELL - 1) r = calloc(total + 1, sizeof *r);
@@ -307,33 +322,29 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
         free(first);
         free(kept);
         free(sh);
-        free(planes);
-        free(count);
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' regions");
     }
     for (size_t s = 0; s < stored; s++)
-        for (uint32_t m = 0, j = 0; m < 1u << count[s]; m++) {
+        for (uint32_t m = 0, j = 0; m < 1u << planes[s].count; m++) {
             if (!(kept[s] >> m & 1u)) continue;
             lv_slot_region *e = &r[base[s] + j];
-            memcpy(e->planes, planes[s], sizeof e->planes);
+            memcpy(e->planes, planes[s].planes, sizeof e->planes);
             e->layout = layout[s];
             e->base_slot = base[s];
             e->region = m;
-            e->shares = count[s] ? first[s] + j * per : LV_NO_SHARES;
+            e->shares = planes[s].count ? first[s] + j * per : LV_NO_SHARES;
             j++;
         }
     r[total].shares = LV_NO_SHARES;
     *shares = sh;
     *share_count = share_total;
     for (size_t i = 0; i < cells; i++)
-        if (slot[i] != LV_EMPTY_CELL) slot[i] = base[slot[i]] | (count[slot[i]] ? LV_CUT_CELL : 0u);
+        if (slot[i] != LV_EMPTY_CELL) slot[i] = base[slot[i]] | (planes[slot[i]].count ? LV_CUT_CELL : 0u);
     g->slot_count = (lv_u32)total;
     free(base);
     free(layout);
     free(first);
     free(kept);
-    free(planes);
-    free(count);
     *regions = r;
     return LVCL_OK;
 }

@@ -38,7 +38,8 @@ lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, 
         !(e = lvcl_kernel_enqueue(dev, k, vol->buf.info.slot_count, "computing the lit volumes", st)))
         e = lvcl_cl_check(clFinish(dev->queue), "computing the lit volumes", st);
     clReleaseKernel(k);
-    return e ? e : lvcl_volume_share_lit(vol, st);
+    if (!e) e = lvcl_volume_share_lit(vol, st);
+    return e ? e : lvcl_volume_scale_split(vol, st);
 }
 
 void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t first, uint64_t end)
@@ -72,26 +73,32 @@ static int next_batch(const lvcl_volume_settings *s, uint64_t *cursor, uint64_t 
     return *count > 0;
 }
 
-/* Empties the tallies and subcell records and fills the bins' directions. */
-static lvcl_error clear_volume(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st)
+lvcl_error lvcl_volume_empty(lvcl_light_volume *vol, lvcl_status *st)
 {
     const lvcl_device *dev = vol->dev;
-    lvcl_error e;
-    if ((e = fill_bin_table(vol, prog, st))) return e;
+    lvcl_error e = LVCL_OK;
     cl_long zero = 0;
-    for (int i = 0; i < vol->tally_parts; i++)
-        if ((e = lvcl_cl_check(clEnqueueFillBuffer(dev->queue, vol->buf.tallies[i], &zero, sizeof zero, 0,
-                                                   lvcl_volume_part_bytes(vol, i), 0, NULL, NULL),
-                               "clearing the light volume", st)))
-            return e;
+    for (int i = 0; i < vol->tally_parts && !e; i++)
+        e = lvcl_cl_check(clEnqueueFillBuffer(dev->queue, vol->buf.tallies[i], &zero, sizeof zero, 0,
+                                              lvcl_volume_part_bytes(vol, i), 0, NULL, NULL),
+                          "clearing the light volume", st);
     cl_uint none = 0;
-    if ((e = lvcl_cl_check(clEnqueueFillBuffer(dev->queue, vol->buf.subcells, &none, sizeof none, 0,
-                                               lvcl_volume_record_bytes(vol), 0, NULL, NULL),
-                           "clearing the subcells", st)))
-        return e;
+    if (!e)
+        e = lvcl_cl_check(clEnqueueFillBuffer(dev->queue, vol->buf.subcells, &none, sizeof none, 0,
+                                              lvcl_volume_record_bytes(vol), 0, NULL, NULL),
+                          "clearing the subcells", st);
+    return e;
+}
+
+/* Empties the volume, its counters too, and fills the bins' directions. */
+static lvcl_error clear_volume(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st)
+{
+    lvcl_error e;
+    if ((e = fill_bin_table(vol, prog, st)) || (e = lvcl_volume_empty(vol, st))) return e;
     vol->segments = vol->visibility_rays = vol->particles = 0;
     vol->trace_seconds = 0;
     vol->buf.info.particles = 0;
+    vol->split_from = 0; /* split cells, if any, hold every particle from here on */
     return LVCL_OK;
 }
 

@@ -4,7 +4,8 @@
  * regions must keep it apart, for walls from one polygon to 30 cm, with
  * the grid at several offsets and sizes, and --subcells 0 to 4; and with
  * adaptive cells merging every block the geometry allows (a block that
- * held the wall would join the rooms).
+ * held the wall would join the rooms), and with refined cells splitting
+ * every cell they can (the middle planes must not undo the wall's).
  *
  * (a) Leak: the bright lamp red and the dim one blue; the walls are grey,
  *     so the true red radiance in the dim room is 0 while its own blue
@@ -120,12 +121,15 @@ static void two_rooms(float thickness, const float bright[3], const float dim[3]
  * below x = -X): its cells on both sides are uncut, and only the adaptive
  * cells' test for a wall between two cells of a block keeps them apart. */
 #define ON_WALL(n) ((WALL_X + X) / (float)(n))
+/* A refinement density that splits every cell with a plane to spare. */
+#define REFINE_ALL 1e-6
 
 typedef struct {
     float thickness, offset;
     int cells, subcells;
     double merge;    /* adaptive cells' tolerance, 0 = off */
     float cell_size; /* metres, 0: from cells */
+    double refine;   /* refined cells' density, 0 = off */
 } setup;
 
 static int render(float thickness, const float bright[3], const float dim[3], const setup *u, uint64_t particles,
@@ -139,6 +143,8 @@ static int render(float thickness, const float bright[3], const float dim[3], co
     req.volume.offset = u->offset;
     req.volume.merge_tolerance = u->merge;
     req.volume.cell_size = u->cell_size;
+    req.volume.refine_density = u->refine;
+    req.volume.refine_memory = (uint64_t)1 << 32;
     if (harness_render(&scene, NULL, 5, &req, r, &st)) {
         CHECK("two rooms: render", 0, "%s", st.message);
         return 0;
@@ -176,6 +182,12 @@ static void test_leak(void)
         {0.0f, 0.0f, 0, 4, MERGE_ALL, ON_WALL(20)},
         {0.0f, 0.0f, 0, 0, MERGE_ALL, ON_WALL(13)},
         {0.0f, 0.0f, 0, 2, MERGE_ALL, ON_WALL(9)},
+        {0.0f, 0.37f, 32, 4, .refine = REFINE_ALL},
+        {0.005f, 0.5f, 16, 0, .refine = REFINE_ALL},
+        {0.02f, 0.0f, 32, 2, .refine = REFINE_ALL},
+        {0.06f, 0.37f, 16, 3, .refine = REFINE_ALL},
+        {0.0f, 0.0f, 0, 4, .cell_size = ON_WALL(20), .refine = REFINE_ALL},
+        {0.0f, 0.0f, 0, 0, .cell_size = ON_WALL(13), .refine = REFINE_ALL},
     };
     const float ratios[] = {25.0f, 1000.0f};
     double worst = 0;
@@ -187,9 +199,9 @@ static void test_leak(void)
         if (!render(u->thickness, bright, dim, u, 200000, 32, 4, &r)) return;
         double red = channel_mean(&r, 0), blue = channel_mean(&r, 2), leak = red / (ratio * blue);
         free(r.rgb);
-        printf("  leak: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, cell %.4g m, %.0fx: red %.3g, "
-               "blue %.3g\n",
-               u->thickness, u->offset, u->cells, u->subcells, u->merge, u->cell_size, ratio, red, blue);
+        printf("  leak: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m, %.0fx: "
+               "red %.3g, blue %.3g\n",
+               u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, ratio, red, blue);
         if (!(leak <= worst)) worst = leak;
         CHECK("two rooms: the bright room's light does not leak into the dim one", blue > 0 && leak < 1e-4,
               "wall %.3f m, offset %.2f, %d cells, %d subcells, %.0fx: red / (ratio blue) = %.3g", u->thickness,
@@ -207,7 +219,9 @@ static void test_on_off(void)
                             {0.3f, 0.37f, 32, 0},
                             {0.0f, 0.0f, 32, 4, 1.0},
                             {0.02f, 0.5f, 16, 0, MERGE_ALL},
-                            {0.0f, 0.0f, 0, 4, MERGE_ALL, ON_WALL(20)}};
+                            {0.0f, 0.0f, 0, 4, MERGE_ALL, ON_WALL(20)},
+                            {0.02f, 0.37f, 32, 4, .refine = REFINE_ALL},
+                            {0.0f, 0.5f, 16, 0, .refine = REFINE_ALL}};
     const int size = 32, block = 8, nb = size / block;
     for (size_t i = 0; i < sizeof setups / sizeof *setups; i++) {
         const setup *u = &setups[i];
@@ -234,9 +248,10 @@ static void test_on_off(void)
             }
         for (int k = 0; k < nb * nb; k++) var += (d[k] - mean) * (d[k] - mean) / (nb * nb - 1);
         for (int k = 0; k < nb * nb; k++) worst = fmax(worst, fabs(d[k]) / sqrt(var));
-        printf("  on/off: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, cell %.4g m: mean ratio %.4f, "
-               "worst block %.2f standard deviations (block difference sd %.3g)\n",
-               u->thickness, u->offset, u->cells, u->subcells, u->merge, u->cell_size, ratio, worst, sqrt(var));
+        printf("  on/off: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m: mean "
+               "ratio %.4f, worst block %.2f standard deviations (block difference sd %.3g)\n",
+               u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, ratio, worst,
+               sqrt(var));
         CHECK("two rooms: the dim room's mean is the same with the bright lamp on and off within 3%",
               fabs(ratio - 1) < 0.03, "wall %.3f m, offset %.2f, %d cells, %d subcells: on / off %.4f", u->thickness,
               u->offset, u->cells, u->subcells, ratio);

@@ -1,0 +1,311 @@
+/* Refined cells (docs/light-volume.md, "Refined cells"): after a first
+ * part of the trace, the stored cells that the particles cross most
+ * densely are split by axis-aligned planes through their middle, beside
+ * the planes of their geometry (at most LV_REGION_PLANES in all), so an
+ * uncut cell becomes its eight octants and a cell cut by one wall the four
+ * quarters of each side. The new regions are ordinary region slots: the
+ * kernels need nothing new.
+ *
+ * A split cell's tallies restart from the particle the split happens at,
+ * n0, so its regions hold only particles [n0, N): the lit volumes of its
+ * slots are scaled by (N - n0) / N (lvcl_volume_scale_split), which
+ * keeps eq. 5 unbiased within each region. The decision reads only the
+ * integer tallies, so every run and device splits the same cells. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "light_volume_internal.h"
+
+typedef struct {
+    double score;  /* pieces per particle */
+    uint32_t cell; /* stored-cell index */
+    uint8_t added; /* planes it gains */
+    uint8_t slots; /* slots it holds now */
+} candidate;
+
+static int by_score(const void *a, const void *b)
+{
+    const candidate *x = a, *y = b;
+    if (x->score != y->score) return x->score > y->score ? -1 : 1;
+    return x->cell < y->cell ? -1 : x->cell > y->cell;
+}
+
+/* Adds to c the middle planes of the axes no plane of it is within 25
+ * degrees of (the regions' test for one wall), the least aligned first, up to LV_REGION_PLANES; returns how many. */
+static int add_middle_planes(lvcl_cell_planes *c)
+{
+    int order[3] = {0, 1, 2}, added = 0;
+    double align[3];
+    for (int a = 0; a < 3; a++) {
+        align[a] = 0;
+        for (int j = 0; j < c->count; j++) align[a] = fmax(align[a], fabs(c->planes[j][a]));
+    }
+    for (int i = 1; i < 3; i++)
+        for (int j = i; j > 0 && align[order[j]] < align[order[j - 1]]; j--) {
+            int t = order[j];
+            order[j] = order[j - 1];
+            order[j - 1] = t;
+        }
+    for (int i = 0; i < 3 && c->count < LV_REGION_PLANES; i++) {
+        int a = order[i];
+        if (align[a] > LVCL_SAME_NORMAL) continue;
+        float *p = c->planes[c->count++];
+        p[0] = p[1] = p[2] = 0.0f;
+        p[a] = 1.0f;
+        p[3] = 0.5f;
+        added++;
+    }
+    return added;
+}
+
+/* Device bytes one more slot costs (tallies, subcell record, lit volume,
+ * tally set, planes), and the shares a slot of a cut cell holds. */
+static size_t slot_bytes(const lv_grid_info *g)
+{
+    return (size_t)g->bins * 3 * sizeof(int64_t) + (LV_SUBCELL_STRIDE + 2) * sizeof(uint32_t) + sizeof(lv_slot_region);
+}
+
+static size_t share_bytes(const lv_grid_info *g)
+{
+    uint32_t k = g->subcells;
+    return (1u + (k ? k * k * k : 1u)) * sizeof(float);
+}
+
+/* Replaces the device's per-slot buffers by ones of the new layout, filled
+ * with these tallies and records. */
+static lvcl_error store_layout(lvcl_light_volume *vol, const int64_t *tallies, const uint32_t *records, lvcl_status *st)
+{
+    lv_grid_info info = vol->buf.info;
+    lvcl_volume_buffers_release(&vol->buf);
+    vol->buf.info = info;
+    lvcl_error e = lvcl_volume_place(vol, st);
+    if (!e) e = lvcl_volume_allocate(vol, st);
+    if (e) return e;
+    cl_int err = CL_SUCCESS;
+    size_t offset = 0;
+    for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS; i++) {
+        err = clEnqueueWriteBuffer(vol->dev->queue, vol->buf.tallies[i], CL_TRUE, 0, lvcl_volume_part_bytes(vol, i),
+                                   (const char *)tallies + offset, 0, NULL, NULL);
+        offset += lvcl_volume_part_bytes(vol, i);
+    }
+    if (err == CL_SUCCESS)
+        err = clEnqueueWriteBuffer(vol->dev->queue, vol->buf.subcells, CL_TRUE, 0, lvcl_volume_record_bytes(vol),
+                                   records, 0, NULL, NULL);
+    return lvcl_cl_check(err, "storing the refined light volume", st);
+}
+
+/* One past the last slot of the cell whose cell_slot entry is `entry`. */
+static uint32_t cell_end(const lv_slot_region *regions, uint32_t slot_count, uint32_t entry)
+{
+    uint32_t base = entry & ~LV_CUT_CELL, end = base + 1;
+    if (entry & LV_CUT_CELL)
+        while (end < slot_count && regions[end].base_slot == base) end++;
+    return end;
+}
+
+/* Per stored cell (numbered in grid order): its planes and first slot, and
+ * for each that can gain a middle plane a candidate scored by the pieces
+ * per particle its tallies hold. Returns the candidates. */
+static size_t collect(const lvcl_light_volume *vol, const int64_t *tallies, lvcl_cell_planes *planes,
+                      uint32_t *first_slot, candidate *cand)
+{
+    const lv_grid_info *g = &vol->buf.info;
+    size_t per_set = (size_t)g->bins * 3, count = 0;
+    for (size_t i = 0, s = 0; i < vol->cell_count; i++) {
+        uint32_t entry = vol->cell_slot[i];
+        if (entry == LV_EMPTY_CELL) continue;
+        uint32_t base = entry & ~LV_CUT_CELL, end = cell_end(vol->regions, g->slot_count, entry);
+        memcpy(planes[s].planes, vol->regions[base].planes, sizeof planes[s].planes);
+        planes[s].count = (uint8_t)(entry & LV_CUT_CELL ? LV_REGION_COUNT(vol->regions[base].layout) : 0);
+        first_slot[s] = base;
+        lvcl_cell_planes trial = planes[s];
+        int added = add_middle_planes(&trial);
+        if (added) {
+            double sum = 0;
+            for (size_t t = (size_t)base * per_set; t < (size_t)end * per_set; t++) sum += (double)tallies[t];
+            cand[count++] = (candidate){.score = sum / (3.0 * LV_TALLY_SCALE * LVCL_PIECE_TALLY) / g->particles,
+                                        .cell = (uint32_t)s,
+                                        .added = (uint8_t)added,
+                                        .slots = (uint8_t)(end - base)};
+        }
+        s++;
+    }
+    return count;
+}
+
+/* Fills the new layout's tallies, records and split flags (per new slot)
+ * from the old: a cell that kept its planes keeps its slots in order,
+ * tallies and all; a split cell's regions start with no tallies, and each
+ * takes the subcell record of the old region it lies in (which subcells
+ * light passed, and how much of each it reached, do not depend on the new
+ * planes). */
+static void remap(const lvcl_light_volume *vol, const uint32_t *new_cell_slot, const lv_slot_region *new_regions,
+                  uint32_t new_slots, const uint32_t *first_slot, const uint8_t *split_cell, const int64_t *tallies,
+                  const uint32_t *records, int64_t *new_tallies, uint32_t *new_records, uint8_t *split_slot)
+{
+    size_t per_set = (size_t)vol->buf.info.bins * 3;
+    for (size_t i = 0, s = 0; i < vol->cell_count; i++) {
+        uint32_t entry = new_cell_slot[i];
+        if (entry == LV_EMPTY_CELL) continue;
+        uint32_t base = entry & ~LV_CUT_CELL, end = cell_end(new_regions, new_slots, entry), old_base = first_slot[s];
+        const lv_slot_region *old = &vol->regions[old_base];
+        uint32_t old_count = vol->cell_slot[i] & LV_CUT_CELL ? LV_REGION_COUNT(old->layout) : 0;
+        for (uint32_t slot = base; slot < end; slot++) {
+            uint32_t from = old_base + (slot - base);
+            if (split_cell[s]) {
+                uint32_t pattern = new_regions[slot].region & ((1u << old_count) - 1u);
+                from = old_base + (old_count ? LV_REGION_OFFSET(old->layout, pattern) : 0u);
+                split_slot[slot] = 1;
+            } else {
+                memcpy(&new_tallies[(size_t)slot * per_set], &tallies[(size_t)from * per_set],
+                       per_set * sizeof(int64_t));
+            }
+            memcpy(&new_records[(size_t)slot * LV_SUBCELL_STRIDE], &records[(size_t)from * LV_SUBCELL_STRIDE],
+                   LV_SUBCELL_STRIDE * sizeof(uint32_t));
+        }
+        s++;
+    }
+}
+
+/* The old layout's shares of a cell that was not split (lvcl_known_shares):
+ * a pattern with a slot had its region's shares, one without had none. */
+typedef struct {
+    const lvcl_light_volume *vol;
+    const uint32_t *first_slot; /* per stored cell, in the old layout */
+    const uint8_t *split_cell;
+    const lvcl_cell_planes *planes;
+} old_layout;
+
+static int old_shares(void *ctx, uint32_t s, float *out)
+{
+    const old_layout *o = ctx;
+    if (o->split_cell[s]) return 0;
+    const lv_grid_info *g = &o->vol->buf.info;
+    uint32_t k = g->subcells, per = 1u + (k ? k * k * k : 1u), base = o->first_slot[s];
+    uint32_t patterns = 1u << o->planes[s].count;
+    for (uint32_t m = 0; m < patterns; m++) out[m * per] = 0.0f;
+    for (uint32_t slot = base; slot < g->slot_count && o->vol->regions[slot].base_slot == base; slot++) {
+        const lv_slot_region *r = &o->vol->regions[slot];
+        if (r->shares == LV_NO_SHARES) return 0;
+        memcpy(out + r->region * per, o->vol->region_shares + r->shares, per * sizeof(float));
+    }
+    return 1;
+}
+
+lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles, double density, uint64_t memory,
+                              lvcl_status *st)
+{
+    lv_grid_info *g = &vol->buf.info;
+    if (vol->refined || !(density > 0) || !(expected_particles > 0) || !(g->particles > 0)) return LVCL_OK;
+    if (vol->block_of_slot) return lvcl_fail(st, LVCL_ERR_USAGE, "--refine cannot be combined with --merge-tolerance");
+    vol->refined = 1;
+    int64_t *tallies = NULL, *new_tallies = NULL;
+    uint32_t *records = NULL, *new_records = NULL, *new_tally_slot = NULL;
+    lv_slot_region *new_regions = NULL;
+    float *new_shares = NULL;
+    uint8_t *split_slot = NULL;
+    size_t new_share_count = 0, per_set = (size_t)g->bins * 3, stored = 0;
+    for (size_t i = 0; i < vol->cell_count; i++) stored += vol->cell_slot[i] != LV_EMPTY_CELL;
+    lvcl_cell_planes *planes = malloc((stored ? stored : 1) * sizeof *planes);
+    candidate *cand = malloc((stored ? stored : 1) * sizeof *cand);
+    uint32_t *first_slot = malloc((stored ? stored : 1) * sizeof *first_slot);
+    uint32_t *new_cell_slot = malloc(vol->cell_count * sizeof *new_cell_slot);
+    uint8_t *split_cell = calloc(stored ? stored : 1, 1);
+    lvcl_error e = lvcl_volume_read(vol, &tallies, &records, st);
+    if (!e && (!planes || !cand || !first_slot || !new_cell_slot || !split_cell))
+        e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory refining the light volume");
+    size_t taken = 0;
+    if (!e) {
+        size_t candidates = collect(vol, tallies, planes, first_slot, cand);
+        /* The densest first, while the pieces they will hold pass density
+         * x sqrt(particles) and the memory lasts (a cell that ends with P
+         * planes holds at most 2^P slots, some of them its own already). */
+        qsort(cand, candidates, sizeof *cand, by_score);
+        size_t budget = memory ? (size_t)memory : 2 * vol->device_bytes, need = vol->device_bytes;
+        double threshold = density * sqrt(expected_particles);
+        for (; taken < candidates; taken++) {
+            const candidate *c = &cand[taken];
+            size_t most = (size_t)1 << (planes[c->cell].count + c->added), cut = planes[c->cell].count > 0;
+            size_t more = (most - c->slots) * slot_bytes(g) + (most - (cut ? c->slots : 0)) * share_bytes(g);
+            if (c->score * expected_particles < threshold || need + more > budget) break;
+            need += more;
+            add_middle_planes(&planes[c->cell]);
+            split_cell[c->cell] = 1;
+        }
+    }
+    lv_grid_info ng = *g;
+    if (!e && taken) {
+        for (size_t i = 0, s = 0; i < vol->cell_count; i++)
+            new_cell_slot[i] = vol->cell_slot[i] == LV_EMPTY_CELL ? LV_EMPTY_CELL : (uint32_t)s++;
+        ng.slot_count = (lv_u32)stored;
+        old_layout old = {.vol = vol, .first_slot = first_slot, .split_cell = split_cell, .planes = planes};
+        e = lvcl_volume_lay_out_regions(&ng, vol->cell_count, planes, old_shares, &old, new_cell_slot, &new_regions,
+                                        &new_shares, &new_share_count, st);
+        if (!e) {
+            new_tallies = calloc((size_t)ng.slot_count * per_set + 1, sizeof(int64_t));
+            new_records = calloc(((size_t)ng.slot_count + 1) * LV_SUBCELL_STRIDE, sizeof(uint32_t));
+            new_tally_slot = malloc(((size_t)ng.slot_count + 1) * sizeof(uint32_t));
+            split_slot = calloc((size_t)ng.slot_count + 1, 1);
+            if (!new_tallies || !new_records || !new_tally_slot || !split_slot)
+                e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory refining the light volume");
+        }
+    }
+    if (!e && taken) {
+        remap(vol, new_cell_slot, new_regions, ng.slot_count, first_slot, split_cell, tallies, records, new_tallies,
+              new_records, split_slot);
+        for (uint32_t i = 0; i <= ng.slot_count; i++) new_tally_slot[i] = i < ng.slot_count ? i : 0;
+            /* The volume takes the new layout. */
+#define SWAP(field, value)  \
+    do {                    \
+        free(vol->field);   \
+        vol->field = value; \
+        value = NULL;       \
+    } while (0)
+        memcpy(vol->cell_slot, new_cell_slot, vol->cell_count * sizeof *new_cell_slot);
+        SWAP(regions, new_regions);
+        SWAP(region_shares, new_shares);
+        SWAP(tally_slot, new_tally_slot);
+        SWAP(split_slot, split_slot);
+#undef SWAP
+        vol->region_share_count = new_share_count;
+        vol->split_cells = taken;
+        vol->split_from = g->particles;
+        g->slot_count = ng.slot_count;
+        g->tally_sets = ng.slot_count;
+        e = store_layout(vol, new_tallies, new_records, st);
+    }
+    free(tallies);
+    free(records);
+    free(planes);
+    free(cand);
+    free(first_slot);
+    free(new_cell_slot);
+    free(split_cell);
+    free(new_tallies);
+    free(new_records);
+    free(new_tally_slot);
+    free(new_regions);
+    free(new_shares);
+    free(split_slot);
+    return e;
+}
+
+lvcl_error lvcl_volume_scale_split(lvcl_light_volume *vol, lvcl_status *st)
+{
+    const lv_grid_info *g = &vol->buf.info;
+    if (!vol->split_cells) return LVCL_OK;
+    if (!(g->particles > vol->split_from))
+        return lvcl_fail(st, LVCL_ERR_USAGE, "split cells need particles traced after the split (lvcl_volume_refine)");
+    float *lit;
+    lvcl_error e = lvcl_volume_read_lit(vol, &lit, st);
+    if (e) return e;
+    float scale = (float)((g->particles - vol->split_from) / g->particles);
+    for (uint32_t s = 0; s < g->slot_count; s++)
+        if (vol->split_slot[s]) lit[s] *= scale;
+    e = lvcl_cl_check(clEnqueueWriteBuffer(vol->dev->queue, vol->buf.lit_volume, CL_TRUE, 0,
+                                           (size_t)g->slot_count * sizeof(float), lit, 0, NULL, NULL),
+                      "storing the split cells' lit volumes", st);
+    free(lit);
+    return e;
+}
