@@ -153,6 +153,20 @@ lvcl_error harness_render(lvcl_scene *scene, const char *device, unsigned seed, 
     return e;
 }
 
+lvcl_error harness_render_mean(lvcl_scene *scene, unsigned seed, const lvcl_render_request *req, double *mean,
+                               lvcl_status *st)
+{
+    lvcl_render_result r;
+    *mean = -1;
+    lvcl_error e = harness_render(scene, NULL, seed, req, &r, st);
+    if (e) return e;
+    double sum = 0;
+    for (int i = 0; i < 3 * r.width * r.height; i++) sum += r.rgb[i];
+    free(r.rgb);
+    *mean = sum / (3.0 * r.width * r.height);
+    return LVCL_OK;
+}
+
 lvcl_render_request harness_request(lvcl_mode mode, int size, int spp, int cells, uint64_t particles)
 {
     return (lvcl_render_request){

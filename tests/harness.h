@@ -51,6 +51,11 @@ lvcl_render_request harness_request(lvcl_mode mode, int size, int spp, int cells
 lvcl_error harness_render(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_render_request *req,
                           lvcl_render_result *out, lvcl_status *st);
 
+/* harness_render on the first device, and the mean of the image's values
+ * (*mean -1 on an error). */
+lvcl_error harness_render_mean(lvcl_scene *scene, unsigned seed, const lvcl_render_request *req, double *mean,
+                               lvcl_status *st);
+
 /* Runs a 1-D kernel over `global` items (padded to LVCL_LOCAL_SIZE) and waits. */
 void harness_run(const lvcl_device *dev, cl_kernel k, size_t global);
 

@@ -121,18 +121,12 @@ static double image_mean(double tolerance)
 {
     lvcl_scene scene;
     lvcl_status st = {0};
-    lvcl_render_result r;
-    if (lvcl_scene_load("cornell", &scene, &st)) return -1;
+    double mean = -1;
     lvcl_render_request req = harness_request(LVCL_MODE_LV, 48, 16, 16, 300000);
     req.volume.merge_tolerance = tolerance;
-    if (harness_render(&scene, NULL, 3, &req, &r, &st)) {
+    if (lvcl_scene_load("cornell", &scene, &st) || harness_render_mean(&scene, 3, &req, &mean, &st))
         CHECK("adaptive cells: render", 0, "%s", st.message);
-        return -1;
-    }
-    double sum = 0;
-    for (int i = 0; i < 3 * r.width * r.height; i++) sum += r.rgb[i];
-    free(r.rgb);
-    return sum / (3.0 * r.width * r.height);
+    return mean;
 }
 
 int main(int argc, char **argv)
