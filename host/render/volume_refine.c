@@ -255,13 +255,13 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
         remap(vol, new_cell_slot, new_regions, ng.slot_count, first_slot, split_cell, tallies, records, new_tallies,
               new_records, split_slot);
         for (uint32_t i = 0; i <= ng.slot_count; i++) new_tally_slot[i] = i < ng.slot_count ? i : 0;
-            /* The volume takes the new layout. */
 #define SWAP(field, value)  \
     do {                    \
         free(vol->field);   \
         vol->field = value; \
         value = NULL;       \
     } while (0)
+        /* The volume takes the new layout. */
         memcpy(vol->cell_slot, new_cell_slot, vol->cell_count * sizeof *new_cell_slot);
         SWAP(regions, new_regions);
         SWAP(region_shares, new_shares);
