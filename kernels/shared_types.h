@@ -227,6 +227,11 @@ typedef struct {
  * the adaptive grid merged (docs/light-volume.md, "Adaptive cells"), the
  * block's. */
 #define LV_TALLY_PARTS 4
+/* Set in tally_slot[s]: the set holds fine bins, 2n x 2n per hemisphere
+ * (one level down the quadtree over each hemisphere's square; bin (i, j)
+ * of n x n covers fine bins (2i..2i+1, 2j..2j+1)), in four consecutive
+ * sets' room of one buffer (docs/light-volume.md, "Refined cells and directions"). */
+#define LV_FINE_DIRS 0x80000000u
 
 /* Subcell records, LV_SUBCELL_STRIDE 32-bit words per stored cell: a mask
  * of two words (bit x + k (y + k z) is switched on when a tallied segment
@@ -397,6 +402,7 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
     X(lv_gather_pass, SCENE, , scene) SEP()                            \
     X(lv_gather_pass, VOLUME, , volume) SEP()                          \
     X(lv_gather_pass, BUFFER, const float, bin_table) SEP()       \
+    X(lv_gather_pass, BUFFER, const float, fine_bin_table) SEP()  /* the bin table of 2n x 2n */ \
     X(lv_gather_pass, VALUE, lv_u32, flags) SEP()     /* LV_GATHER_* */ \
     X(lv_gather_pass, VALUE, float, threshold) SEP()  /* near-hit distance, metres */ \
     LV_PIXEL_ARGS(X, SEP, lv_gather_pass)

@@ -77,6 +77,7 @@ static lvcl_error run(const lvcl_options *o, lvcl_session **s, lvcl_render_resul
                    .visibility_rate = o->visibility_rate,
                    .merge_tolerance = o->merge_tolerance,
                    .refine_density = o->refine_density,
+                   .refine_peak = o->refine_peak,
                    .refine_memory = (uint64_t)(o->refine_memory_mib * 1048576.0),
                    .particles = (uint64_t)o->particles,
                    .progress = !o->quiet},

@@ -1,5 +1,7 @@
 #include "options.h"
 
+#include "../render/light_volume.h"
+
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -19,9 +21,20 @@
 #define LVCL_MAX_SPP (1 << 24)
 #define LVCL_DEFAULT_SUBCELLS 4
 #define LVCL_DEFAULT_MERGE_TOLERANCE 0
-/* --refine on: the density a cell's pieces per particle x sqrt(particles)
- * must reach for it to split (docs/light-volume.md, "Refined cells"). */
-#define LVCL_REFINE_DENSITY 4.0
+/* --refine-dirs on: how many times its mean bin a slot's brightest bin
+ * must hold for the slot to take fine bins (docs/light-volume.md). */
+#define LVCL_REFINE_PEAK 8.0
+
+/* on, off or a number above 0 (on: `on`). */
+static lvcl_error parse_switch(const char *flag, const char *s, double on, double *out, lvcl_status *st)
+{
+    char *end;
+    if (!strcmp(s, "off")) *out = 0;
+    else if (!strcmp(s, "on")) *out = on;
+    else if (!(*out = strtod(s, &end), *s && !*end && *out > 0 && *out < 1e12))
+        return lvcl_fail(st, LVCL_ERR_USAGE, "%s expects on, off or a number above 0, not '%s'", flag, s);
+    return LVCL_OK;
+}
 
 static lvcl_error parse_int(const char *flag, const char *s, long lo, long hi, long *out, lvcl_status *st)
 {
@@ -121,6 +134,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
                                            "--visibility-rate",
                                            "--merge-tolerance",
                                            "--refine",
+                                           "--refine-dirs",
                                            "--refine-memory"};
         int known = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++) known |= !strcmp(a, with_value[k]);
@@ -184,13 +198,9 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
             o->threshold = x;
         } else if (!strcmp(a, "--gather")) o->gather = v;
         else if (!strcmp(a, "--adaptive")) o->adaptive = v;
-        else if (!strcmp(a, "--refine")) {
-            if (!strcmp(v, "off")) o->refine_density = 0;
-            else if (!strcmp(v, "on")) o->refine_density = LVCL_REFINE_DENSITY;
-            else if (parse_real(a, v, 1e-6, 1e12, &x, st))
-                return lvcl_fail(st, LVCL_ERR_USAGE, "--refine expects on, off or a density above 0, not '%s'", v);
-            else o->refine_density = x;
-        } else if (!strcmp(a, "--refine-memory")) {
+        else if (!strcmp(a, "--refine")) e = parse_switch(a, v, LVCL_REFINE_DENSITY, &o->refine_density, st);
+        else if (!strcmp(a, "--refine-dirs")) e = parse_switch(a, v, LVCL_REFINE_PEAK, &o->refine_peak, st);
+        else if (!strcmp(a, "--refine-memory")) {
             e = parse_real(a, v, 1, 1e9, &x, st);
             o->refine_memory_mib = x;
         } else if (!strcmp(a, "--device-memory")) {
@@ -205,7 +215,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown gather '%s' (expected sample or integrate)", o->gather);
     if (strcmp(o->adaptive, "on") && strcmp(o->adaptive, "off"))
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown --adaptive '%s' (expected on or off)", o->adaptive);
-    if (o->refine_density > 0 && o->merge_tolerance > 0)
+    if ((o->refine_density > 0 || o->refine_peak > 0) && o->merge_tolerance > 0)
         return lvcl_fail(st, LVCL_ERR_USAGE, "--refine cannot be combined with --merge-tolerance");
     if (!o->scene) o->scene = DEFAULT_SCENE;
     fill_defaults(o);
@@ -242,6 +252,9 @@ void lvcl_options_print_help(const char *program)
         "  --refine on|off|D    light volume: split the cells the particles cross most densely into\n"
         "                       octants (beside their walls' planes) after a first part of the trace\n"
         "                       (default off; D: the density threshold, on = 4; see docs)\n"
+        "  --refine-dirs on|off|R  light volume: after the same part of the trace, give the slots whose\n"
+        "                       brightest bin holds R times their mean 2n x 2n bins per hemisphere\n"
+        "                       (default off; on = 8; see docs)\n"
         "  --refine-memory MIB  light volume: memory the refined volume may take (default: twice\n"
         "                       the unrefined volume's)\n"
         "  --threshold M        lv: BSDF rays meeting a rough surface closer than M metres\n"

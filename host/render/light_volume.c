@@ -195,6 +195,7 @@ lvcl_volume_stats lvcl_volume_stats_of(const lvcl_light_volume *vol)
                                .visibility_rays = vol->visibility_rays,
                                .merged_cells = vol->merged_cells,
                                .split_cells = vol->split_cells,
+                               .fine_slots = vol->fine_slots,
                                .trace_seconds = vol->trace_seconds};
 }
 
@@ -208,6 +209,11 @@ cl_mem lvcl_volume_bin_table(const lvcl_light_volume *vol)
     return vol->bin_table_buf;
 }
 
+cl_mem lvcl_volume_fine_bin_table(const lvcl_light_volume *vol)
+{
+    return vol->fine_bin_table_buf ? vol->fine_bin_table_buf : vol->bin_table_buf;
+}
+
 void lvcl_volume_release(lvcl_light_volume *vol)
 {
     if (!vol) return;
@@ -217,7 +223,8 @@ void lvcl_volume_release(lvcl_light_volume *vol)
     free(vol->regions);
     free(vol->tally_slot);
     free(vol->block_of_slot);
-    free(vol->split_slot);
+    free(vol->restarted);
+    if (vol->fine_bin_table_buf) clReleaseMemObject(vol->fine_bin_table_buf);
     free(vol->region_shares);
     free(vol);
 }

@@ -43,6 +43,7 @@ typedef struct {
     int store_emitted;            /* lv-all: tally the segments leaving the lights too */
     double merge_tolerance;       /* adaptive cells: see lvcl_volume_adapt; 0 = every cell keeps its tallies */
     double refine_density;        /* refined cells: see lvcl_volume_refine; 0 = no cell is split */
+    double refine_peak;           /* refined directions: see lvcl_volume_refine; 0 = no fine bins */
     uint64_t refine_memory;       /* bytes a refined volume may take on the device; 0 = twice the unrefined */
     int progress;
 } lvcl_volume_settings;
@@ -57,6 +58,7 @@ typedef struct {
     uint64_t visibility_rays; /* subcell visibility rays cast (paper 4.1) */
     size_t merged_cells;      /* slots sharing a merged block's tally set (lvcl_volume_adapt) */
     size_t split_cells;       /* cells split by lvcl_volume_refine */
+    size_t fine_slots;        /* slots it gave fine bins */
     double trace_seconds;
 } lvcl_volume_stats;
 
@@ -89,21 +91,29 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
 lvcl_error lvcl_volume_adapt(lvcl_light_volume *vol, double expected_particles, double merge_tolerance,
                              lvcl_status *st);
 
-/* Refined cells (docs/light-volume.md, "Refined cells"): after a part of
- * the trace and before lvcl_volume_finish, splits the stored cells whose
- * tallies say the particles cross them densely (pieces per particle x
- * expected_particles at least density x sqrt(expected_particles)), the
- * densest first while the volume stays within `memory` bytes on the
- * device (0: twice its size), by planes through their middle along the
- * axes their own planes leave free. A split cell's tallies restart from
- * the particles traced so far; the lit volumes scale for it, so each
- * region's estimate stays unbiased. Once per volume; density 0 splits
- * nothing. The decision reads only integer tallies: the same on every
- * device and run. Not with merged cells (--merge-tolerance). */
 /* A fixed-count trace with refined cells splits them after this share
  * (1 / LVCL_SPLIT_AFTER) of its particles. */
 #define LVCL_SPLIT_AFTER 4
-lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles, double density, uint64_t memory,
+/* --refine on: the density D that a cell's pieces per particle x N must
+ * reach, D sqrt(N), to split; fine bins need it too, whether or not cells
+ * split (docs/light-volume.md, "Refined cells and directions"). */
+#define LVCL_REFINE_DENSITY 4.0
+
+/* Refined cells and directions (docs/light-volume.md): after a part of
+ * the trace and before lvcl_volume_finish, splits the stored cells whose
+ * tallies say the particles cross them densely (pieces per particle x
+ * expected_particles at least settings->refine_density x
+ * sqrt(expected_particles)), the densest first, by planes through their
+ * middle along the axes their own planes leave free; then gives the
+ * slots of other cells whose brightest bin holds settings->refine_peak
+ * times their mean bin 2n x 2n bins, the most concentrated first; all
+ * while the volume stays within settings->refine_memory bytes on the
+ * device (0: twice its size). A refined slot's tallies restart from the
+ * particles traced so far and its lit volume scales for it, so each
+ * region's estimate stays unbiased. Once per volume; density and peak 0
+ * refine nothing. The decision reads only integer tallies: the same on
+ * every device and run. Not with merged cells (--merge-tolerance). */
+lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles, const lvcl_volume_settings *settings,
                               lvcl_status *st);
 
 /* Empties the tallies and subcell records but keeps the particle count:
@@ -147,6 +157,8 @@ lvcl_volume_stats lvcl_volume_stats_of(const lvcl_light_volume *vol);
  * volume. */
 const lvcl_volume_buffers *lvcl_volume_kernel_buffers(const lvcl_light_volume *vol);
 cl_mem lvcl_volume_bin_table(const lvcl_light_volume *vol);
+/* The bin table of 2n x 2n bins (the coarse one while no slot has fine bins). */
+cl_mem lvcl_volume_fine_bin_table(const lvcl_light_volume *vol);
 
 /* Releases everything; NULL is allowed. */
 void lvcl_volume_release(lvcl_light_volume *vol);

@@ -8,21 +8,23 @@
 #include "light_volume.h"
 
 struct lvcl_light_volume {
-    const lvcl_device *dev;  /* borrowed */
-    lvcl_volume_buffers buf; /* the grid and the buffers the kernels take (tallies: info.slots_per_part
+    const lvcl_device *dev;    /* borrowed */
+    lvcl_volume_buffers buf;   /* the grid and the buffers the kernels take (tallies: info.slots_per_part
                                  slots each, unused parts NULL) */
-    uint32_t *cell_slot;     /* host copy of the index grid (cell -> first slot) */
-    lv_slot_region *regions; /* host copy of the per-slot planes (slot_count + 1) */
-    uint32_t *tally_slot;    /* host copy of each slot's tally set (slot_count + 1) */
-    uint32_t *block_of_slot; /* per slot: the block of cells it may merge in, or LV_EMPTY_CELL (volume_adapt.c) */
-    size_t block_count;      /* blocks block_of_slot numbers */
-    int adapted;             /* lvcl_volume_adapt has merged blocks: the tally sets are fixed */
-    size_t merged_cells;     /* slots that share their block's tally set */
-    int refined;             /* lvcl_volume_refine has run: the layout is fixed */
-    size_t split_cells;      /* cells it split (volume_refine.c) */
-    double split_from;       /* the particle count when it split them */
-    uint8_t *split_slot;     /* per slot: 1 in a split cell, whose tallies hold particles from split_from on */
-    float *region_shares;    /* host copy of the cut cells' region shares */
+    uint32_t *cell_slot;       /* host copy of the index grid (cell -> first slot) */
+    lv_slot_region *regions;   /* host copy of the per-slot planes (slot_count + 1) */
+    uint32_t *tally_slot;      /* host copy of each slot's tally set (slot_count + 1) */
+    uint32_t *block_of_slot;   /* per slot: the block of cells it may merge in, or LV_EMPTY_CELL (volume_adapt.c) */
+    size_t block_count;        /* blocks block_of_slot numbers */
+    int adapted;               /* lvcl_volume_adapt has merged blocks: the tally sets are fixed */
+    size_t merged_cells;       /* slots that share their block's tally set */
+    int refined;               /* lvcl_volume_refine has run: the layout is fixed */
+    size_t split_cells;        /* cells it split (volume_refine.c) */
+    size_t fine_slots;         /* slots it gave fine bins (LV_FINE_DIRS) */
+    double split_from;         /* the particle count when it refined them */
+    uint8_t *restarted;        /* per slot: 1 where its tallies hold the particles from split_from on */
+    cl_mem fine_bin_table_buf; /* the bin table of 2n x 2n, once there are fine slots */
+    float *region_shares;      /* host copy of the cut cells' region shares */
     size_t region_share_count;
     size_t cell_count; /* dims[0] * dims[1] * dims[2] */
     int tally_parts;
@@ -124,8 +126,8 @@ lvcl_error lvcl_volume_find_blocks(lvcl_light_volume *vol, const lvcl_packed_sce
  * lit volume, the sum of its cells' (volume_adapt.c). */
 lvcl_error lvcl_volume_share_lit(lvcl_light_volume *vol, lvcl_status *st);
 
-/* After lv_lit_volumes: scales the lit volume of every slot of a split
- * cell by the share of the particles it was traced (volume_refine.c). */
+/* After lv_lit_volumes: scales the lit volume of every refined slot by the
+ * share of the particles it was traced (volume_refine.c). */
 lvcl_error lvcl_volume_scale_split(lvcl_light_volume *vol, lvcl_status *st);
 
 /* Lays the tallies out (lvcl_volume_layout_tallies), totals the device

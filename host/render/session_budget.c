@@ -182,10 +182,10 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
     lvcl_budget_report *b = &s->budget;
     b->used = 1;
     if (vs.particles) { /* --particles given: traced whole, the gather takes what is left */
-        uint64_t split_at = vs.refine_density > 0 ? vs.particles / LVCL_SPLIT_AFTER : 0;
+        uint64_t split_at = vs.refine_density > 0 || vs.refine_peak > 0 ? vs.particles / LVCL_SPLIT_AFTER : 0;
         if (split_at > 0 &&
             ((e = trace_range(s, &vs, 0, split_at, 0, st)) ||
-             (e = lvcl_volume_refine(sd->volume, (double)vs.particles, vs.refine_density, vs.refine_memory, st))))
+             (e = lvcl_volume_refine(sd->volume, (double)vs.particles, &vs, st))))
             return e;
         if ((e = trace_range(s, &vs, split_at, vs.particles, 0, st)) ||
             (e = finish_pass(s, &vs, (double)vs.particles, st)))
@@ -207,9 +207,7 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
         vs.progress = progress;
         if (b->planned_particles > traced) {
             /* Refined cells split now, when the plan knows the particle count. */
-            if ((e = lvcl_volume_refine(sd->volume, (double)b->planned_particles, vs.refine_density, vs.refine_memory,
-                                        st)))
-                return e;
+            if ((e = lvcl_volume_refine(sd->volume, (double)b->planned_particles, &vs, st))) return e;
             double deadline = now + (double)(b->planned_particles - traced) * b->seconds_per_particle * PLAN_SLACK;
             if ((e = trace_range(s, &vs, traced, b->planned_particles, deadline, st)) ||
                 (e = finish_pass(s, &vs, 0, st)))

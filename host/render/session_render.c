@@ -22,6 +22,7 @@ static lvcl_error bind_pass_args(session_device *sd, lvcl_pass_device *pd, const
         .scene = &sd->device_scene.buffers,
         .volume = lvcl_volume_kernel_buffers(v),
         .bin_table = lvcl_volume_bin_table(v),
+        .fine_bin_table = lvcl_volume_fine_bin_table(v),
         .flags = (req->mode == LVCL_MODE_LV_ALL ? LV_GATHER_ALL : 0u) | (req->integrate ? LV_GATHER_INTEGRATE : 0u),
         .threshold = (float)(req->threshold > 0 ? req->threshold : 0.5 * sqrt(3.0) * lvcl_volume_grid(v)->cell_size),
         .camera = *camera,

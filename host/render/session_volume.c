@@ -72,15 +72,15 @@ lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings
     for (int d = 0; d < n && !e; d++) e = lvcl_session_new_volume(s, d, settings, st);
     if (e) return e;
     s->merge_seconds = 0;
-    uint64_t split_at = settings->refine_density > 0 ? settings->particles / LVCL_SPLIT_AFTER : 0;
+    uint64_t split_at =
+        settings->refine_density > 0 || settings->refine_peak > 0 ? settings->particles / LVCL_SPLIT_AFTER : 0;
     if (split_at > 0) {
         /* Refined cells: every device holds the same tallies after the
          * merge, so each splits the same cells; all but the first then
          * empty theirs, so that the next merge counts them once. */
         if ((e = trace_devices(s, settings, 0, split_at, st))) return e;
         for (int d = 0; d < n && !e; d++)
-            e = lvcl_volume_refine(s->devices[d].volume, (double)settings->particles, settings->refine_density,
-                                   settings->refine_memory, st);
+            e = lvcl_volume_refine(s->devices[d].volume, (double)settings->particles, settings, st);
         for (int d = 1; d < n && !e; d++) e = lvcl_volume_empty(s->devices[d].volume, st);
     }
     if (!e) e = trace_devices(s, settings, split_at, settings->particles, st);

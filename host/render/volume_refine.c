@@ -1,16 +1,17 @@
-/* Refined cells (docs/light-volume.md, "Refined cells"): after a first
+/* Refined cells (docs/light-volume.md, "Refined cells and directions"): after a first
  * part of the trace, the stored cells that the particles cross most
  * densely are split by axis-aligned planes through their middle, beside
  * the planes of their geometry (at most LV_REGION_PLANES in all), so an
  * uncut cell becomes its eight octants and a cell cut by one wall the four
- * quarters of each side. The new regions are ordinary region slots: the
- * kernels need nothing new.
+ * quarters of each side. The new regions are ordinary region slots. And
+ * the slots of other cells whose light is concentrated in few directions
+ * take fine bins, 2n x 2n per hemisphere (LV_FINE_DIRS).
  *
- * A split cell's tallies restart from the particle the split happens at,
- * n0, so its regions hold only particles [n0, N): the lit volumes of its
- * slots are scaled by (N - n0) / N (lvcl_volume_scale_split), which
- * keeps eq. 5 unbiased within each region. The decision reads only the
- * integer tallies, so every run and device splits the same cells. */
+ * A refined slot's tallies restart from the particle the split happens at,
+ * n0, so it holds only particles [n0, N): its lit volume is scaled by
+ * (N - n0) / N (lvcl_volume_scale_split), which keeps eq. 5 unbiased
+ * within each region. The decision reads only the integer tallies, so
+ * every run and device refines alike. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -72,6 +73,14 @@ static size_t share_bytes(const lv_grid_info *g)
     return (1u + (k ? k * k * k : 1u)) * sizeof(float);
 }
 
+/* The pieces per particle the tallies of slots [base, end) hold. */
+static double pieces(const int64_t *tallies, size_t per_set, uint32_t base, uint32_t end, double particles)
+{
+    double sum = 0;
+    for (size_t t = (size_t)base * per_set; t < (size_t)end * per_set; t++) sum += (double)tallies[t];
+    return sum / (3.0 * LV_TALLY_SCALE * LVCL_PIECE_TALLY) / particles;
+}
+
 /* Replaces the device's per-slot buffers by ones of the new layout, filled
  * with these tallies and records. */
 static lvcl_error store_layout(lvcl_light_volume *vol, const int64_t *tallies, const uint32_t *records, lvcl_status *st)
@@ -121,30 +130,24 @@ static size_t collect(const lvcl_light_volume *vol, const int64_t *tallies, lvcl
         first_slot[s] = base;
         lvcl_cell_planes trial = planes[s];
         int added = add_middle_planes(&trial);
-        if (added) {
-            double sum = 0;
-            for (size_t t = (size_t)base * per_set; t < (size_t)end * per_set; t++) sum += (double)tallies[t];
-            cand[count++] = (candidate){.score = sum / (3.0 * LV_TALLY_SCALE * LVCL_PIECE_TALLY) / g->particles,
+        if (added)
+            cand[count++] = (candidate){.score = pieces(tallies, per_set, base, end, g->particles),
                                         .cell = (uint32_t)s,
                                         .added = (uint8_t)added,
                                         .slots = (uint8_t)(end - base)};
-        }
         s++;
     }
     return count;
 }
 
-/* Fills the new layout's tallies, records and split flags (per new slot)
- * from the old: a cell that kept its planes keeps its slots in order,
- * tallies and all; a split cell's regions start with no tallies, and each
- * takes the subcell record of the old region it lies in (which subcells
- * light passed, and how much of each it reached, do not depend on the new
- * planes). */
+/* For every slot of the new layout, the old slot it lies in (from[]) and
+ * whether its cell was split (split_slot[]). A cell that kept its planes
+ * keeps its slots in order; each region of a split cell lies in one old
+ * region, the one of its pattern's old planes. */
 static void remap(const lvcl_light_volume *vol, const uint32_t *new_cell_slot, const lv_slot_region *new_regions,
-                  uint32_t new_slots, const uint32_t *first_slot, const uint8_t *split_cell, const int64_t *tallies,
-                  const uint32_t *records, int64_t *new_tallies, uint32_t *new_records, uint8_t *split_slot)
+                  uint32_t new_slots, const uint32_t *first_slot, const uint8_t *split_cell, uint32_t *from,
+                  uint8_t *split_slot)
 {
-    size_t per_set = (size_t)vol->buf.info.bins * 3;
     for (size_t i = 0, s = 0; i < vol->cell_count; i++) {
         uint32_t entry = new_cell_slot[i];
         if (entry == LV_EMPTY_CELL) continue;
@@ -152,20 +155,67 @@ static void remap(const lvcl_light_volume *vol, const uint32_t *new_cell_slot, c
         const lv_slot_region *old = &vol->regions[old_base];
         uint32_t old_count = vol->cell_slot[i] & LV_CUT_CELL ? LV_REGION_COUNT(old->layout) : 0;
         for (uint32_t slot = base; slot < end; slot++) {
-            uint32_t from = old_base + (slot - base);
+            from[slot] = old_base + (slot - base);
+            split_slot[slot] = split_cell[s];
             if (split_cell[s]) {
                 uint32_t pattern = new_regions[slot].region & ((1u << old_count) - 1u);
-                from = old_base + (old_count ? LV_REGION_OFFSET(old->layout, pattern) : 0u);
-                split_slot[slot] = 1;
-            } else {
-                memcpy(&new_tallies[(size_t)slot * per_set], &tallies[(size_t)from * per_set],
-                       per_set * sizeof(int64_t));
+                from[slot] = old_base + (old_count ? LV_REGION_OFFSET(old->layout, pattern) : 0u);
             }
-            memcpy(&new_records[(size_t)slot * LV_SUBCELL_STRIDE], &records[(size_t)from * LV_SUBCELL_STRIDE],
-                   LV_SUBCELL_STRIDE * sizeof(uint32_t));
         }
         s++;
     }
+}
+
+/* A slot that may take fine bins, by how concentrated its light is: its
+ * brightest bin over the mean bin. */
+typedef struct {
+    double peak;
+    uint32_t slot;
+} fine_candidate;
+
+static int by_peak(const void *a, const void *b)
+{
+    const fine_candidate *x = a, *y = b;
+    if (x->peak != y->peak) return x->peak > y->peak ? -1 : 1;
+    return x->slot < y->slot ? -1 : x->slot > y->slot;
+}
+
+/* Marks in fine[] (per old slot) the slots of cells not split whose
+ * brightest bin is at least `peak` times their mean bin and that are dense
+ * enough (pieces x N at least `threshold`, as for a split: a restart costs
+ * a slot its first particles), the most concentrated first
+ * while the memory lasts; returns how many. */
+static size_t choose_fine(const lvcl_light_volume *vol, const int64_t *tallies, const uint32_t *first_slot,
+                          const uint8_t *split_cell, size_t stored, double peak, double threshold, double expected,
+                          size_t *need, size_t budget, uint8_t *fine)
+{
+    const lv_grid_info *g = &vol->buf.info;
+    size_t per_set = (size_t)g->bins * 3, count = 0, taken = 0, more = 3 * per_set * sizeof(int64_t);
+    fine_candidate *cand = malloc(((size_t)g->slot_count + 1) * sizeof *cand);
+    if (!cand) return 0;
+    for (size_t s = 0; s < stored; s++) {
+        if (split_cell[s]) continue;
+        uint32_t end = s + 1 < stored ? first_slot[s + 1] : g->slot_count;
+        for (uint32_t slot = first_slot[s]; slot < end; slot++) {
+            double total = 0, brightest = 0;
+            for (uint32_t b = 0; b < g->bins; b++) {
+                const int64_t *t = &tallies[(size_t)slot * per_set + 3 * b];
+                double x = (double)t[0] + (double)t[1] + (double)t[2];
+                total += x;
+                if (x > brightest) brightest = x;
+            }
+            if (!(total > 0) || pieces(tallies, per_set, slot, slot + 1, g->particles) * expected < threshold) continue;
+            double p = brightest * g->bins / total;
+            if (p >= peak) cand[count++] = (fine_candidate){.peak = p, .slot = slot};
+        }
+    }
+    qsort(cand, count, sizeof *cand, by_peak);
+    for (; taken < count && *need + more <= budget; taken++) {
+        fine[cand[taken].slot] = 1;
+        *need += more;
+    }
+    free(cand);
+    return taken;
 }
 
 /* The old layout's shares of a cell that was not split (lvcl_known_shares):
@@ -193,18 +243,20 @@ static int old_shares(void *ctx, uint32_t s, float *out)
     return 1;
 }
 
-lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles, double density, uint64_t memory,
+lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles, const lvcl_volume_settings *vs,
                               lvcl_status *st)
 {
     lv_grid_info *g = &vol->buf.info;
-    if (vol->refined || !(density > 0) || !(expected_particles > 0) || !(g->particles > 0)) return LVCL_OK;
+    double density = vs->refine_density, peak = vs->refine_peak;
+    if (vol->refined || (!(density > 0) && !(peak > 0)) || !(expected_particles > 0) || !(g->particles > 0))
+        return LVCL_OK;
     if (vol->block_of_slot) return lvcl_fail(st, LVCL_ERR_USAGE, "--refine cannot be combined with --merge-tolerance");
     vol->refined = 1;
     int64_t *tallies = NULL, *new_tallies = NULL;
-    uint32_t *records = NULL, *new_records = NULL, *new_tally_slot = NULL;
+    uint32_t *records = NULL, *new_records = NULL, *new_tally_slot = NULL, *from = NULL;
     lv_slot_region *new_regions = NULL;
     float *new_shares = NULL;
-    uint8_t *split_slot = NULL;
+    uint8_t *split_slot = NULL, *restarted = NULL;
     size_t new_share_count = 0, per_set = (size_t)g->bins * 3, stored = 0;
     for (size_t i = 0; i < vol->cell_count; i++) stored += vol->cell_slot[i] != LV_EMPTY_CELL;
     lvcl_cell_planes *planes = malloc((stored ? stored : 1) * sizeof *planes);
@@ -212,19 +264,20 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
     uint32_t *first_slot = malloc((stored ? stored : 1) * sizeof *first_slot);
     uint32_t *new_cell_slot = malloc(vol->cell_count * sizeof *new_cell_slot);
     uint8_t *split_cell = calloc(stored ? stored : 1, 1);
+    uint8_t *fine = calloc((size_t)g->slot_count + 1, 1);
     lvcl_error e = lvcl_volume_read(vol, &tallies, &records, st);
-    if (!e && (!planes || !cand || !first_slot || !new_cell_slot || !split_cell))
+    if (!e && (!planes || !cand || !first_slot || !new_cell_slot || !split_cell || !fine))
         e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory refining the light volume");
-    size_t taken = 0;
+    size_t taken = 0, fine_taken = 0;
     if (!e) {
         size_t candidates = collect(vol, tallies, planes, first_slot, cand);
         /* The densest first, while the pieces they will hold pass density
          * x sqrt(particles) and the memory lasts (a cell that ends with P
          * planes holds at most 2^P slots, some of them its own already). */
         qsort(cand, candidates, sizeof *cand, by_score);
-        size_t budget = memory ? (size_t)memory : 2 * vol->device_bytes, need = vol->device_bytes;
-        double threshold = density * sqrt(expected_particles);
-        for (; taken < candidates; taken++) {
+        size_t budget = vs->refine_memory ? (size_t)vs->refine_memory : 2 * vol->device_bytes, need = vol->device_bytes;
+        double threshold = (density > 0 ? density : LVCL_REFINE_DENSITY) * sqrt(expected_particles);
+        for (; density > 0 && taken < candidates; taken++) {
             const candidate *c = &cand[taken];
             size_t most = (size_t)1 << (planes[c->cell].count + c->added), cut = planes[c->cell].count > 0;
             size_t more = (most - c->slots) * slot_bytes(g) + (most - (cut ? c->slots : 0)) * share_bytes(g);
@@ -233,9 +286,12 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
             add_middle_planes(&planes[c->cell]);
             split_cell[c->cell] = 1;
         }
+        if (peak > 0)
+            fine_taken = choose_fine(vol, tallies, first_slot, split_cell, stored, peak, threshold, expected_particles,
+                                     &need, budget, fine);
     }
     lv_grid_info ng = *g;
-    if (!e && taken) {
+    if (!e && (taken || fine_taken)) {
         for (size_t i = 0, s = 0; i < vol->cell_count; i++)
             new_cell_slot[i] = vol->cell_slot[i] == LV_EMPTY_CELL ? LV_EMPTY_CELL : (uint32_t)s++;
         ng.slot_count = (lv_u32)stored;
@@ -243,18 +299,42 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
         e = lvcl_volume_lay_out_regions(&ng, vol->cell_count, planes, old_shares, &old, new_cell_slot, &new_regions,
                                         &new_shares, &new_share_count, st);
         if (!e) {
-            new_tallies = calloc((size_t)ng.slot_count * per_set + 1, sizeof(int64_t));
-            new_records = calloc(((size_t)ng.slot_count + 1) * LV_SUBCELL_STRIDE, sizeof(uint32_t));
-            new_tally_slot = malloc(((size_t)ng.slot_count + 1) * sizeof(uint32_t));
-            split_slot = calloc((size_t)ng.slot_count + 1, 1);
-            if (!new_tallies || !new_records || !new_tally_slot || !split_slot)
+            size_t n = (size_t)ng.slot_count + 1;
+            from = malloc(n * sizeof *from);
+            new_tally_slot = malloc(n * sizeof *new_tally_slot);
+            split_slot = calloc(n, 1);
+            restarted = calloc(n, 1);
+            new_records = calloc(n * LV_SUBCELL_STRIDE, sizeof(uint32_t));
+            if (!from || !new_tally_slot || !split_slot || !restarted || !new_records)
                 e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory refining the light volume");
         }
     }
-    if (!e && taken) {
-        remap(vol, new_cell_slot, new_regions, ng.slot_count, first_slot, split_cell, tallies, records, new_tallies,
-              new_records, split_slot);
-        for (uint32_t i = 0; i <= ng.slot_count; i++) new_tally_slot[i] = i < ng.slot_count ? i : 0;
+    size_t sets = 0;
+    if (!e && (taken || fine_taken)) {
+        remap(vol, new_cell_slot, new_regions, ng.slot_count, first_slot, split_cell, from, split_slot);
+        /* Tally sets in slot order; a set of fine bins takes four sets'
+         * room in one buffer (lvcl_volume_layout_tallies puts per_part sets
+         * in each). */
+        size_t per_part = vol->dev->max_alloc / (per_set * sizeof(int64_t));
+        if (per_part > UINT32_MAX) per_part = UINT32_MAX;
+        for (uint32_t slot = 0; slot < ng.slot_count; slot++) {
+            int f = !split_slot[slot] && fine[from[slot]];
+            if (f && per_part && sets / per_part != (sets + 3) / per_part) sets = (sets / per_part + 1) * per_part;
+            new_tally_slot[slot] = (uint32_t)sets | (f ? LV_FINE_DIRS : 0u);
+            sets += f ? 4 : 1;
+            restarted[slot] = (uint8_t)(split_slot[slot] || f);
+            memcpy(&new_records[(size_t)slot * LV_SUBCELL_STRIDE], &records[(size_t)from[slot] * LV_SUBCELL_STRIDE],
+                   LV_SUBCELL_STRIDE * sizeof(uint32_t));
+        }
+        new_tally_slot[ng.slot_count] = 0;
+        new_tallies = calloc(sets * per_set + 1, sizeof(int64_t));
+        if (!new_tallies) e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory refining the light volume");
+        for (uint32_t slot = 0; !e && slot < ng.slot_count; slot++)
+            if (!restarted[slot])
+                memcpy(&new_tallies[(size_t)new_tally_slot[slot] * per_set], &tallies[(size_t)from[slot] * per_set],
+                       per_set * sizeof(int64_t));
+    }
+    if (!e && (taken || fine_taken)) {
 #define SWAP(field, value)  \
     do {                    \
         free(vol->field);   \
@@ -266,13 +346,14 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
         SWAP(regions, new_regions);
         SWAP(region_shares, new_shares);
         SWAP(tally_slot, new_tally_slot);
-        SWAP(split_slot, split_slot);
+        SWAP(restarted, restarted);
 #undef SWAP
         vol->region_share_count = new_share_count;
         vol->split_cells = taken;
+        vol->fine_slots = fine_taken;
         vol->split_from = g->particles;
         g->slot_count = ng.slot_count;
-        g->tally_sets = ng.slot_count;
+        g->tally_sets = (lv_u32)sets;
         e = store_layout(vol, new_tallies, new_records, st);
     }
     free(tallies);
@@ -282,30 +363,34 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
     free(first_slot);
     free(new_cell_slot);
     free(split_cell);
+    free(fine);
+    free(from);
     free(new_tallies);
     free(new_records);
     free(new_tally_slot);
     free(new_regions);
     free(new_shares);
     free(split_slot);
+    free(restarted);
     return e;
 }
 
 lvcl_error lvcl_volume_scale_split(lvcl_light_volume *vol, lvcl_status *st)
 {
     const lv_grid_info *g = &vol->buf.info;
-    if (!vol->split_cells) return LVCL_OK;
+    if (!vol->split_cells && !vol->fine_slots) return LVCL_OK;
     if (!(g->particles > vol->split_from))
-        return lvcl_fail(st, LVCL_ERR_USAGE, "split cells need particles traced after the split (lvcl_volume_refine)");
+        return lvcl_fail(st, LVCL_ERR_USAGE,
+                         "refined slots need particles traced after the split (lvcl_volume_refine)");
     float *lit;
     lvcl_error e = lvcl_volume_read_lit(vol, &lit, st);
     if (e) return e;
     float scale = (float)((g->particles - vol->split_from) / g->particles);
     for (uint32_t s = 0; s < g->slot_count; s++)
-        if (vol->split_slot[s]) lit[s] *= scale;
+        if (vol->restarted[s]) lit[s] *= scale;
     e = lvcl_cl_check(clEnqueueWriteBuffer(vol->dev->queue, vol->buf.lit_volume, CL_TRUE, 0,
                                            (size_t)g->slot_count * sizeof(float), lit, 0, NULL, NULL),
-                      "storing the split cells' lit volumes", st);
+                      "storing the refined slots' lit volumes", st);
     free(lit);
     return e;
 }

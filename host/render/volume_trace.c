@@ -12,17 +12,18 @@
  * progress and for --time-limit to be checked often. */
 #define BATCH (1u << 18)
 
-/* Runs lv_bin_table: the bins' directions for the integrating gather. */
-static lvcl_error fill_bin_table(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st)
+/* Runs lv_bin_table: the directions of n x n bins per hemisphere, for the
+ * integrating gather. */
+static lvcl_error fill_bin_table(lvcl_light_volume *vol, const lvcl_program *prog, uint32_t n, cl_mem table,
+                                 lvcl_status *st)
 {
     const lvcl_device *dev = vol->dev;
     cl_kernel k;
     lvcl_error e = lvcl_kernel_create(prog, "lv_bin_table", &k, st);
     if (e) return e;
-    lvcl_bin_table_args args = {.n = vol->buf.info.dirs, .table = vol->bin_table_buf};
+    lvcl_bin_table_args args = {.n = n, .table = table};
     if (!(e = lvcl_bind_lv_bin_table(k, &args, st)))
-        e = lvcl_kernel_enqueue(dev, k, (size_t)LV_BIN_GROUPS(vol->buf.info.bins) * LV_BIN_GROUP,
-                                "computing the bin table", st);
+        e = lvcl_kernel_enqueue(dev, k, (size_t)LV_BIN_GROUPS(2 * n * n) * LV_BIN_GROUP, "computing the bin table", st);
     clReleaseKernel(k);
     return e;
 }
@@ -31,7 +32,17 @@ lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, 
 {
     const lvcl_device *dev = vol->dev;
     cl_kernel k;
-    lvcl_error e = lvcl_kernel_create(prog, "lv_lit_volumes", &k, st);
+    lvcl_error e;
+    if (vol->fine_slots && !vol->fine_bin_table_buf) {
+        uint32_t n = 2 * vol->buf.info.dirs;
+        cl_int err;
+        vol->fine_bin_table_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
+                                                 (size_t)LV_BIN_TABLE_FLOATS(2 * n * n) * sizeof(float), NULL, &err);
+        if ((e = lvcl_cl_check(err, "allocating the fine bins' table", st)) ||
+            (e = fill_bin_table(vol, prog, n, vol->fine_bin_table_buf, st)))
+            return e;
+    }
+    e = lvcl_kernel_create(prog, "lv_lit_volumes", &k, st);
     if (e) return e;
     lvcl_lit_volumes_args args = {.volume = &vol->buf};
     if (!(e = lvcl_bind_lv_lit_volumes(k, &args, st)) &&
@@ -94,7 +105,8 @@ lvcl_error lvcl_volume_empty(lvcl_light_volume *vol, lvcl_status *st)
 static lvcl_error clear_volume(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st)
 {
     lvcl_error e;
-    if ((e = fill_bin_table(vol, prog, st)) || (e = lvcl_volume_empty(vol, st))) return e;
+    if ((e = fill_bin_table(vol, prog, vol->buf.info.dirs, vol->bin_table_buf, st)) || (e = lvcl_volume_empty(vol, st)))
+        return e;
     vol->segments = vol->visibility_rays = vol->particles = 0;
     vol->trace_seconds = 0;
     vol->buf.info.particles = 0;

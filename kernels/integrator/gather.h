@@ -19,9 +19,10 @@
 /* How the final gather reads the light volume. */
 typedef struct {
     lv_grid grid;
-    __global const float *bin_table; /* shared_types.h has its layout */
-    uint flags;                      /* LV_GATHER_* (shared_types.h) */
-    float threshold;                 /* a BSDF ray hitting closer than this continues as a path */
+    __global const float *bin_table;      /* shared_types.h has its layout */
+    __global const float *fine_bin_table; /* the same for 2n x 2n bins (LV_FINE_DIRS) */
+    uint flags;                           /* LV_GATHER_* (shared_types.h) */
+    float threshold;                      /* a BSDF ray hitting closer than this continues as a path */
 } lv_gather;
 
 /* The BSDF-weighted sum of the volume's radiance over every bin of the cell
@@ -31,15 +32,16 @@ inline float3 lv_gather_integrate(const lv_gather *g, const lv_shading *sh, floa
     uint slot = lv_grid_slot_at(&g->grid, p);
     if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
     __global const long *tallies = lv_tally_bin(&g->grid, slot, 0u); /* a slot's bins are consecutive */
+    uint n = lv_slot_dirs(&g->grid, slot), bins = 2u * n * n;
+    __global const float *table = n == g->grid.g.dirs ? g->bin_table : g->fine_bin_table;
     float3 sum = (float3)(0.0f);
     if (sh->b.type == LV_BSDF_DIFFUSE) {
         /* f cos is base / pi times cos: weigh each bin by its exact mean
          * cosine and apply the rest once (most gathers). */
         if (sh->wo.z <= 0.0f) return (float3)(0.0f);
-        uint bins = g->grid.g.bins;
         for (uint first = 0; first < bins; first += LV_BIN_GROUP) {
             float w[LV_BIN_GROUP];
-            lv_bin_mean_cosines(g->bin_table, bins, first, sh->f.n, sh->ng_out, w);
+            lv_bin_mean_cosines(table, bins, first, sh->f.n, sh->ng_out, w);
             for (uint l = 0; l < LV_BIN_GROUP && first + l < bins; l++)
                 if (w[l] > 0.0f) sum += w[l] * lv_bin_tally(tallies + 3 * (first + l));
         }
@@ -49,17 +51,17 @@ inline float3 lv_gather_integrate(const lv_gather *g, const lv_shading *sh, floa
          * arriving from wi travels along -wi. The gather runs on reflecting
          * surfaces only; a direction the shading normal allows but the true
          * surface does not would read light leaving the surface itself. */
-        for (uint bin = 0; bin < g->grid.g.bins; bin++) {
+        for (uint bin = 0; bin < bins; bin++) {
             float3 t = lv_bin_tally(tallies + 3 * bin);
             if (lv_max3(t) <= 0.0f) continue;
-            float3 wiw = -lv_bin_centre(g->bin_table, bin);
+            float3 wiw = -lv_bin_centre(table, bin);
             float3 wi = lv_to_local(sh->f, wiw);
             if (wi.z <= 0.0f || dot(wiw, sh->ng_out) <= 0.0f) continue;
             float3 fcos = lv_bsdf_eval(&sh->b, sh->wo, wi, LV_RADIANCE, 0);
             if (lv_max3(fcos) > 0.0f) sum += fcos * t;
         }
     }
-    return sum * (lv_tally_to_radiance(&g->grid, g->grid.lit_volume[slot]) * lv_bin_solid_angle(g->grid.g.dirs));
+    return sum * (lv_tally_to_radiance(&g->grid, g->grid.lit_volume[slot], n) * lv_bin_solid_angle(n));
 }
 
 /* What the ray just traced owes the light volume once it lands. */

@@ -23,7 +23,8 @@ typedef struct {
 inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray r, lv_hit h, const lv_surface *s,
                                 float3 weight, float3 sigma, lv_rng *rng)
 {
-    lv_tally_segment(grid, r.origin, r.dir, 0.0f, h.t, lv_direction_bin(r.dir, grid->g.dirs), weight, sigma);
+    uint fine = lv_direction_bin(r.dir, 2u * grid->g.dirs);
+    lv_tally_segment(grid, r.origin, r.dir, 0.0f, h.t, (uint2)(lv_coarse_bin(fine, grid->g.dirs), fine), weight, sigma);
     if (!grid->g.subcells || h.tri == LV_NO_HIT) return 0u;
     /* Just off the hit on the side the particle came from, its light
      * reached: off along the normal, by more than a lit point's rounding

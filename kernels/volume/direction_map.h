@@ -44,6 +44,15 @@ inline uint lv_direction_bin(float3 w, uint n)
     return (w.z < 0.0f ? n * n : 0u) + j * n + i;
 }
 
+/* The bin of n x n per hemisphere that holds fine bin `fine` of 2n x 2n:
+ * the same as lv_direction_bin(w, n) for the w that gave `fine` (the
+ * products of the square's coordinates by 2n are twice those by n, exactly). */
+inline uint lv_coarse_bin(uint fine, uint n)
+{
+    uint m = 2u * n, lower = fine >= m * m, cell = fine - (lower ? m * m : 0u);
+    return (lower ? n * n : 0u) + (cell / m / 2u) * n + (cell % m) / 2u;
+}
+
 /* A direction inside bin `bin`, uniform in solid angle for uniform u. */
 inline float3 lv_bin_direction(uint bin, uint n, float2 u)
 {

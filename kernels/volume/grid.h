@@ -26,11 +26,17 @@ typedef struct {
 /* The three (RGB) tallies of one bin of a stored cell. */
 inline __global long *lv_tally_bin(const lv_grid *grid, uint slot, uint bin)
 {
-    uint set = grid->tally_slot[slot];
+    uint set = grid->tally_slot[slot] & ~LV_FINE_DIRS;
     /* Most grids fit one buffer: skip the division there. */
     uint part = set < grid->g.slots_per_part ? 0u : set / grid->g.slots_per_part;
     uint in_part = set - part * grid->g.slots_per_part;
     return grid->tallies[part] + ((size_t)in_part * grid->g.bins + bin) * 3;
+}
+
+/* n of the n x n bins per hemisphere that slot's tally set holds. */
+inline uint lv_slot_dirs(const lv_grid *grid, uint slot)
+{
+    return grid->tally_slot[slot] & LV_FINE_DIRS ? 2u * grid->g.dirs : grid->g.dirs;
 }
 
 inline float3 lv_grid_origin(const lv_grid *grid)

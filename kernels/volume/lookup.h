@@ -7,11 +7,12 @@
 #include "subcells.h"
 
 /* What turns a bin's raw tally (fixed-point units) into radiance, in a
- * stored cell whose lit volume is `lit` cells (paper eq. 5). */
-inline float lv_tally_to_radiance(const lv_grid *grid, float lit)
+ * stored cell whose lit volume is `lit` cells and whose set holds n x n
+ * bins per hemisphere (paper eq. 5). */
+inline float lv_tally_to_radiance(const lv_grid *grid, float lit, uint n)
 {
     float h = grid->g.cell_size;
-    return grid->g.total_power / (LV_TALLY_SCALE * grid->g.particles * h * h * lit * lv_bin_solid_angle(grid->g.dirs));
+    return grid->g.total_power / (LV_TALLY_SCALE * grid->g.particles * h * h * lit * lv_bin_solid_angle(n));
 }
 
 /* A bin's raw RGB tally, as floats. */
@@ -23,7 +24,7 @@ inline float3 lv_bin_tally(__global const long *t)
 /* Radiance (W m^-2 sr^-1) of one bin of a stored cell. */
 inline float3 lv_bin_radiance(const lv_grid *grid, uint slot, uint bin, float lit)
 {
-    return lv_bin_tally(lv_tally_bin(grid, slot, bin)) * lv_tally_to_radiance(grid, lit);
+    return lv_bin_tally(lv_tally_bin(grid, slot, bin)) * lv_tally_to_radiance(grid, lit, lv_slot_dirs(grid, slot));
 }
 
 /* Radiance of the light travelling along `dir` through the cell at p. */
@@ -31,7 +32,7 @@ inline float3 lv_volume_radiance(const lv_grid *grid, float3 p, float3 dir)
 {
     uint slot = lv_grid_slot_at(grid, p);
     if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
-    return lv_bin_radiance(grid, slot, lv_direction_bin(dir, grid->g.dirs), grid->lit_volume[slot]);
+    return lv_bin_radiance(grid, slot, lv_direction_bin(dir, lv_slot_dirs(grid, slot)), grid->lit_volume[slot]);
 }
 
 /* The middle of the subcell-thick layer in front of p (without subcells,

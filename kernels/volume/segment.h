@@ -37,7 +37,7 @@ inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float
  * segment's origin relative to the cell's corner) into region slot `slot`
  * and marks the subcells it passes there. */
 inline void lv_tally_piece(const lv_grid *grid, uint slot, float3 corner, float3 dir, float a, float b, float h,
-                           float t0, uint bin, float3 weight, float3 sigma)
+                           float t0, uint2 bins, float3 weight, float3 sigma)
 {
     /* A segment ending on a wall that lies on a cell boundary pokes a
      * rounding error's length into the cell behind it; marking that would
@@ -51,18 +51,19 @@ inline void lv_tally_piece(const lv_grid *grid, uint slot, float3 corner, float3
     } else {
         amount = (float3)(b - a);
     }
-    lv_tally_add(grid, slot, bin, weight * amount);
+    lv_tally_add(grid, slot, grid->tally_slot[slot] & LV_FINE_DIRS ? bins.y : bins.x, weight * amount);
 }
 
 /* Adds the segment origin + t dir, t in [t0, t1] (dir unit, t in metres),
  * carrying `weight` (power over total power, over particle count) at t0, to
- * every stored cell it crosses, in bin `bin`. sigma > 0 absorbs along the
+ * every stored cell it crosses, in bin bins.x of n x n (bins.y of 2n x 2n
+ * in a set of fine bins). sigma > 0 absorbs along the
  * segment (inside glass). A 3-D DDA (Amanatides and Woo) walks the cells;
  * in a cell its planes cut into regions, the piece is split where it
  * crosses them. A segment cannot cross a surface, so a sub-piece across an
  * extended plane (past a wall's end, through a doorway) simply belongs to
  * the region on that side. */
-inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, float t0, float t1, uint bin,
+inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, float t0, float t1, uint2 bins,
                              float3 weight, float3 sigma)
 {
     const float h = grid->g.cell_size;
@@ -91,7 +92,7 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
         if (entry != LV_EMPTY_CELL && s_exit > s && !(entry & LV_CUT_CELL)) {
             /* No planes: one piece, and no read of the region table. */
             float3 corner = o - convert_float3(cell);
-            lv_tally_piece(grid, entry, corner, dir, s, s_exit, h, t0, bin, weight, sigma);
+            lv_tally_piece(grid, entry, corner, dir, s, s_exit, h, t0, bins, weight, sigma);
         } else if (entry != LV_EMPTY_CELL && s_exit > s) {
             uint base = entry & ~LV_CUT_CELL;
             float3 corner = o - convert_float3(cell); /* the origin relative to the cell's corner */
@@ -118,7 +119,7 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
                 uint slot = planes
                     ? base + LV_REGION_OFFSET(layout, lv_region_of(r, planes, corner + dir * (0.5f * (a + b))))
                     : base;
-                lv_tally_piece(grid, slot, corner, dir, a, b, h, t0, bin, weight, sigma);
+                lv_tally_piece(grid, slot, corner, dir, a, b, h, t0, bins, weight, sigma);
                 a = b;
             }
         }

@@ -68,6 +68,8 @@ expect_error "refine not on, off or a density" 2 --mode lv --refine lots cornell
 expect_error "refine density negative" 2 --mode lv --refine -1 cornell
 expect_error "refine memory below a MiB" 2 --mode lv --refine on --refine-memory 0 cornell
 expect_error "refine with merged cells" 2 --mode lv --refine on --merge-tolerance 0.25 cornell
+expect_error "refine-dirs not on, off or a peak" 2 --mode lv --refine-dirs sharp cornell
+expect_error "refine-dirs with merged cells" 2 --mode lv --refine-dirs on --merge-tolerance 0.25 cornell
 
 if "$lvcl" --help | grep -q -- '--device'; then pass "--help lists the flags"; else fail "--help" "no --device in the text"; fi
 if "$lvcl" --list-devices | grep -q '^0 '; then pass "--list-devices"; else fail "--list-devices" "no device 0"; fi
@@ -127,15 +129,16 @@ for mode in lv lv-all; do
     else fail "--mode $mode renders and reports its grid" "$(cat "$tmp/err")"; fi
 done
 
-# Refined cells split some cells and report them; the same command gives
-# the same image.
-"$lvcl" -q --mode lv --refine 1e-6 --particles 40000 --cells 8 --spp 2 --width 32 --stats "$tmp/r1.json" \
-    -o "$tmp/r1.exr" cornell 2>"$tmp/err"
-"$lvcl" -q --mode lv --refine 1e-6 --particles 40000 --cells 8 --spp 2 --width 32 -o "$tmp/r2.exr" cornell 2>>"$tmp/err"
+# Refined cells and directions refine some and report them; the same
+# command gives the same image.
+refined="--mode lv --refine 1e-6 --refine-dirs 4 --particles 40000 --cells 8 --spp 2 --width 32"
+"$lvcl" -q $refined --stats "$tmp/r1.json" -o "$tmp/r1.exr" cornell 2>"$tmp/err"
+"$lvcl" -q $refined -o "$tmp/r2.exr" cornell 2>>"$tmp/err"
 split=$(awk -F': ' '/"split_cells"/ { print $2 + 0 }' "$tmp/r1.json" 2>/dev/null)
-if [ "${split:-0}" -gt 0 ] && "$build/lvcl-compare" "$tmp/r1.exr" "$tmp/r2.exr" | grep -q '"rmse": 0,'
-then pass "--refine splits cells ($split) and repeats its image"
-else fail "--refine splits cells and repeats its image" "${split:-no} cells split; $(cat "$tmp/err")"; fi
+fine=$(awk -F': ' '/"fine_dir_slots"/ { print $2 + 0 }' "$tmp/r1.json" 2>/dev/null)
+if [ "${split:-0}" -gt 0 ] && [ "${fine:-0}" -gt 0 ] && "$build/lvcl-compare" "$tmp/r1.exr" "$tmp/r2.exr" | grep -q '"rmse": 0,'
+then pass "--refine and --refine-dirs refine ($split cells split, $fine slots with fine bins) and repeat their image"
+else fail "--refine and --refine-dirs refine and repeat their image" "${split:-no} split, ${fine:-no} fine; $(cat "$tmp/err")"; fi
 
 # Under a time limit an lv render measures, chooses its particle count and
 # samples as many as fit, and its image is the one a fixed render of the

@@ -13,7 +13,10 @@
  * (d) the white furnace (lv-all, closed form Le / (1 - a) = 2): every
  *     region of every split cell reads 2 within 4%, so the lit volumes'
  *     scale for the particles traced since the split keeps them unbiased;
- * (e) an image's mean moves by under 1%. */
+ * (e) an image's mean moves by under 1%;
+ * (f) fine bins (--refine-dirs): the four fine bins of a coarse one hold,
+ *     bit for bit, what the coarse bin tallied after the split in a volume
+ *     traced without refining, and the furnace's fine bins read 2 as well. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,8 +26,10 @@
 #include "../harness.h"
 #include "../../host/render/light_volume.h"
 
-/* A density at which every cell with a plane to spare splits. */
+/* A density at which every cell with a plane to spare splits, and a peak
+ * at which every slot with light takes fine bins. */
 #define SPLIT_ALL 1e-6
+#define FINE_ALL 1e-6
 
 typedef struct {
     lvcl_light_volume *volume;
@@ -48,7 +53,8 @@ static int trace(const lvcl_session *ss, const lvcl_volume_settings *vs, uint64_
     pass.particles = first;
     if (!e) e = lvcl_volume_trace(out->volume, prog, ds, &pass, &st);
     if (!e && before) e = lvcl_volume_read(out->volume, before, NULL, &st);
-    if (!e) e = lvcl_volume_refine(out->volume, (double)vs->particles, density, vs->refine_memory, &st);
+    pass.refine_density = density;
+    if (!e) e = lvcl_volume_refine(out->volume, (double)vs->particles, &pass, &st);
     pass.first_particle = first;
     pass.particles = vs->particles;
     if (!e) e = lvcl_volume_trace(out->volume, prog, ds, &pass, &st);
@@ -146,6 +152,55 @@ static void test_split_sums(const lvcl_session *ss, int cells, int subcells)
     release(&again);
 }
 
+static void test_fine_sums(const lvcl_session *ss)
+{
+    lvcl_volume_settings vs = {.cells = 12, .dirs = 4, .subcells = 4, .particles = 200000};
+    uint64_t split_at = vs.particles / 4;
+    int64_t *before = NULL;
+    read_volume plain, fine;
+    if (!trace(ss, &vs, split_at, 0, &plain, &before)) return;
+    vs.refine_memory = (uint64_t)1 << 32;
+    vs.refine_peak = FINE_ALL;
+    if (!trace(ss, &vs, split_at, 0, &fine, NULL)) {
+        release(&plain);
+        free(before);
+        return;
+    }
+    const lv_grid_info *g = lvcl_volume_grid(fine.volume);
+    uint32_t n = g->dirs, m = 2 * n;
+    size_t per = (size_t)g->bins * 3, fine_slots = 0, exact = 1, coarse_exact = 1;
+    for (uint32_t slot = 0; slot < g->slot_count; slot++) {
+        uint32_t set = lvcl_volume_tally_set(fine.volume, slot);
+        const int64_t *p = &plain.tallies[(size_t)slot * per], *b = &before[(size_t)slot * per];
+        const int64_t *f = &fine.tallies[(size_t)(set & ~LV_FINE_DIRS) * per];
+        if (!(set & LV_FINE_DIRS)) {
+            coarse_exact &= !memcmp(p, f, per * sizeof(int64_t));
+            continue;
+        }
+        fine_slots++;
+        for (uint32_t bin = 0; bin < g->bins; bin++) {
+            uint32_t lower = bin >= n * n, cell = bin - lower * n * n, i = cell % n, j = cell / n;
+            for (int c = 0; c < 3; c++) {
+                int64_t sum = 0;
+                for (uint32_t dj = 0; dj < 2; dj++)
+                    for (uint32_t di = 0; di < 2; di++)
+                        sum += f[(lower * m * m + (2 * j + dj) * m + 2 * i + di) * 3 + c];
+                exact &= sum == p[bin * 3 + c] - b[bin * 3 + c];
+            }
+        }
+    }
+    printf("  fine bins: %zu of %u slots, %zu reported\n", fine_slots, g->slot_count,
+           lvcl_volume_stats_of(fine.volume).fine_slots);
+    CHECK("refined directions: the dense slots take fine bins at a tiny peak, and the stats count them",
+          fine_slots > 0 && fine_slots == lvcl_volume_stats_of(fine.volume).fine_slots, "%zu fine slots", fine_slots);
+    CHECK("refined directions: four fine bins hold what their coarse bin tallied after the split, bit for bit", exact,
+          "12 cells");
+    CHECK("refined directions: a slot left coarse keeps its tallies bit for bit", coarse_exact, "12 cells");
+    free(before);
+    release(&plain);
+    release(&fine);
+}
+
 static void test_budget(const lvcl_session *ss)
 {
     lvcl_volume_settings vs = {.cells = 16, .dirs = 4, .subcells = 4, .particles = 100000};
@@ -177,7 +232,7 @@ static void test_budget(const lvcl_session *ss)
 
 /* The furnace (a 2 m closed cube, albedo 0.5, Le 1) with the grid on its
  * walls: the radiance is 2 in every cell and direction. */
-static void test_furnace(int subcells)
+static void test_furnace(int subcells, int fine)
 {
     lvcl_scene scene;
     lvcl_status st = {0};
@@ -192,9 +247,10 @@ static void test_furnace(int subcells)
                                .subcells = subcells,
                                .particles = 1600000,
                                .store_emitted = 1,
-                               .refine_memory = (uint64_t)1 << 32};
+                               .refine_memory = (uint64_t)1 << 32,
+                               .refine_peak = fine ? FINE_ALL : 0};
     read_volume v;
-    if (!trace(ss, &vs, vs.particles / 4, SPLIT_ALL, &v, NULL)) {
+    if (!trace(ss, &vs, vs.particles / 4, fine ? 0 : SPLIT_ALL, &v, NULL)) {
         lvcl_session_close(ss);
         return;
     }
@@ -202,27 +258,38 @@ static void test_furnace(int subcells)
     double to_radiance = g->total_power /
         (LV_TALLY_SCALE * g->particles * g->cell_size * g->cell_size * (2.0 * 3.14159265358979 / (g->dirs * g->dirs)));
     double worst = 0;
-    int regions = 0;
+    int regions = 0, fine_slots = 0;
     for (uint32_t z = 1; z <= 4; z++)
         for (uint32_t y = 1; y <= 4; y++)
             for (uint32_t x = 1; x <= 4; x++) {
                 uint32_t first = lvcl_volume_slot(v.volume, x, y, z), next = lvcl_volume_slot(v.volume, x + 1, y, z);
                 if (first == LV_EMPTY_CELL || next == LV_EMPTY_CELL) continue;
                 for (uint32_t s = first; s < next; s++) {
+                    /* A set of fine bins holds four times the bins, each a
+                     * quarter of the solid angle: the mean is the same sum
+                     * over the coarse count. */
+                    uint32_t set = lvcl_volume_tally_set(v.volume, s), bins = g->bins;
+                    if (set & LV_FINE_DIRS) bins *= 4, fine_slots++;
+                    set &= ~LV_FINE_DIRS;
                     double sum = 0;
-                    for (uint32_t b = 0; b < g->bins; b++) sum += (double)v.tallies[((size_t)s * g->bins + b) * 3];
+                    for (uint32_t b = 0; b < bins; b++) sum += (double)v.tallies[((size_t)set * g->bins + b) * 3];
                     double radiance = sum / g->bins * to_radiance / v.lit[s];
                     worst = fmax(worst, fabs(radiance / 2.0 - 1.0));
                     regions++;
                 }
             }
     size_t split = lvcl_volume_stats_of(v.volume).split_cells;
-    printf("  furnace, %d subcells: %zu cells split, %d regions inside, worst region off by %.4f\n", subcells, split,
-           regions, worst);
-    CHECK("refined cells: the furnace's cells inside are split into octants", split >= 64 && regions == 64 * 8,
-          "%d subcells: %zu split, %d regions", subcells, split, regions);
+    printf("  furnace, %d subcells%s: %zu cells split, %d regions inside (%d with fine bins), worst region off by "
+           "%.4f\n",
+           subcells, fine ? ", fine bins" : "", split, regions, fine_slots, worst);
+    if (fine)
+        CHECK("refined directions: the furnace's slots inside take fine bins", fine_slots == 64 && regions == 64,
+              "%d subcells: %d of %d", subcells, fine_slots, regions);
+    else
+        CHECK("refined cells: the furnace's cells inside are split into octants", split >= 64 && regions == 64 * 8,
+              "%d subcells: %zu split, %d regions", subcells, split, regions);
     CHECK("refined cells: every region of the furnace reads Le/(1-a) = 2 within 4%", worst < 0.04,
-          "%d subcells: worst %.4f", subcells, worst);
+          "%d subcells%s: worst %.4f", subcells, fine ? ", fine bins" : "", worst);
     release(&v);
     lvcl_session_close(ss);
 }
@@ -254,10 +321,12 @@ int main(int argc, char **argv)
     }
     test_split_sums(ss, 12, 4);
     test_split_sums(ss, 20, 0);
+    test_fine_sums(ss);
     test_budget(ss);
     lvcl_session_close(ss);
-    test_furnace(0);
-    test_furnace(4);
+    test_furnace(0, 0);
+    test_furnace(4, 0);
+    test_furnace(4, 1);
     double off = image_mean(0), on = image_mean(SPLIT_ALL);
     printf("  image mean: %.5f without splitting, %.5f with\n", off, on);
     CHECK("refined cells: the image's mean moves by under 1%", off > 0 && fabs(on / off - 1) < 0.01,

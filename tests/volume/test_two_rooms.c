@@ -5,7 +5,8 @@
  * the grid at several offsets and sizes, and --subcells 0 to 4; and with
  * adaptive cells merging every block the geometry allows (a block that
  * held the wall would join the rooms), and with refined cells splitting
- * every cell they can (the middle planes must not undo the wall's).
+ * every cell they can (the middle planes must not undo the wall's), and
+ * with fine bins in every slot.
  *
  * (a) Leak: the bright lamp red and the dim one blue; the walls are grey,
  *     so the true red radiance in the dim room is 0 while its own blue
@@ -121,8 +122,10 @@ static void two_rooms(float thickness, const float bright[3], const float dim[3]
  * below x = -X): its cells on both sides are uncut, and only the adaptive
  * cells' test for a wall between two cells of a block keeps them apart. */
 #define ON_WALL(n) ((WALL_X + X) / (float)(n))
-/* A refinement density that splits every cell with a plane to spare. */
+/* A refinement density that splits every cell with a plane to spare, and
+ * a peak that gives every slot with light fine bins. */
 #define REFINE_ALL 1e-6
+#define FINE_ALL 1e-6
 
 typedef struct {
     float thickness, offset;
@@ -130,6 +133,7 @@ typedef struct {
     double merge;    /* adaptive cells' tolerance, 0 = off */
     float cell_size; /* metres, 0: from cells */
     double refine;   /* refined cells' density, 0 = off */
+    double fine;     /* refined directions' peak, 0 = off */
 } setup;
 
 static int render(float thickness, const float bright[3], const float dim[3], const setup *u, uint64_t particles,
@@ -144,6 +148,7 @@ static int render(float thickness, const float bright[3], const float dim[3], co
     req.volume.merge_tolerance = u->merge;
     req.volume.cell_size = u->cell_size;
     req.volume.refine_density = u->refine;
+    req.volume.refine_peak = u->fine;
     req.volume.refine_memory = (uint64_t)1 << 32;
     if (harness_render(&scene, NULL, 5, &req, r, &st)) {
         CHECK("two rooms: render", 0, "%s", st.message);
@@ -188,6 +193,8 @@ static void test_leak(void)
         {0.06f, 0.37f, 16, 3, .refine = REFINE_ALL},
         {0.0f, 0.0f, 0, 4, .cell_size = ON_WALL(20), .refine = REFINE_ALL},
         {0.0f, 0.0f, 0, 0, .cell_size = ON_WALL(13), .refine = REFINE_ALL},
+        {0.0f, 0.5f, 32, 4, .fine = FINE_ALL},
+        {0.02f, 0.37f, 16, 0, .fine = FINE_ALL},
     };
     const float ratios[] = {25.0f, 1000.0f};
     double worst = 0;
