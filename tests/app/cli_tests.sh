@@ -139,6 +139,15 @@ fine=$(awk -F': ' '/"fine_dir_slots"/ { print $2 + 0 }' "$tmp/r1.json" 2>/dev/nu
 if [ "${split:-0}" -gt 0 ] && [ "${fine:-0}" -gt 0 ] && "$build/lvcl-compare" "$tmp/r1.exr" "$tmp/r2.exr" | grep -q '"rmse": 0,'
 then pass "--refine and --refine-dirs refine ($split cells split, $fine slots with fine bins) and repeat their image"
 else fail "--refine and --refine-dirs refine and repeat their image" "${split:-no} split, ${fine:-no} fine; $(cat "$tmp/err")"; fi
+# On two devices every device refines alike (the merged tallies decide),
+# and the image is the one device's, bit for bit; enough particles that
+# both devices take batches (of 2^18) before and after the split.
+(export POCL_DEVICES="pthread basic"
+ "$lvcl" -q $refined --particles 1.2e6 --adaptive off --device 0 -o "$tmp/rd0.exr" cornell 2>"$tmp/err"
+ "$lvcl" -q $refined --particles 1.2e6 --adaptive off --device 0,1 -o "$tmp/rd01.exr" cornell 2>>"$tmp/err"
+ if "$build/lvcl-compare" "$tmp/rd0.exr" "$tmp/rd01.exr" | grep -q '"rmse": 0,'
+ then pass "refined volume on two devices gives the one device's image"
+ else fail "refined volume on two devices gives the one device's image" "$(cat "$tmp/err")"; fi)
 
 # Under a time limit an lv render measures, chooses its particle count and
 # samples as many as fit, and its image is the one a fixed render of the
