@@ -91,9 +91,14 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
 lvcl_error lvcl_volume_adapt(lvcl_light_volume *vol, double expected_particles, double merge_tolerance,
                              lvcl_status *st);
 
-/* A fixed-count trace with refined cells splits them after this share
- * (1 / LVCL_SPLIT_AFTER) of its particles. */
+/* A fixed-count trace with refined cells or directions refines after this
+ * share (1 / LVCL_SPLIT_AFTER) of its particles: the particle it refines
+ * at, or 0 where the settings refine nothing. */
 #define LVCL_SPLIT_AFTER 4
+static inline uint64_t lvcl_volume_split_point(const lvcl_volume_settings *s)
+{
+    return s->refine_density > 0 || s->refine_peak > 0 ? s->particles / LVCL_SPLIT_AFTER : 0;
+}
 /* --refine on: the density D that a cell's pieces per particle x N must
  * reach, D sqrt(N), to split; fine bins need it too, whether or not cells
  * split (docs/light-volume.md, "Refined cells and directions"). */

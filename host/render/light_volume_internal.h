@@ -126,6 +126,15 @@ lvcl_error lvcl_volume_find_blocks(lvcl_light_volume *vol, const lvcl_packed_sce
  * lit volume, the sum of its cells' (volume_adapt.c). */
 lvcl_error lvcl_volume_share_lit(lvcl_light_volume *vol, lvcl_status *st);
 
+/* Stores tallies (laid out as lvcl_volume_read reads them) and, if not
+ * NULL, subcell records into the volume's buffers; `what` names the step
+ * in an error (volume_readback.c). */
+lvcl_error lvcl_volume_write(lvcl_light_volume *vol, const int64_t *tallies, const uint32_t *records, const char *what,
+                             lvcl_status *st);
+
+/* Stores every slot's lit volume, as lvcl_volume_read_lit reads them. */
+lvcl_error lvcl_volume_write_lit(lvcl_light_volume *vol, const float *lit, const char *what, lvcl_status *st);
+
 /* After lv_lit_volumes: scales the lit volume of every refined slot by the
  * share of the particles it was traced (volume_refine.c). */
 lvcl_error lvcl_volume_scale_split(lvcl_light_volume *vol, lvcl_status *st);

@@ -182,7 +182,7 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
     lvcl_budget_report *b = &s->budget;
     b->used = 1;
     if (vs.particles) { /* --particles given: traced whole, the gather takes what is left */
-        uint64_t split_at = vs.refine_density > 0 || vs.refine_peak > 0 ? vs.particles / LVCL_SPLIT_AFTER : 0;
+        uint64_t split_at = lvcl_volume_split_point(&vs);
         if (split_at > 0 &&
             ((e = trace_range(s, &vs, 0, split_at, 0, st)) ||
              (e = lvcl_volume_refine(sd->volume, (double)vs.particles, &vs, st))))

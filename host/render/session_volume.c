@@ -72,8 +72,7 @@ lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings
     for (int d = 0; d < n && !e; d++) e = lvcl_session_new_volume(s, d, settings, st);
     if (e) return e;
     s->merge_seconds = 0;
-    uint64_t split_at =
-        settings->refine_density > 0 || settings->refine_peak > 0 ? settings->particles / LVCL_SPLIT_AFTER : 0;
+    uint64_t split_at = lvcl_volume_split_point(settings);
     if (split_at > 0) {
         /* Refined cells: every device holds the same tallies after the
          * merge, so each splits the same cells; all but the first then

@@ -168,18 +168,15 @@ static lvcl_error store_sets(lvcl_light_volume *vol, const int64_t *sets, lvcl_s
     size_t old_bytes = vol->tally_bytes;
     lvcl_volume_layout_tallies(vol); /* fewer sets than before: it fits */
     vol->device_bytes = vol->device_bytes - old_bytes + vol->tally_bytes;
-    cl_int err = lvcl_volume_allocate_tallies(vol);
-    size_t offset = 0;
-    for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS; i++) {
-        err = clEnqueueWriteBuffer(dev->queue, vol->buf.tallies[i], CL_TRUE, 0, lvcl_volume_part_bytes(vol, i),
-                                   (const char *)sets + offset, 0, NULL, NULL);
-        offset += lvcl_volume_part_bytes(vol, i);
-    }
-    if (err == CL_SUCCESS)
-        err = clEnqueueWriteBuffer(dev->queue, vol->buf.tally_slot, CL_TRUE, 0,
-                                   ((size_t)vol->buf.info.slot_count + 1) * sizeof(uint32_t), vol->tally_slot, 0, NULL,
-                                   NULL);
-    return lvcl_cl_check(err, "storing the light volume's merged cells", st);
+    const char *what = "storing the light volume's merged cells";
+    lvcl_error e = lvcl_cl_check(lvcl_volume_allocate_tallies(vol), what, st);
+    if (!e) e = lvcl_volume_write(vol, sets, NULL, what, st);
+    if (!e)
+        e = lvcl_cl_check(clEnqueueWriteBuffer(dev->queue, vol->buf.tally_slot, CL_TRUE, 0,
+                                               ((size_t)vol->buf.info.slot_count + 1) * sizeof(uint32_t),
+                                               vol->tally_slot, 0, NULL, NULL),
+                          what, st);
+    return e;
 }
 
 #define PI 3.14159265358979323846
@@ -365,9 +362,7 @@ lvcl_error lvcl_volume_share_lit(lvcl_light_volume *vol, lvcl_status *st)
     }
     for (uint32_t s = 0; s < g->slot_count; s++) set_lit[vol->tally_slot[s]] += lit[s];
     for (uint32_t s = 0; s < g->slot_count; s++) lit[s] = (float)set_lit[vol->tally_slot[s]];
-    e = lvcl_cl_check(clEnqueueWriteBuffer(vol->dev->queue, vol->buf.lit_volume, CL_TRUE, 0,
-                                           (size_t)g->slot_count * sizeof(float), lit, 0, NULL, NULL),
-                      "storing the merged cells' lit volumes", st);
+    e = lvcl_volume_write_lit(vol, lit, "storing the merged cells' lit volumes", st);
     free(set_lit);
     free(lit);
     return e;

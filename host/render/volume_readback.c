@@ -51,6 +51,29 @@ lvcl_error lvcl_volume_read_lit(const lvcl_light_volume *vol, float **lit, lvcl_
     return e;
 }
 
+lvcl_error lvcl_volume_write(lvcl_light_volume *vol, const int64_t *tallies, const uint32_t *records, const char *what,
+                             lvcl_status *st)
+{
+    cl_int err = CL_SUCCESS;
+    size_t offset = 0;
+    for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS && vol->tally_bytes; i++) {
+        err = clEnqueueWriteBuffer(vol->dev->queue, vol->buf.tallies[i], CL_TRUE, 0, lvcl_volume_part_bytes(vol, i),
+                                   (const char *)tallies + offset, 0, NULL, NULL);
+        offset += lvcl_volume_part_bytes(vol, i);
+    }
+    if (err == CL_SUCCESS && records)
+        err = clEnqueueWriteBuffer(vol->dev->queue, vol->buf.subcells, CL_TRUE, 0, lvcl_volume_record_bytes(vol),
+                                   records, 0, NULL, NULL);
+    return lvcl_cl_check(err, what, st);
+}
+
+lvcl_error lvcl_volume_write_lit(lvcl_light_volume *vol, const float *lit, const char *what, lvcl_status *st)
+{
+    return lvcl_cl_check(clEnqueueWriteBuffer(vol->dev->queue, vol->buf.lit_volume, CL_TRUE, 0,
+                                              (size_t)vol->buf.info.slot_count * sizeof(float), lit, 0, NULL, NULL),
+                         what, st);
+}
+
 lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_status *st)
 {
     int64_t *sum = NULL, *t = NULL;
@@ -79,17 +102,7 @@ lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_sta
     for (int d = 0; d < count; d++) particles += vols[d]->particles;
     for (int d = 0; d < count && !e; d++) {
         vols[d]->buf.info.particles = (float)particles; /* the lookups' normalisation */
-        cl_int err = CL_SUCCESS;
-        size_t offset = 0;
-        for (int i = 0; i < vols[d]->tally_parts && err == CL_SUCCESS && vols[d]->tally_bytes; i++) {
-            err = clEnqueueWriteBuffer(vols[d]->dev->queue, vols[d]->buf.tallies[i], CL_TRUE, 0,
-                                       lvcl_volume_part_bytes(vols[d], i), (char *)sum + offset, 0, NULL, NULL);
-            offset += lvcl_volume_part_bytes(vols[d], i);
-        }
-        if (err == CL_SUCCESS)
-            err = clEnqueueWriteBuffer(vols[d]->dev->queue, vols[d]->buf.subcells, CL_TRUE, 0,
-                                       lvcl_volume_record_bytes(vols[d]), rec_sum, 0, NULL, NULL);
-        e = lvcl_cl_check(err, "storing the merged light volume", st);
+        e = lvcl_volume_write(vols[d], sum, rec_sum, "storing the merged light volume", st);
     }
     free(sum);
     free(rec_sum);

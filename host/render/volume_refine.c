@@ -90,18 +90,7 @@ static lvcl_error store_layout(lvcl_light_volume *vol, const int64_t *tallies, c
     vol->buf.info = info;
     lvcl_error e = lvcl_volume_place(vol, st);
     if (!e) e = lvcl_volume_allocate(vol, st);
-    if (e) return e;
-    cl_int err = CL_SUCCESS;
-    size_t offset = 0;
-    for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS; i++) {
-        err = clEnqueueWriteBuffer(vol->dev->queue, vol->buf.tallies[i], CL_TRUE, 0, lvcl_volume_part_bytes(vol, i),
-                                   (const char *)tallies + offset, 0, NULL, NULL);
-        offset += lvcl_volume_part_bytes(vol, i);
-    }
-    if (err == CL_SUCCESS)
-        err = clEnqueueWriteBuffer(vol->dev->queue, vol->buf.subcells, CL_TRUE, 0, lvcl_volume_record_bytes(vol),
-                                   records, 0, NULL, NULL);
-    return lvcl_cl_check(err, "storing the refined light volume", st);
+    return e ? e : lvcl_volume_write(vol, tallies, records, "storing the refined light volume", st);
 }
 
 /* One past the last slot of the cell whose cell_slot entry is `entry`. */
@@ -388,9 +377,7 @@ lvcl_error lvcl_volume_scale_split(lvcl_light_volume *vol, lvcl_status *st)
     float scale = (float)((g->particles - vol->split_from) / g->particles);
     for (uint32_t s = 0; s < g->slot_count; s++)
         if (vol->restarted[s]) lit[s] *= scale;
-    e = lvcl_cl_check(clEnqueueWriteBuffer(vol->dev->queue, vol->buf.lit_volume, CL_TRUE, 0,
-                                           (size_t)g->slot_count * sizeof(float), lit, 0, NULL, NULL),
-                      "storing the refined slots' lit volumes", st);
+    e = lvcl_volume_write_lit(vol, lit, "storing the refined slots' lit volumes", st);
     free(lit);
     return e;
 }
