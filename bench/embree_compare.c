@@ -89,14 +89,52 @@ static void trace_packet(RTCScene scene, const bench_ray *rays, size_t n, int an
     }
 }
 
-/* Packets of 16 rays (rtcIntersect16/rtcOccluded16) over all threads with
- * OpenMP: on this kind of CPU it was the fastest of Embree's ways (about 4x
- * single rays on primary rays, 2x on shadow rays, the same on diffuse ones;
- * rtcIntersect1M streams fell between), and it is fair, since PoCL too
- * traces neighbouring rays together, one per SIMD lane. The rays come in
- * pixel order, so a packet holds neighbouring pixels. */
-void bench_embree_trace(bench_embree *e, const bench_ray *rays, size_t count, int any_hit, bench_hit *hits)
+/* One ray at a time (rtcIntersect1/rtcOccluded1), Embree's single-ray
+ * API: the way a renderer that does not batch its rays calls it. */
+static void trace_single(RTCScene scene, const bench_ray *b, int any_hit, bench_hit *h)
 {
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRayHit rh;
+    rh.ray.org_x = b->origin[0];
+    rh.ray.org_y = b->origin[1];
+    rh.ray.org_z = b->origin[2];
+    rh.ray.dir_x = b->dir[0];
+    rh.ray.dir_y = b->dir[1];
+    rh.ray.dir_z = b->dir[2];
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = b->tmax;
+    rh.ray.time = 0.0f;
+    rh.ray.mask = 0xffffffffu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    memset(h, 0, sizeof *h);
+    if (any_hit) {
+        rtcOccluded1(scene, &ctx, &rh.ray);
+        h->t = b->tmax;
+        h->prim_id = rh.ray.tfar < 0.0f ? 0u : BENCH_NO_HIT;
+    } else {
+        rtcIntersect1(scene, &ctx, &rh);
+        h->t = rh.ray.tfar;
+        h->prim_id = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? BENCH_NO_HIT : rh.hit.primID;
+    }
+}
+
+/* Both ways run over all threads with OpenMP. Packets were the fastest of
+ * Embree's ways on this kind of CPU (about 4x single rays on primary
+ * rays, 2x on shadow rays, the same on diffuse ones; rtcIntersect1M
+ * streams fell between), and they are fair, since PoCL too traces
+ * neighbouring rays together, one per SIMD lane. The rays come in pixel
+ * order, so a packet holds neighbouring pixels. */
+void bench_embree_trace(bench_embree *e, const bench_ray *rays, size_t count, int any_hit, bench_embree_api api,
+                        bench_hit *hits)
+{
+    if (api == BENCH_EMBREE_SINGLE) {
+#pragma omp parallel for schedule(dynamic, 1024)
+        for (size_t i = 0; i < count; i++) trace_single(e->scene, &rays[i], any_hit, &hits[i]);
+        return;
+    }
     size_t packets = (count + PACKET - 1) / PACKET;
 #pragma omp parallel for schedule(dynamic, 64)
     for (size_t p = 0; p < packets; p++) {
@@ -107,7 +145,8 @@ void bench_embree_trace(bench_embree *e, const bench_ray *rays, size_t count, in
 
 const char *bench_embree_method(void)
 {
-    return "rtcIntersect16/rtcOccluded16 packets, OpenMP over all threads";
+    return "rtcIntersect16/rtcOccluded16 packets (fastest) and rtcIntersect1/rtcOccluded1 (single), OpenMP over all "
+           "threads";
 }
 
 void bench_embree_destroy(bench_embree *e)

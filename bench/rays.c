@@ -139,12 +139,13 @@ static LVCL_DEFINE_BINDER(lv_rays_primary, LV_RAYS_PRIMARY_ARGS, rays_primary_ar
     return e;
 }
 
-static void time_embree(bench *b, const bench_ray *rays, size_t count, int any_hit, bench_hit *hits, double *seconds)
+static void time_embree(bench *b, const bench_ray *rays, size_t count, int any_hit, bench_embree_api api,
+                        bench_hit *hits, double *seconds)
 {
-    bench_embree_trace(b->embree, rays, count, any_hit, hits); /* warm caches and threads */
+    bench_embree_trace(b->embree, rays, count, any_hit, api, hits); /* warm caches and threads */
     for (int r = 0; r < b->opt.repeat; r++) {
         double start = lvcl_seconds();
-        bench_embree_trace(b->embree, rays, count, any_hit, hits);
+        bench_embree_trace(b->embree, rays, count, any_hit, api, hits);
         seconds[r] = lvcl_seconds() - start;
     }
 }
@@ -191,13 +192,18 @@ static void print_embree(bench *b, const bench_ray *rays, const bench_hit *hits,
         printf(", \"embree\": null");
         return;
     }
-    time_embree(b, rays, count, any_hit, eh, t);
+    time_embree(b, rays, count, any_hit, BENCH_EMBREE_PACKETS, eh, t);
     double sec = median(t, b->opt.repeat);
     summary s = summarize(rays, eh, count, any_hit);
     printf(", \"embree_mrays\": %.3f, \"embree_mrays_best\": %.3f, \"embree_seconds\": %.6f, \"embree_hits\": %zu, "
            "\"embree_checksum\": %u, \"embree_mean_distance\": %.7g, \"differing_rays\": %zu, \"ratio\": %.4f",
            count / sec * 1e-6, count / t[0] * 1e-6, sec, s.hits, s.checksum, s.mean_distance,
            count_differences(hits, eh, count, any_hit), sec / lvcl_seconds_median);
+    /* The single-ray API on the same rays: the yardstick for primary and shadow rays. */
+    time_embree(b, rays, count, any_hit, BENCH_EMBREE_SINGLE, eh, t);
+    double single = median(t, b->opt.repeat);
+    printf(", \"embree_single_mrays\": %.3f, \"embree_single_hits\": %zu, \"ratio_single\": %.4f",
+           count / single * 1e-6, summarize(rays, eh, count, any_hit).hits, single / lvcl_seconds_median);
     free(eh);
     free(t);
 }
@@ -308,11 +314,12 @@ static void print_setup(bench *b, int width, int height)
     char scene[300];
     json_string(scene, sizeof scene, b->opt.scene);
     printf("{\"bench\": \"rays\", \"scene\": %s, \"device\": %s, \"triangles\": %zu, \"bvh_triangles\": %zu, "
-           "\"bvh_nodes\": %zu, \"bvh_build_seconds\": %.4f, \"kernel_build_seconds\": %.3f, "
+           "\"bvh_nodes\": %zu, \"bvh_width\": %d, \"bvh_build_seconds\": %.4f, \"kernel_build_seconds\": %.3f, "
            "\"kernel_from_cache\": %s, \"width\": %d, \"height\": %d, \"repeat\": %d",
            scene, b->device_json, lvcl_session_scene(b->s)->triangle_count, lvcl_session_accel(b->s)->triangle_count,
-           lvcl_session_accel(b->s)->node_count, lvcl_session_bvh_build_seconds(b->s), b->program.build_seconds,
-           b->program.from_cache ? "true" : "false", width, height, b->opt.repeat);
+           lvcl_session_packed_scene(b->s)->node_count, lvcl_session_packed_scene(b->s)->bvh_width,
+           lvcl_session_bvh_build_seconds(b->s), b->program.build_seconds, b->program.from_cache ? "true" : "false",
+           width, height, b->opt.repeat);
     if (b->embree)
         printf(", \"embree\": \"%s\", \"embree_build_seconds\": %.4f", bench_embree_method(), b->embree_build_seconds);
     else printf(", \"embree\": null");

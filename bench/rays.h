@@ -26,6 +26,9 @@ typedef struct {
 
 typedef struct bench_embree bench_embree;
 
+/* Which of Embree's APIs traces: packets of 16, or one ray per call. */
+typedef enum { BENCH_EMBREE_PACKETS, BENCH_EMBREE_SINGLE } bench_embree_api;
+
 #ifdef LVCL_HAVE_EMBREE
 /* Builds Embree's BVH over the triangles in glTF order, so that its
  * primitive ids are the prim_ids of the checksums. NULL if unavailable. */
@@ -34,7 +37,8 @@ bench_embree *bench_embree_create(const float *positions, size_t vertex_count, c
 
 /* Traces `count` rays with every thread: closest hits, or occlusion only if
  * any_hit. Fills hits like the kernels do (t of an occluded ray: its tmax). */
-void bench_embree_trace(bench_embree *e, const bench_ray *rays, size_t count, int any_hit, bench_hit *hits);
+void bench_embree_trace(bench_embree *e, const bench_ray *rays, size_t count, int any_hit, bench_embree_api api,
+                        bench_hit *hits);
 
 /* A short description of how bench_embree_trace traces, for the JSON. */
 const char *bench_embree_method(void);
@@ -49,9 +53,9 @@ static inline bench_embree *bench_embree_create(const float *positions, size_t v
     return NULL;
 }
 static inline void bench_embree_trace(bench_embree *e, const bench_ray *rays, size_t count, int any_hit,
-                                      bench_hit *hits)
+                                      bench_embree_api api, bench_hit *hits)
 {
-    (void)e, (void)rays, (void)count, (void)any_hit, (void)hits;
+    (void)e, (void)rays, (void)count, (void)any_hit, (void)api, (void)hits;
 }
 static inline const char *bench_embree_method(void)
 {

@@ -41,15 +41,24 @@ typedef struct {
          : (i) - (n) - (n) < (n) ? (parts)[2] + (size_t)(stride) * ((i)-2u * (n)) \
                                  : (parts)[3] + (size_t)(stride) * ((i)-3u * (n)))
 
-inline __global const lv_bvh_node *lv_node(const lv_scene *sc, uint i)
+inline __global const lv_wide_node *lv_node(const lv_scene *sc, uint i)
 {
     return LV_SPLIT_AT(sc->nodes, sc->info.nodes_per_part, i, lv_scene_stride_nodes);
 }
 
-/* Triangle tri's three object-space corners. */
-inline __global const float4 *lv_tri_corners(const lv_scene *sc, uint tri)
+/* Group g of LV_TRI_GROUP triangles' corners (kernels/shared_types.h). */
+inline __global const float4 *lv_tri_group(const lv_scene *sc, uint g)
 {
-    return LV_SPLIT_AT(sc->tri_vertices, sc->info.triangles_per_part, tri, lv_scene_stride_tri_vertices);
+    return LV_SPLIT_AT(sc->tri_groups, sc->info.groups_per_part, g, lv_scene_stride_tri_groups);
+}
+
+/* Triangle tri's three object-space corners. */
+inline void lv_tri_corners(const lv_scene *sc, uint tri, float3 *v0, float3 *v1, float3 *v2)
+{
+    __global const float *g = (__global const float *)lv_tri_group(sc, tri / LV_TRI_GROUP) + tri % LV_TRI_GROUP;
+    *v0 = (float3)(g[0], g[LV_TRI_GROUP], g[2 * LV_TRI_GROUP]);
+    *v1 = (float3)(g[3 * LV_TRI_GROUP], g[4 * LV_TRI_GROUP], g[5 * LV_TRI_GROUP]);
+    *v2 = (float3)(g[6 * LV_TRI_GROUP], g[7 * LV_TRI_GROUP], g[8 * LV_TRI_GROUP]);
 }
 
 inline lv_triangle lv_triangle_record(const lv_scene *sc, uint tri)

@@ -19,17 +19,36 @@ typedef uint32_t lv_u32;
 typedef int32_t lv_i32;
 #endif
 
-/* A BVH node in depth-first order. An interior node's first child is the
- * next node; `index` is the second child. A leaf (count > 0) holds `count`
- * items starting at `index`: instances (in the instance array) in the
- * top-level tree, which starts at node 0; triangles (in the leaf-ordered
- * triangle arrays) in a mesh's tree. Indices are absolute. */
+/* A node of the kernels' 4-wide BVH (host/accel/bvh_wide.c collapses the
+ * binary build into it), in depth-first order, root first. The four child
+ * boxes are stored axis by axis, so one float4 load gives one bound of all
+ * four and the slab test runs on all of them at once. Child i is:
+ *   count[i] == 0: an interior node, at `index[i]`;
+ *   count[i] > 0: a leaf of count[i] items from `index[i]`: instances (in
+ *     the instance array) in the top-level tree, which starts at node 0;
+ *     triangles (in the leaf-ordered triangle arrays) in a mesh's tree;
+ *   count[i] == LV_EMPTY_CHILD: nothing (its box is never tested as hit).
+ * Indices are absolute. A node of a tree too deep for the traversal stack
+ * at width 4 uses two lanes only (lvcl_pack_scene). */
+#define LV_BVH_WIDTH 4
+#define LV_EMPTY_CHILD (-1)
+/* Entries of the kernels' traversal stack (kernels/bvh/traverse.h); the
+ * host checks every tree against it. */
+#define LV_TRAVERSAL_STACK 128
+
 typedef struct {
-    float bmin[3];
-    lv_i32 index;
-    float bmax[3];
-    lv_i32 count;
-} lv_bvh_node;
+    float lo[3][LV_BVH_WIDTH]; /* lo[axis][child] */
+    float hi[3][LV_BVH_WIDTH];
+    lv_i32 index[LV_BVH_WIDTH];
+    lv_i32 count[LV_BVH_WIDTH];
+} lv_wide_node;
+
+/* The triangles' object-space corners, in BVH leaf order, four at a time:
+ * group g holds triangles 4g .. 4g + 3 as 9 float4, corner by corner and
+ * axis by axis (v0.x of the four, v0.y, v0.z, v1.x, ... v2.z), so that the
+ * ray-triangle test runs on four triangles at once. A group may hold
+ * triangles of two leaves or meshes; a test takes the lanes of its leaf. */
+#define LV_TRI_GROUP 4
 
 /* Per triangle, in BVH leaf order: where its attributes live and what it is. */
 typedef struct {
@@ -151,9 +170,9 @@ typedef struct {
     /* Elements per buffer of the tables split over LV_SCENE_PARTS buffers
      * (kernels/scene_buffers.h); 0xffffffff where one buffer holds them all. */
     lv_u32 nodes_per_part;
-    lv_u32 triangles_per_part; /* tri_vertices and triangles */
+    lv_u32 triangles_per_part; /* triangles */
     lv_u32 vertices_per_part;  /* normals and uvs */
-    lv_u32 pad;
+    lv_u32 groups_per_part;    /* tri_groups */
 } lv_scene_info;
 
 /* The light volume (paper section 4): a regular grid of cubic cells
@@ -323,17 +342,17 @@ typedef struct {
  *     elements each (kernels/scene_buffers.h reads them with LV_SPLIT_AT);
  *   ONE(type, name, what): one buffer.
  * `what` names the table in the host's messages. */
-#define LV_SCENE_BUFFERS(SPLIT, ONE)                                                                                   \
-    SPLIT(lv_bvh_node, nodes, 1, nodes_per_part, "BVH nodes")                  /* top-level tree, then every mesh's */ \
-    ONE(lv_instance, instances, "instances")                                   /* top-level leaf order */              \
-    SPLIT(lv_float4, tri_vertices, 3, triangles_per_part, "triangle vertices") /* leaf order, object space */          \
-    SPLIT(lv_triangle, triangles, 1, triangles_per_part, "triangles")          /* leaf order */                        \
-    SPLIT(float, normals, 3, vertices_per_part, "normals")                                                             \
-    SPLIT(float, uvs, 2, vertices_per_part, "texture coordinates")                                                     \
-    ONE(lv_material, materials, "materials")                                                                           \
-    ONE(lv_texture, textures, "textures")                                                                              \
-    ONE(lv_uchar4, texels, "texels")                                                                                   \
-    ONE(lv_light, lights, "lights")                                                                                    \
+#define LV_SCENE_BUFFERS(SPLIT, ONE)                                                                              \
+    SPLIT(lv_wide_node, nodes, 1, nodes_per_part, "BVH nodes")            /* top-level tree, then every mesh's */ \
+    ONE(lv_instance, instances, "instances")                              /* top-level leaf order */              \
+    SPLIT(lv_float4, tri_groups, 9, groups_per_part, "triangle vertices") /* LV_TRI_GROUP corners each */         \
+    SPLIT(lv_triangle, triangles, 1, triangles_per_part, "triangles")     /* leaf order */                        \
+    SPLIT(float, normals, 3, vertices_per_part, "normals")                                                        \
+    SPLIT(float, uvs, 2, vertices_per_part, "texture coordinates")                                                \
+    ONE(lv_material, materials, "materials")                                                                      \
+    ONE(lv_texture, textures, "textures")                                                                         \
+    ONE(lv_uchar4, texels, "texels")                                                                              \
+    ONE(lv_light, lights, "lights")                                                                               \
     ONE(lv_punctual_light, punctuals, "punctual lights")
 
 /* The light volume's buffers, in argument order (then lv_grid_info):

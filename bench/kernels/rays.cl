@@ -80,8 +80,9 @@ __kernel void lv_rays_secondary(LV_KERNEL_PARAMS(LV_RAYS_SECONDARY_ARGS))
     lv_ray r = lv_rays_load(primary, pixel);
     uint4 h = primary_hits[pixel];
 
-    __global const float4 *v = lv_tri_corners(&sc, h.z);
-    float3 n = normalize(cross(v[1].xyz - v[0].xyz, v[2].xyz - v[0].xyz));
+    float3 v0, v1, v2;
+    lv_tri_corners(&sc, h.z, &v0, &v1, &v2);
+    float3 n = normalize(cross(v1 - v0, v2 - v0));
     if (dot(n, r.dir) > 0.0f) n = -n;
     float3 o = r.origin + as_float(h.x) * r.dir + offset * n;
 
@@ -91,9 +92,10 @@ __kernel void lv_rays_secondary(LV_KERNEL_PARAMS(LV_RAYS_SECONDARY_ARGS))
 
     if (emissive_count == 0) return;
     uint pick = min((uint)(lv_rng_next(&rng) * (float)emissive_count), emissive_count - 1u);
-    __global const float4 *lv = lv_tri_corners(&sc, sc.lights[pick].index);
+    float3 l0, l1, l2;
+    lv_tri_corners(&sc, sc.lights[pick].index, &l0, &l1, &l2);
     float2 b = lv_sample_triangle(lv_rng_next2(&rng));
-    float3 target = (1.0f - b.x - b.y) * lv[0].xyz + b.x * lv[1].xyz + b.y * lv[2].xyz;
+    float3 target = (1.0f - b.x - b.y) * l0 + b.x * l1 + b.y * l2;
     float3 to = target - o;
     float dist = length(to);
     lv_rays_store(shadow, i, o, dist > 0.0f ? to / dist : n, 0.999f * dist);

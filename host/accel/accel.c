@@ -7,7 +7,7 @@
 
 /* The box over every finite corner of a mesh's triangles, degenerate ones
  * included (they still say how far the scene reaches). */
-static void mesh_vertex_box(const lvcl_scene *scene, const lvcl_mesh *mesh, lv_bvh_node *box)
+static void mesh_vertex_box(const lvcl_scene *scene, const lvcl_mesh *mesh, lvcl_bvh_node *box)
 {
     for (int k = 0; k < 3; k++) {
         box->bmin[k] = FLT_MAX;
@@ -103,14 +103,14 @@ lvcl_error lvcl_accel_build(const lvcl_scene *scene, lvcl_accel *a, lvcl_status 
         a->bounds_min[k] = FLT_MAX;
         a->bounds_max[k] = -FLT_MAX;
     }
-    lv_bvh_node *vertex_box = malloc(a->mesh_count * sizeof *vertex_box);
+    lvcl_bvh_node *vertex_box = malloc(a->mesh_count * sizeof *vertex_box);
     if (!vertex_box) {
         e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for %zu mesh boxes", a->mesh_count);
         goto fail;
     }
     for (size_t m = 0; m < a->mesh_count; m++) mesh_vertex_box(scene, &a->meshes[m], &vertex_box[m]);
     for (size_t i = 0; i < live; i++) {
-        const lv_bvh_node *box = &vertex_box[a->instances[i].mesh];
+        const lvcl_bvh_node *box = &vertex_box[a->instances[i].mesh];
         float lo[3], hi[3];
         lvcl_transform_box(a->instances[i].world_from_object, box->bmin, box->bmax, lo, hi);
         for (int k = 0; k < 3; k++) {

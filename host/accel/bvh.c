@@ -21,7 +21,7 @@ typedef struct {
     box3 *tri_box;
     float *centroid; /* 3 per triangle */
     uint32_t *order; /* working permutation of triangle indices */
-    lv_bvh_node *nodes;
+    lvcl_bvh_node *nodes;
     size_t node_count;
     size_t max_leaf;
     int depth;
@@ -84,10 +84,10 @@ static int triangle_usable(const float *a, const float *b, const float *c)
     return n0 * n0 + n1 * n1 + n2 * n2 > 0.0;
 }
 
-static void make_leaf(lv_bvh_node *node, size_t first, size_t count)
+static void make_leaf(lvcl_bvh_node *node, size_t first, size_t count)
 {
-    node->index = (lv_i32)first;
-    node->count = (lv_i32)count;
+    node->index = (int32_t)first;
+    node->count = (int32_t)count;
 }
 
 static int compare_axis;
@@ -187,7 +187,7 @@ static size_t median_partition(builder *bd, size_t first, size_t count, const bo
 
 static void build_node(builder *bd, size_t node_index, size_t first, size_t count, int depth)
 {
-    lv_bvh_node *node = &bd->nodes[node_index];
+    lvcl_bvh_node *node = &bd->nodes[node_index];
     box3 bounds = box_empty();
     for (size_t i = first; i < first + count; i++) box_grow_box(&bounds, &bd->tri_box[bd->order[i]]);
     memcpy(node->bmin, bounds.lo, sizeof node->bmin);
@@ -205,7 +205,7 @@ static void build_node(builder *bd, size_t node_index, size_t first, size_t coun
     size_t left = bd->node_count++;
     build_node(bd, left, first, left_count, depth + 1);
     size_t right = bd->node_count++;
-    bd->nodes[node_index].index = (lv_i32)right;
+    bd->nodes[node_index].index = (int32_t)right;
     bd->nodes[node_index].count = 0;
     build_node(bd, right, first + left_count, count - left_count, depth + 1);
 }

@@ -1,6 +1,6 @@
-/* Bounding volume hierarchy over triangles: a binned-SAH build on the host,
- * flattened depth-first into lv_bvh_node for the kernels (see
- * kernels/shared_types.h for the node layout). */
+/* Bounding volume hierarchy over triangles: a binned-SAH build on the host
+ * into a binary tree, flattened depth first. The host walks it as it is;
+ * the kernels get it collapsed into 4-wide nodes (bvh_wide.h). */
 #ifndef LVCL_BVH_H
 #define LVCL_BVH_H
 
@@ -10,12 +10,21 @@
 #include "../util/status.h"
 #include "../../kernels/shared_types.h"
 
-/* Deepest path from the root the builder makes; the kernels' traversal stack
- * (LV_TRAVERSAL_STACK in kernels/bvh/traverse.h) must be at least this deep. */
+/* A binary node. An interior node's first child is the next node; `index`
+ * is the second child. A leaf (count > 0) holds `count` items starting at
+ * `index` in the tree's leaf order. */
+typedef struct {
+    float bmin[3];
+    int32_t index;
+    float bmax[3];
+    int32_t count;
+} lvcl_bvh_node;
+
+/* Deepest path from the root the builder makes (edges). */
 #define LVCL_BVH_MAX_DEPTH 60
 
 typedef struct {
-    lv_bvh_node *nodes;
+    lvcl_bvh_node *nodes;
     size_t node_count;
     uint32_t *tri_order;   /* leaf slot -> original triangle (or box) index */
     size_t triangle_count; /* items in the tree (degenerate triangles left out) */

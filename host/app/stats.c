@@ -29,16 +29,18 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
     const lvcl_device_scene *ds = lvcl_session_device_scene(ss, 0);
     const lvcl_program *prog = lvcl_session_program(ss, 0);
     const lvcl_accel *accel = lvcl_session_accel(ss);
+    const lvcl_packed_scene *packed = lvcl_session_packed_scene(ss);
     json_string(f, dev->name);
     fprintf(f, ",\n  \"device_index\": %d,\n  \"platform\": ", dev->index);
     json_string(f, dev->platform_name);
     fprintf(f,
             ",\n  \"triangles\": %zu,\n  \"triangles_skipped\": %zu,\n  \"meshes\": %zu,\n  \"instances\": %zu,\n"
-            "  \"instanced_triangles\": %zu,\n  \"bvh_nodes\": %zu,\n  \"bvh_depth\": %d,\n  \"bvh_bytes\": %zu,\n"
+            "  \"instanced_triangles\": %zu,\n  \"bvh_nodes\": %zu,\n  \"bvh_width\": %d,\n  \"bvh_depth\": %d,\n"
+            "  \"bvh_stack_need\": %d,\n  \"bvh_bytes\": %zu,\n"
             "  \"device_bytes\": %zu,\n  \"scene_tables_split\": %d,\n",
             accel->triangle_count, accel->skipped, accel->mesh_count, accel->instance_count, accel->instanced_triangles,
-            accel->node_count, accel->depth, accel->node_count * sizeof(lv_bvh_node), ds->device_bytes,
-            ds->split_tables);
+            packed->node_count, packed->bvh_width, accel->depth, packed->stack_need,
+            packed->node_count * sizeof(lv_wide_node), ds->device_bytes, ds->split_tables);
     fprintf(f, "  \"kernel_options\": ");
     json_string(f, prog->options);
     fprintf(f,

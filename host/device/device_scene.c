@@ -58,7 +58,7 @@ static lvcl_error upload_table(const lvcl_device *dev, const table *t, lvcl_stat
 #define AT_LEAST_ONE(n) ((n) ? (n) : 1)
 #define SOURCE_nodes (p->nodes, p->node_count)
 #define SOURCE_instances (p->instances, p->instance_count)
-#define SOURCE_tri_vertices (p->tri_vertices, p->triangle_count)
+#define SOURCE_tri_groups (p->tri_groups, p->group_count)
 #define SOURCE_triangles (p->triangles, p->triangle_count)
 #define SOURCE_normals (scene->normals, vertices)
 #define SOURCE_uvs (scene->uvs, vertices)

@@ -3,7 +3,7 @@
  * OpenCL C lay them out alike. Checked at compile time; no code. */
 #include "../../kernels/shared_types.h"
 
-_Static_assert(sizeof(lv_bvh_node) == 32, "lv_bvh_node");
+_Static_assert(sizeof(lv_wide_node) == 128, "lv_wide_node");
 _Static_assert(sizeof(lv_triangle) == 32, "lv_triangle");
 _Static_assert(sizeof(lv_instance) == 112, "lv_instance");
 _Static_assert(sizeof(lv_material) == 64, "lv_material");

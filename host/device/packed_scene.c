@@ -24,11 +24,20 @@ static float triangle_area(const float v[9])
     return 0.5f * sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
+/* Where corner c's axis k of leaf-ordered triangle tri is stored. */
+static size_t corner_at(size_t tri, int c, int k)
+{
+    return (tri / LV_TRI_GROUP) * 9 * LV_TRI_GROUP + (size_t)(3 * c + k) * LV_TRI_GROUP + tri % LV_TRI_GROUP;
+}
+
 void lvcl_packed_triangle_world(const lvcl_packed_scene *p, size_t instance, size_t tri, float v[9])
 {
     const lv_instance *in = &p->instances[instance];
-    for (int c = 0; c < 3; c++)
-        lvcl_transform_point(in->world_from_object, &p->tri_vertices[12 * tri + 4 * c], 1.0f, &v[3 * c]);
+    for (int c = 0; c < 3; c++) {
+        float object[3];
+        for (int k = 0; k < 3; k++) object[k] = p->tri_groups[corner_at(tri, c, k)];
+        lvcl_transform_point(in->world_from_object, object, 1.0f, &v[3 * c]);
+    }
 }
 
 /* Power (luminance watts) of a punctual light: 4 pi I for a point light,
@@ -106,22 +115,37 @@ static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lv
     return LVCL_OK;
 }
 
-/* Copies a mesh's tree after the nodes already packed, with its indices
- * made absolute, and its triangles in leaf order. */
-static void pack_mesh(const lvcl_scene *scene, const lvcl_mesh *mesh, const lvcl_bvh *b, size_t node_base,
-                      size_t tri_base, lvcl_packed_scene *p)
+/* Copies a binary tree after the nodes already packed, with its indices
+ * made absolute. */
+static void pack_tree(const lvcl_bvh *b, size_t node_base, size_t leaf_base, lvcl_bvh_node *out)
 {
     for (size_t i = 0; i < b->node_count; i++) {
-        lv_bvh_node n = b->nodes[i];
-        n.index += (lv_i32)(n.count > 0 ? tri_base : node_base);
-        p->nodes[node_base + i] = n;
+        lvcl_bvh_node n = b->nodes[i];
+        n.index += (int32_t)(n.count > 0 ? leaf_base : node_base);
+        out[node_base + i] = n;
     }
+}
+
+/* Likewise for a wide tree. */
+static void pack_wide_tree(const lvcl_wide_bvh *w, size_t node_base, size_t leaf_base, lv_wide_node *out)
+{
+    for (size_t i = 0; i < w->node_count; i++) {
+        lv_wide_node n = w->nodes[i];
+        for (int c = 0; c < LV_BVH_WIDTH; c++)
+            if (n.count[c] != LV_EMPTY_CHILD) n.index[c] += (lv_i32)(n.count[c] > 0 ? leaf_base : node_base);
+        out[node_base + i] = n;
+    }
+}
+
+/* The mesh's triangles in leaf order after those already packed. */
+static void pack_triangles(const lvcl_scene *scene, const lvcl_mesh *mesh, const lvcl_bvh *b, size_t tri_base,
+                           lvcl_packed_scene *p)
+{
     for (size_t i = 0; i < b->triangle_count; i++) {
         size_t t = mesh->first_triangle + b->tri_order[i], slot = tri_base + i;
         for (int c = 0; c < 3; c++) {
             uint32_t v = scene->indices[3 * t + c];
-            memcpy(&p->tri_vertices[12 * slot + 4 * c], &scene->positions[3 * v], 3 * sizeof(float));
-            p->tri_vertices[12 * slot + 4 * c + 3] = 0.0f;
+            for (int k = 0; k < 3; k++) p->tri_groups[corner_at(slot, c, k)] = scene->positions[3 * v + k];
             p->triangles[slot].v[c] = v;
         }
         p->triangles[slot].material = scene->tri_material[t];
@@ -131,17 +155,69 @@ static void pack_mesh(const lvcl_scene *scene, const lvcl_mesh *mesh, const lvcl
     }
 }
 
+/* Collapses the top level and every mesh's tree LV_BVH_WIDTH wide, or 2
+ * wide where the wider trees could overflow the kernels' traversal stack
+ * (a binary path pushes one entry a level, so LVCL_BVH_MAX_DEPTH bounds
+ * it), and packs them into p->nodes; mesh_root gets each mesh's root. */
+static lvcl_error pack_wide_trees(const lvcl_accel *a, lvcl_packed_scene *p, size_t *mesh_root, lvcl_status *st)
+{
+    lvcl_wide_bvh top = {0}, *mesh = calloc(a->mesh_count, sizeof *mesh);
+    if (!mesh) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for %zu BVHs", a->mesh_count);
+    lvcl_error e = LVCL_OK;
+    for (int width = LV_BVH_WIDTH; width >= 2; width = width == 2 ? 0 : 2) {
+        e = lvcl_bvh_widen(&a->top, width, &top, st);
+        int mesh_need = 0;
+        for (size_t m = 0; m < a->mesh_count && !e; m++) {
+            e = lvcl_bvh_widen(&a->mesh_bvh[m], width, &mesh[m], st);
+            if (mesh[m].stack_need > mesh_need) mesh_need = mesh[m].stack_need;
+        }
+        /* Below a top-level leaf: the marker back to the top level, then a mesh. */
+        p->stack_need = top.stack_need + 1 + mesh_need;
+        p->bvh_width = width;
+        if (e || p->stack_need <= LV_TRAVERSAL_STACK) break;
+        lvcl_wide_bvh_free(&top);
+        for (size_t m = 0; m < a->mesh_count; m++) lvcl_wide_bvh_free(&mesh[m]);
+    }
+    if (!e && p->stack_need > LV_TRAVERSAL_STACK)
+        e = lvcl_fail(st, LVCL_ERR_TOO_LARGE, "the BVH needs %d traversal stack entries, the kernels have %d",
+                      p->stack_need, LV_TRAVERSAL_STACK);
+    size_t count = top.node_count;
+    for (size_t m = 0; m < a->mesh_count; m++) count += mesh[m].node_count;
+    /* The traversal names a leaf by its node and lane in a negative int. */
+    if (!e && count > (size_t)(INT32_MAX - 2) / LV_BVH_WIDTH)
+        e = lvcl_fail(st, LVCL_ERR_TOO_LARGE, "%zu BVH nodes exceed the kernels' 32-bit leaf references", count);
+    if (!e && !(p->nodes = malloc(count * sizeof *p->nodes)))
+        e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for %zu BVH nodes", count);
+    if (!e) {
+        pack_wide_tree(&top, 0, 0, p->nodes);
+        size_t node_base = top.node_count, tri_base = 0;
+        for (size_t m = 0; m < a->mesh_count; m++) {
+            pack_wide_tree(&mesh[m], node_base, tri_base, p->nodes);
+            mesh_root[m] = node_base;
+            node_base += mesh[m].node_count;
+            tri_base += a->mesh_bvh[m].triangle_count;
+        }
+        p->node_count = count;
+    }
+    lvcl_wide_bvh_free(&top);
+    for (size_t m = 0; m < a->mesh_count; m++) lvcl_wide_bvh_free(&mesh[m]);
+    free(mesh);
+    return e;
+}
+
 lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *a, uint32_t seed, uint32_t max_depth,
                            lvcl_packed_scene *p, lvcl_status *st)
 {
     memset(p, 0, sizeof *p);
     size_t n = a->triangle_count;
-    p->nodes = malloc(a->node_count * sizeof *p->nodes);
+    p->tree_nodes = malloc(a->node_count * sizeof *p->tree_nodes);
+    p->mesh_tree_root = calloc(a->mesh_count, sizeof *p->mesh_tree_root);
     p->instances = calloc(a->instance_count, sizeof *p->instances);
     p->mesh_first = calloc(a->mesh_count, sizeof *p->mesh_first);
     p->mesh_size = calloc(a->mesh_count, sizeof *p->mesh_size);
     size_t *mesh_root = calloc(a->mesh_count, sizeof *mesh_root);
-    p->tri_vertices = malloc(n * 12 * sizeof(float));
+    p->group_count = (n + LV_TRI_GROUP - 1) / LV_TRI_GROUP;
+    p->tri_groups = calloc(p->group_count * 9 * LV_TRI_GROUP, sizeof(float));
     p->triangles = calloc(n, sizeof *p->triangles);
     p->materials = calloc(scene->material_count ? scene->material_count : 1, sizeof *p->materials);
     p->textures = calloc(scene->texture_count ? scene->texture_count : 1, sizeof *p->textures);
@@ -149,8 +225,8 @@ lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *a, uint32_
     for (size_t t = 0; t < scene->texture_count; t++)
         texels += (size_t)scene->textures[t].width * scene->textures[t].height;
     p->texels = calloc(texels ? texels : 1, sizeof *p->texels);
-    if (!p->nodes || !p->instances || !p->mesh_first || !p->mesh_size || !mesh_root || !p->tri_vertices ||
-        !p->triangles || !p->materials || !p->textures || !p->texels) {
+    if (!p->tree_nodes || !p->mesh_tree_root || !p->instances || !p->mesh_first || !p->mesh_size || !mesh_root ||
+        !p->tri_groups || !p->triangles || !p->materials || !p->textures || !p->texels) {
         free(mesh_root);
         lvcl_packed_scene_free(p);
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory packing %zu triangles", n);
@@ -158,18 +234,25 @@ lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *a, uint32_
 
     /* Nodes: the top level first (the kernels start at node 0), then each
      * mesh's tree; triangles mesh after mesh. */
-    memcpy(p->nodes, a->top.nodes, a->top.node_count * sizeof *p->nodes);
+    lvcl_error e = pack_wide_trees(a, p, mesh_root, st);
+    if (e) {
+        free(mesh_root);
+        lvcl_packed_scene_free(p);
+        return e;
+    }
+    pack_tree(&a->top, 0, 0, p->tree_nodes);
     size_t node_base = a->top.node_count, tri_base = 0;
     for (size_t m = 0; m < a->mesh_count; m++) {
         const lvcl_bvh *b = &a->mesh_bvh[m];
-        pack_mesh(scene, &a->meshes[m], b, node_base, tri_base, p);
-        mesh_root[m] = node_base;
+        pack_tree(b, node_base, tri_base, p->tree_nodes);
+        pack_triangles(scene, &a->meshes[m], b, tri_base, p);
+        p->mesh_tree_root[m] = node_base;
         p->mesh_first[m] = tri_base;
         p->mesh_size[m] = b->triangle_count;
         node_base += b->node_count;
         tri_base += b->triangle_count;
     }
-    p->node_count = node_base;
+    p->tree_node_count = node_base;
     p->triangle_count = n;
     p->mesh_count = a->mesh_count;
 
@@ -220,10 +303,12 @@ lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *a, uint32_
 void lvcl_packed_scene_free(lvcl_packed_scene *p)
 {
     free(p->nodes);
+    free(p->tree_nodes);
+    free(p->mesh_tree_root);
     free(p->instances);
     free(p->mesh_first);
     free(p->mesh_size);
-    free(p->tri_vertices);
+    free(p->tri_groups);
     free(p->triangles);
     free(p->materials);
     free(p->textures);

@@ -5,17 +5,24 @@
 #define LVCL_PACKED_SCENE_H
 
 #include "../accel/accel.h"
+#include "../accel/bvh_wide.h"
 #include "../scene/scene.h"
 
 /* The kernels' arrays, packed on the host (also used by host-side checks). */
 typedef struct {
-    lv_bvh_node *nodes; /* the top level, then every mesh's tree */
+    lv_wide_node *nodes; /* the kernels' trees: the top level, then every mesh's */
     size_t node_count;
+    int bvh_width;             /* children per node: LV_BVH_WIDTH, or 2 where that would overflow the traversal stack */
+    int stack_need;            /* traversal stack entries the deepest path can hold */
+    lvcl_bvh_node *tree_nodes; /* the same trees binary, for walks on the host */
+    size_t tree_node_count;
+    size_t *mesh_tree_root; /* each mesh's root in tree_nodes */
     lv_instance *instances; /* in the top level's leaf order */
     size_t instance_count;
     size_t *mesh_first, *mesh_size; /* each mesh's range of the leaf-ordered triangles */
     size_t mesh_count;
-    float *tri_vertices;    /* 12 floats (3 x float4) per triangle, leaf order, object space */
+    float *tri_groups; /* object-space corners, LV_TRI_GROUP triangles in 36 floats (kernels/shared_types.h) */
+    size_t group_count;
     lv_triangle *triangles; /* leaf order */
     size_t triangle_count;
     lv_material *materials;

@@ -37,9 +37,9 @@ void lvcl_volume_walk_geometry(const lvcl_packed_scene *p, const lv_grid_info *g
     for (size_t in = 0; in < p->instance_count; in++) {
         const lv_instance *inst = &p->instances[in];
         int top = 0;
-        stack[top++] = (int)inst->root;
+        stack[top++] = (int)p->mesh_tree_root[inst->mesh];
         while (top > 0) {
-            const lv_bvh_node *n = &p->nodes[stack[--top]];
+            const lvcl_bvh_node *n = &p->tree_nodes[stack[--top]];
             float lo_w[3], hi_w[3];
             int lo[3], hi[3];
             lvcl_transform_box(inst->world_from_object, n->bmin, n->bmax, lo_w, hi_w);
@@ -56,7 +56,7 @@ void lvcl_volume_walk_geometry(const lvcl_packed_scene *p, const lv_grid_info *g
                     visit(g, lo_w, hi_w, ctx);
                 }
             } else {
-                stack[top++] = (int)(n - p->nodes) + 1;
+                stack[top++] = (int)(n - p->tree_nodes) + 1;
                 stack[top++] = n->index;
             }
         }

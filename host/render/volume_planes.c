@@ -131,17 +131,17 @@ static void add_triangle(clusters *c, const lv_grid_info *g, const uint32_t *sto
 
 /* The triangles below node n, which lie in one run of the leaf order (the
  * tree is stored depth first): from its leftmost leaf to its rightmost. */
-static void subtree_triangles(const lvcl_packed_scene *p, const lv_bvh_node *n, size_t *first, size_t *count)
+static void subtree_triangles(const lvcl_packed_scene *p, const lvcl_bvh_node *n, size_t *first, size_t *count)
 {
-    const lv_bvh_node *left = n, *right = n;
+    const lvcl_bvh_node *left = n, *right = n;
     while (left->count == 0) left = left + 1;
-    while (right->count == 0) right = &p->nodes[right->index];
+    while (right->count == 0) right = &p->tree_nodes[right->index];
     *first = (size_t)left->index;
     *count = (size_t)(right->index + right->count) - *first;
 }
 
 /* Whether node n, as instance inst places it, spans at most two cells along every axis. */
-static int spans_few_cells(const lv_grid_info *g, const lv_instance *inst, const lv_bvh_node *n)
+static int spans_few_cells(const lv_grid_info *g, const lv_instance *inst, const lvcl_bvh_node *n)
 {
     float lo_w[3], hi_w[3];
     int lo[3], hi[3];
@@ -208,9 +208,9 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
     for (size_t in = 0; in < p->instance_count && !c.failed; in++) {
         const lv_instance *inst = &p->instances[in];
         int top = 0;
-        stack[top++] = (int)inst->root;
+        stack[top++] = (int)p->mesh_tree_root[inst->mesh];
         while (top > 0 && !c.failed) {
-            const lv_bvh_node *n = &p->nodes[stack[--top]];
+            const lvcl_bvh_node *n = &p->tree_nodes[stack[--top]];
             size_t first, count;
             subtree_triangles(p, n, &first, &count);
             if (n->count > 0 || (count > SAMPLED_TRIANGLES && spans_few_cells(g, inst, n))) {
@@ -221,7 +221,7 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
                     add_triangle(&c, g, slot, v, (double)count / (double)taken);
                 }
             } else {
-                stack[top++] = (int)(n - p->nodes) + 1;
+                stack[top++] = (int)(n - p->tree_nodes) + 1;
                 stack[top++] = n->index;
             }
         }

@@ -48,10 +48,7 @@ inline float3 lv_texture_rgb(const lv_scene *sc, int index, float2 uv)
  * mirrored instance, whose transform reverses the winding). */
 inline float lv_triangle_world(const lv_scene *sc, uint inst, uint tri, float3 *v0, float3 *v1, float3 *v2)
 {
-    __global const float4 *v = lv_tri_corners(sc, tri);
-    *v0 = v[0].xyz;
-    *v1 = v[1].xyz;
-    *v2 = v[2].xyz;
+    lv_tri_corners(sc, tri, v0, v1, v2);
     if (sc->info.flat) return 1.0f;
     __global const lv_instance *placed = &sc->instances[inst];
     *v0 = lv_transform(placed->world_from_object, *v0, 1.0f);

@@ -72,7 +72,7 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
     float3 o = (origin - lv_grid_origin(grid)) / h;
     float3 inv = lv_safe_inverse(dir);
     float3 lo = (0.0f - o) * inv, hi = (dims - o) * inv;
-    float3 tn = min(lo, hi), tf = max(lo, hi); /* finite: min and max as in lv_box_entry */
+    float3 tn = min(lo, hi), tf = max(lo, hi); /* finite: min and max as in lv_child_entries */
     float s0 = max(t0 / h, max(tn.x, max(tn.y, tn.z)));
     float s1 = min(t1 / h, min(tf.x, min(tf.y, tf.z)));
     if (!(s0 < s1)) return;

@@ -48,6 +48,108 @@ static void test_random_soups(void)
     }
 }
 
+/* ---- the kernels' wide nodes against the binary tree ---- */
+
+/* Walks wide node `at`: every binary leaf below it is seen once, each
+ * lane's box is its binary node's, and the stack need is recomputed from
+ * the lanes (a node's other live children wait while one is visited). */
+typedef struct {
+    const lvcl_wide_bvh *w;
+    unsigned char *leaf_seen; /* per binary leaf-order item */
+    int bad_width, leaf_lanes, node_lanes;
+} wide_walk;
+
+static int walk_wide(wide_walk *k, size_t at, int width)
+{
+    const lv_wide_node *n = &k->w->nodes[at];
+    int live = 0, deepest = 0;
+    for (int i = 0; i < LV_BVH_WIDTH; i++) {
+        if (n->count[i] == LV_EMPTY_CHILD) continue;
+        live++;
+        if (n->count[i] > 0) {
+            k->leaf_lanes++;
+            for (int t = n->index[i]; t < n->index[i] + n->count[i]; t++) k->leaf_seen[t]++;
+            continue;
+        }
+        k->node_lanes++;
+        int need = walk_wide(k, (size_t)n->index[i], width);
+        if (need > deepest) deepest = need;
+    }
+    if (live > width || live == 0) k->bad_width++;
+    return live - 1 + deepest;
+}
+
+/* Counts the leaf lanes whose box is not that of the binary leaf with the
+ * same items. */
+static int lane_boxes_match(const lvcl_bvh *b, const lvcl_wide_bvh *w)
+{
+    int bad = 0;
+    for (size_t at = 0; at < w->node_count; at++)
+        for (int i = 0; i < LV_BVH_WIDTH; i++) {
+            const lv_wide_node *n = &w->nodes[at];
+            if (n->count[i] <= 0) continue;
+            int found = 0;
+            for (size_t j = 0; j < b->node_count && !found; j++) {
+                const lvcl_bvh_node *c = &b->nodes[j];
+                if (c->count != n->count[i] || c->index != n->index[i]) continue;
+                found = 1;
+                for (int a = 0; a < 3; a++) found &= c->bmin[a] == n->lo[a][i] && c->bmax[a] == n->hi[a][i];
+            }
+            bad += !found;
+        }
+    return bad;
+}
+
+/* The binary tree's depth-first stack need, for width 2's bound. */
+static int binary_depth(const lvcl_bvh *b, size_t node)
+{
+    if (b->nodes[node].count > 0) return 0;
+    int l = binary_depth(b, node + 1), r = binary_depth(b, (size_t)b->nodes[node].index);
+    return 1 + (l > r ? l : r);
+}
+
+static void test_wide_nodes(void)
+{
+    rng r = {5};
+    tri_list soup = {0};
+    make_soup(&r, 5000, 1, &soup);
+    gpu_scene g;
+    gpu_scene_make(&soup, &g);
+    const lvcl_bvh *b = &g.accel.mesh_bvh[0];
+    size_t leaves = 0;
+    for (size_t i = 0; i < b->node_count; i++) leaves += b->nodes[i].count > 0;
+    for (int width = 2; width <= LV_BVH_WIDTH; width++) {
+        lvcl_wide_bvh w;
+        lvcl_status st = {0};
+        if (lvcl_bvh_widen(b, width, &w, &st)) {
+            CHECK("wide nodes: collapse", 0, "%s", st.message);
+            continue;
+        }
+        wide_walk k = {&w, calloc(b->triangle_count, 1), 0, 0, 0};
+        int need = walk_wide(&k, 0, width);
+        size_t once = 0;
+        for (size_t t = 0; t < b->triangle_count; t++) once += k.leaf_seen[t] == 1;
+        int boxes = lane_boxes_match(b, &w);
+        char name[128];
+        snprintf(name, sizeof name, "wide nodes, width %d: every triangle in one leaf lane, binary leaf boxes", width);
+        CHECK(name, once == b->triangle_count && boxes == 0 && k.bad_width == 0,
+              "%zu of %zu triangles seen once, %d leaf lanes without their binary box, %d nodes of bad width", once,
+              b->triangle_count, boxes, k.bad_width);
+        /* Each binary leaf is one lane, each wide node but the root one lane. */
+        snprintf(name, sizeof name, "wide nodes, width %d: one lane per leaf and per node, stack need as walked",
+                 width);
+        CHECK(name,
+              (size_t)k.leaf_lanes == leaves && (size_t)k.node_lanes == w.node_count - 1 && need == w.stack_need &&
+                  (width != 2 || need == binary_depth(b, 0)) && (width != LV_BVH_WIDTH || w.node_count < leaves / 2),
+              "%d leaf lanes for %zu leaves, %d node lanes for %zu nodes; need %d, walk %d, binary depth %d",
+              k.leaf_lanes, leaves, k.node_lanes, w.node_count, w.stack_need, need, binary_depth(b, 0));
+        free(k.leaf_seen);
+        lvcl_wide_bvh_free(&w);
+    }
+    gpu_scene_free(&g);
+    free(soup.v);
+}
+
 /* ---- tables split over several buffers ---- */
 
 /* Gives every vertex of g a random normal and uv, re-uploaded to `on`. */
@@ -135,6 +237,7 @@ int main(void)
 {
     traversal_open();
     test_random_soups();
+    test_wide_nodes();
     test_split_tables();
     traversal_close();
     CHECK_EXIT();

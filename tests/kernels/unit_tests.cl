@@ -206,9 +206,10 @@ __kernel void t_trace_brute_force(LV_KERNEL_PARAMS(T_TRACE_ARGS))
     lv_sheared_ray s = lv_shear_ray(r);
     float t = r.tmax, b1, b2;
     int best = -1;
-    for (uint k = 0; k < sc.info.triangle_count; k++) {
-        __global const float4 *v = lv_tri_corners(&sc, k);
-        if (lv_intersect_triangle(&s, v[0], v[1], v[2], &t, &b1, &b2)) best = (int)k;
+    uint n = sc.info.triangle_count;
+    for (uint g = 0; g * LV_TRI_GROUP < n; g++) {
+        int lane = lv_intersect_group(&s, lv_tri_group(&sc, g), g, 0u, n, LV_NO_HIT, 0, &t, &b1, &b2);
+        if (lane >= 0) best = (int)(LV_TRI_GROUP * g) + lane;
     }
     results[4 * i + 0] = t;
     results[4 * i + 1] = best < 0 ? -1.0f : (float)lv_triangle_record(&sc, best).prim_id;
