@@ -5,6 +5,7 @@
 #define LV_CLOSURE_MICROFACET_H
 
 #include "../util/geometry.h"
+#include "../util/sampling.h"
 
 inline float lv_ggx_d(float3 m, float alpha)
 {
@@ -51,7 +52,8 @@ inline float3 lv_ggx_sample_visible(float3 wo, float alpha, float2 u)
     float3 t1 = len2 > 0.0f ? (float3)(-vh.y, vh.x, 0.0f) * rsqrt(len2) : (float3)(1.0f, 0.0f, 0.0f);
     float3 t2 = cross(vh, t1);
     float r = sqrt(u.x), phi = 2.0f * LV_PI * u.y;
-    float p1 = r * cos(phi), p2 = r * sin(phi);
+    float2 cs = r * lv_cos_sin(phi);
+    float p1 = cs.x, p2 = cs.y;
     float s = 0.5f * (1.0f + vh.z);
     p2 = (1.0f - s) * sqrt(fmax(0.0f, 1.0f - p1 * p1)) + s * p2;
     float3 nh = p1 * t1 + p2 * t2 + sqrt(fmax(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;

@@ -128,12 +128,12 @@ inline int lv_sample_emission(const lv_scene *sc, float2 u_light, float2 u_dir, 
             float z = 1.0f - u_dir.x * (1.0f - l.cos_outer);
             float r = sqrt(fmax(0.0f, 1.0f - z * z)), phi = 2.0f * LV_PI * u_dir.y;
             lv_frame f = lv_frame_make(LV_F3(l.direction));
-            es->dir = lv_to_world(f, (float3)(r * cos(phi), r * sin(phi), z));
+            es->dir = lv_to_world(f, (float3)(r * lv_cos_sin(phi), z));
             es->weight = intensity * lv_spot_falloff(l, es->dir) * (2.0f * LV_PI * (1.0f - l.cos_outer)) / select_power;
         } else {
             float z = 1.0f - 2.0f * u_dir.x;
             float r = sqrt(fmax(0.0f, 1.0f - z * z)), phi = 2.0f * LV_PI * u_dir.y;
-            es->dir = (float3)(r * cos(phi), r * sin(phi), z);
+            es->dir = (float3)(r * lv_cos_sin(phi), z);
             es->weight = intensity * (4.0f * LV_PI) / select_power;
         }
         return 1;

@@ -83,6 +83,13 @@ __kernel void t_camera_streams(LV_KERNEL_PARAMS(T_CAMERA_STREAMS_ARGS))
     for (uint d = 0; d < dims; d++) out[(size_t)i * dims + d] = lv_rng_next(&rng);
 }
 
+/* lv_cos_sin at phi_min + i phi_step, two floats per work-item. */
+__kernel void t_cos_sin(LV_KERNEL_PARAMS(T_COS_SIN_ARGS))
+{
+    uint i = get_global_id(0);
+    vstore2(lv_cos_sin(phi_min + (float)i * phi_step), i, out);
+}
+
 /* Monte Carlo moments of one BSDF seen from one direction. config: 8 floats
  * per BSDF (type, base rgb, alpha, ior, specular, mode); wos: 4 floats per
  * direction. out: 8 floats per (config, wo):
