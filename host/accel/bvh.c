@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../util/parallel.h"
+
 #define BIN_COUNT 16
 /* Triangles per leaf at most; instances get one leaf each, since entering
  * an instance costs a ray transform. */
@@ -25,7 +27,23 @@ typedef struct {
     size_t node_count;
     size_t max_leaf;
     int depth;
+    struct subtree_task *tasks; /* the top levels' builder only: subtrees left to threads */
+    int task_count;
 } builder;
+
+/* The top levels are split on the calling thread; at FORK_DEPTH each
+ * subtree of at least FORK_MIN items is built on a thread of its own into
+ * its own nodes, and the trees are joined in depth-first order, so the
+ * result is the one-thread tree node for node. */
+#define FORK_DEPTH 3
+#define FORK_MIN 16384
+
+typedef struct subtree_task {
+    builder bd; /* its own nodes; the item arrays are shared, its range of order[] its own */
+    size_t first, count;
+    int depth;
+    int done;
+} subtree_task;
 
 /* Plain comparisons: fminf/fmaxf are library calls here (NaN rules), and
  * the builder feeds them only finite values. */
@@ -88,16 +106,6 @@ static void make_leaf(lvcl_bvh_node *node, size_t first, size_t count)
 {
     node->index = (int32_t)first;
     node->count = (int32_t)count;
-}
-
-static int compare_axis;
-static const float *compare_centroids;
-
-static int by_centroid(const void *a, const void *b)
-{
-    float ca = compare_centroids[3 * *(const uint32_t *)a + compare_axis];
-    float cb = compare_centroids[3 * *(const uint32_t *)b + compare_axis];
-    return (ca > cb) - (ca < cb);
 }
 
 /* Finds the binned-SAH split of order[first, first+count). Returns the number
@@ -175,13 +183,32 @@ static size_t sah_partition(builder *bd, size_t first, size_t count, const box3 
     return i - first;
 }
 
+/* Puts the count/2 items of smallest centroid along the longest axis first
+ * (Hoare's selection: no shared state, so threads may run it). */
 static size_t median_partition(builder *bd, size_t first, size_t count, const box3 *bounds)
 {
     float d[3];
     for (int k = 0; k < 3; k++) d[k] = bounds->hi[k] - bounds->lo[k];
-    compare_axis = d[0] > d[1] ? (d[0] > d[2] ? 0 : 2) : (d[1] > d[2] ? 1 : 2);
-    compare_centroids = bd->centroid;
-    qsort(bd->order + first, count, sizeof(uint32_t), by_centroid);
+    int axis = d[0] > d[1] ? (d[0] > d[2] ? 0 : 2) : (d[1] > d[2] ? 1 : 2);
+    uint32_t *o = bd->order + first;
+    const float *c = bd->centroid;
+    ptrdiff_t lo = 0, hi = (ptrdiff_t)count - 1, k = (ptrdiff_t)(count / 2);
+    while (lo < hi) {
+        float pivot = c[3 * o[(lo + hi) / 2] + axis];
+        ptrdiff_t i = lo, j = hi;
+        while (i <= j) {
+            while (c[3 * o[i] + axis] < pivot) i++;
+            while (c[3 * o[j] + axis] > pivot) j--;
+            if (i <= j) {
+                uint32_t t = o[i];
+                o[i++] = o[j];
+                o[j--] = t;
+            }
+        }
+        if (k <= j) hi = j;
+        else if (k >= i) lo = i;
+        else break;
+    }
     return count / 2;
 }
 
@@ -193,6 +220,14 @@ static void build_node(builder *bd, size_t node_index, size_t first, size_t coun
     memcpy(node->bmin, bounds.lo, sizeof node->bmin);
     memcpy(node->bmax, bounds.hi, sizeof node->bmax);
     if (depth > bd->depth) bd->depth = depth;
+    if (bd->tasks && depth == FORK_DEPTH && count >= FORK_MIN) {
+        subtree_task *t = &bd->tasks[bd->task_count];
+        *t = (subtree_task){.bd = *bd, .first = first, .count = count, .depth = depth};
+        t->bd.tasks = NULL;
+        t->bd.nodes = NULL;
+        node->count = -1 - bd->task_count++; /* its place in the joined tree */
+        return;
+    }
 
     size_t left_count = 0;
     if (count > 1)
@@ -210,14 +245,73 @@ static void build_node(builder *bd, size_t node_index, size_t first, size_t coun
     build_node(bd, right, first + left_count, count - left_count, depth + 1);
 }
 
+static void *build_subtree(void *job)
+{
+    subtree_task *t = job;
+    t->bd.nodes = malloc((2 * t->count - 1) * sizeof *t->bd.nodes);
+    if (t->bd.nodes) {
+        t->bd.node_count = 1;
+        build_node(&t->bd, 0, t->first, t->count, t->depth);
+    }
+    t->done = 1;
+    return NULL;
+}
+
+/* Writes the top levels' subtree at `node` to out[at...] in depth-first
+ * order, each task's tree in place of its mark; returns the nodes written. */
+static size_t join(const builder *top, const subtree_task *tasks, size_t node, lvcl_bvh_node *out, size_t at)
+{
+    const lvcl_bvh_node *n = &top->nodes[node];
+    if (n->count < 0) {
+        const subtree_task *t = &tasks[-1 - n->count];
+        for (size_t i = 0; i < t->bd.node_count; i++) {
+            out[at + i] = t->bd.nodes[i];
+            if (out[at + i].count == 0) out[at + i].index += (int32_t)at;
+        }
+        return t->bd.node_count;
+    }
+    out[at] = *n;
+    if (n->count > 0) return 1;
+    size_t left = join(top, tasks, node + 1, out, at + 1);
+    out[at].index = (int32_t)(at + 1 + left);
+    return 1 + left + join(top, tasks, (size_t)n->index, out, at + 1 + left);
+}
+
+/* Builds the subtrees of the top levels' marks on threads and joins them
+ * in; a task whose thread could not start runs here. */
+static int build_subtrees(builder *bd)
+{
+    lvcl_status ignored = {0};
+    if (lvcl_run_parallel(build_subtree, bd->tasks, sizeof *bd->tasks, bd->task_count, &ignored))
+        for (int i = 0; i < bd->task_count; i++)
+            if (!bd->tasks[i].done) build_subtree(&bd->tasks[i]);
+    size_t total = bd->node_count - (size_t)bd->task_count;
+    int ok = 1;
+    for (int i = 0; i < bd->task_count; i++) {
+        ok &= bd->tasks[i].bd.nodes != NULL;
+        total += bd->tasks[i].bd.node_count;
+        if (bd->tasks[i].bd.depth > bd->depth) bd->depth = bd->tasks[i].bd.depth;
+    }
+    lvcl_bvh_node *joined = ok ? malloc(total * sizeof *joined) : NULL;
+    if (joined) join(bd, bd->tasks, 0, joined, 0);
+    for (int i = 0; i < bd->task_count; i++) free(bd->tasks[i].bd.nodes);
+    free(bd->nodes);
+    bd->nodes = joined;
+    bd->node_count = total;
+    return joined != NULL;
+}
+
 /* Builds the tree over the `used` items listed in bd->order, whose boxes
  * and centroids are filled; takes ownership of bd's arrays. */
 static lvcl_error build_tree(builder *bd, size_t used, lvcl_bvh *bvh, const char *what, lvcl_status *st)
 {
+    subtree_task tasks[1 << FORK_DEPTH];
+    bd->tasks = tasks;
     bd->nodes = used ? malloc((2 * used - 1) * sizeof *bd->nodes) : NULL;
     if (bd->nodes) {
         bd->node_count = 1;
         build_node(bd, 0, 0, used, 0);
+        if (bd->task_count && !build_subtrees(bd)) bd->nodes = NULL;
     }
     free(bd->tri_box);
     free(bd->centroid);

@@ -14,16 +14,18 @@
 
 static void test_random_soups(void)
 {
+    /* The last soup is large enough for the builder's threads (subtrees of
+     * 16,384 items at depth 3, host/accel/bvh.c). */
     static const struct {
         uint64_t seed;
-        size_t triangles;
-    } cases[] = {{1, 2000}, {2, 4000}, {3, 10000}};
+        size_t triangles, rays;
+    } cases[] = {{1, 2000, 50000}, {2, 4000, 50000}, {3, 10000, 50000}, {4, 300000, 3000}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         rng r = {cases[c].seed};
         tri_list soup = {0};
         ray_list rays = {0};
         make_soup(&r, cases[c].triangles, 1, &soup);
-        make_soup_rays(&r, 50000, &rays);
+        make_soup_rays(&r, cases[c].rays, &rays);
         gpu_scene g;
         gpu_scene_make(&soup, &g);
         float *bvh = trace(&g, &rays), *brute = run_rays(&g, "t_trace_brute_force", &rays, NULL);
