@@ -12,10 +12,25 @@
 struct bench_embree {
     RTCDevice device;
     RTCScene scene;
+    uint32_t *first_triangle; /* per instance: its mesh's first glTF triangle; NULL for a flat scene */
 };
 
-bench_embree *bench_embree_create(const float *positions, size_t vertex_count, const uint32_t *indices,
-                                  size_t triangle_count, double *build_seconds)
+/* A triangle geometry over `count` triangles from `indices`, on the one
+ * vertex buffer all geometries share. */
+static int attach_triangles(bench_embree *e, RTCScene to, RTCBuffer vertices, size_t vertex_count,
+                            const uint32_t *indices, size_t count)
+{
+    RTCGeometry g = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices, 0, 3 * sizeof(float), vertex_count);
+    unsigned *ix = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), count);
+    if (ix) memcpy(ix, indices, count * 3 * sizeof(unsigned));
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(to, g);
+    rtcReleaseGeometry(g);
+    return ix != NULL;
+}
+
+bench_embree *bench_embree_create(const lvcl_scene *s, double *build_seconds)
 {
     bench_embree *e = calloc(1, sizeof *e);
     if (!e || !(e->device = rtcNewDevice(NULL))) {
@@ -27,31 +42,60 @@ bench_embree *bench_embree_create(const float *positions, size_t vertex_count, c
     /* Full SAH quality, like lvcl's binned-SAH build: the comparison is of
      * traversal, and a cheaper tree would handicap Embree. */
     rtcSetSceneBuildQuality(e->scene, RTC_BUILD_QUALITY_HIGH);
-    RTCGeometry g = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    float *v =
-        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertex_count);
-    unsigned *ix =
-        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), triangle_count);
-    if (!v || !ix) {
-        rtcReleaseGeometry(g);
+    /* Embree reads vertices 16 bytes at a time: the buffer has room past the last. */
+    size_t bytes = s->vertex_count * 3 * sizeof(float);
+    RTCBuffer vertices = rtcNewBuffer(e->device, bytes + 16);
+    int ok = vertices != NULL;
+    if (ok) memcpy(rtcGetBufferData(vertices), s->positions, bytes);
+    if (ok && s->mesh_count == 0) {
+        ok = attach_triangles(e, e->scene, vertices, s->vertex_count, s->indices, s->triangle_count);
+    } else if (ok) {
+        /* Two levels, as lvcl traces them: a scene per mesh, placed by instances. */
+        RTCScene *mesh = calloc(s->mesh_count, sizeof *mesh);
+        e->first_triangle = malloc((s->instance_count ? s->instance_count : 1) * sizeof *e->first_triangle);
+        ok = mesh && e->first_triangle;
+        for (size_t m = 0; ok && m < s->mesh_count; m++) {
+            mesh[m] = rtcNewScene(e->device);
+            rtcSetSceneBuildQuality(mesh[m], RTC_BUILD_QUALITY_HIGH);
+            ok = attach_triangles(e, mesh[m], vertices, s->vertex_count, s->indices + 3 * s->meshes[m].first_triangle,
+                                  s->meshes[m].triangle_count);
+            rtcCommitScene(mesh[m]);
+        }
+        for (size_t i = 0; ok && i < s->instance_count; i++) {
+            const lvcl_instance *in = &s->instances[i];
+            RTCGeometry g = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_INSTANCE);
+            rtcSetGeometryInstancedScene(g, mesh[in->mesh]);
+            rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, in->world_from_object);
+            rtcCommitGeometry(g);
+            rtcAttachGeometryByID(e->scene, g, (unsigned)i);
+            rtcReleaseGeometry(g);
+            e->first_triangle[i] = (uint32_t)s->meshes[in->mesh].first_triangle;
+        }
+        for (size_t m = 0; mesh && m < s->mesh_count; m++)
+            if (mesh[m]) rtcReleaseScene(mesh[m]);
+        free(mesh);
+    }
+    if (vertices) rtcReleaseBuffer(vertices);
+    if (!ok) {
         bench_embree_destroy(e);
         return NULL;
     }
-    memcpy(v, positions, vertex_count * 3 * sizeof(float));
-    memcpy(ix, indices, triangle_count * 3 * sizeof(unsigned));
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(e->scene, g);
-    rtcReleaseGeometry(g);
     rtcCommitScene(e->scene);
     *build_seconds = lvcl_seconds() - start;
     return e;
+}
+
+/* The glTF-order triangle a hit names, as lvcl's prim_id does. */
+static uint32_t prim_id(const bench_embree *e, unsigned inst, unsigned prim)
+{
+    return e->first_triangle ? e->first_triangle[inst] + prim : prim;
 }
 
 #define PACKET 16
 
 /* The n (at most 16) rays at `rays` as one packet (Embree's SoA layout);
  * unused lanes are masked off. */
-static void trace_packet(RTCScene scene, const bench_ray *rays, size_t n, int any_hit, bench_hit *hits)
+static void trace_packet(const bench_embree *e, const bench_ray *rays, size_t n, int any_hit, bench_hit *hits)
 {
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -74,8 +118,8 @@ static void trace_packet(RTCScene scene, const bench_ray *rays, size_t n, int an
         rh.ray.flags[k] = 0;
         rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
     }
-    if (any_hit) rtcOccluded16(valid, scene, &ctx, &rh.ray);
-    else rtcIntersect16(valid, scene, &ctx, &rh);
+    if (any_hit) rtcOccluded16(valid, e->scene, &ctx, &rh.ray);
+    else rtcIntersect16(valid, e->scene, &ctx, &rh);
     for (size_t k = 0; k < n; k++) {
         bench_hit *h = &hits[k];
         memset(h, 0, sizeof *h);
@@ -84,14 +128,16 @@ static void trace_packet(RTCScene scene, const bench_ray *rays, size_t n, int an
             h->prim_id = rh.ray.tfar[k] < 0.0f ? 0u : BENCH_NO_HIT;
         } else {
             h->t = rh.ray.tfar[k];
-            h->prim_id = rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? BENCH_NO_HIT : rh.hit.primID[k];
+            h->prim_id = rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID
+                ? BENCH_NO_HIT
+                : prim_id(e, rh.hit.instID[0][k], rh.hit.primID[k]);
         }
     }
 }
 
 /* One ray at a time (rtcIntersect1/rtcOccluded1), Embree's single-ray
  * API: the way a renderer that does not batch its rays calls it. */
-static void trace_single(RTCScene scene, const bench_ray *b, int any_hit, bench_hit *h)
+static void trace_single(const bench_embree *e, const bench_ray *b, int any_hit, bench_hit *h)
 {
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -111,13 +157,14 @@ static void trace_single(RTCScene scene, const bench_ray *b, int any_hit, bench_
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     memset(h, 0, sizeof *h);
     if (any_hit) {
-        rtcOccluded1(scene, &ctx, &rh.ray);
+        rtcOccluded1(e->scene, &ctx, &rh.ray);
         h->t = b->tmax;
         h->prim_id = rh.ray.tfar < 0.0f ? 0u : BENCH_NO_HIT;
     } else {
-        rtcIntersect1(scene, &ctx, &rh);
+        rtcIntersect1(e->scene, &ctx, &rh);
         h->t = rh.ray.tfar;
-        h->prim_id = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? BENCH_NO_HIT : rh.hit.primID;
+        h->prim_id =
+            rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? BENCH_NO_HIT : prim_id(e, rh.hit.instID[0], rh.hit.primID);
     }
 }
 
@@ -132,14 +179,14 @@ void bench_embree_trace(bench_embree *e, const bench_ray *rays, size_t count, in
 {
     if (api == BENCH_EMBREE_SINGLE) {
 #pragma omp parallel for schedule(dynamic, 1024)
-        for (size_t i = 0; i < count; i++) trace_single(e->scene, &rays[i], any_hit, &hits[i]);
+        for (size_t i = 0; i < count; i++) trace_single(e, &rays[i], any_hit, &hits[i]);
         return;
     }
     size_t packets = (count + PACKET - 1) / PACKET;
 #pragma omp parallel for schedule(dynamic, 64)
     for (size_t p = 0; p < packets; p++) {
         size_t first = p * PACKET, n = count - first < PACKET ? count - first : PACKET;
-        trace_packet(e->scene, &rays[first], n, any_hit, &hits[first]);
+        trace_packet(e, &rays[first], n, any_hit, &hits[first]);
     }
 }
 
@@ -153,6 +200,7 @@ void bench_embree_destroy(bench_embree *e)
 {
     if (!e) return;
     if (e->scene) rtcReleaseScene(e->scene);
+    free(e->first_triangle);
     if (e->device) rtcReleaseDevice(e->device);
     free(e);
 }

@@ -395,11 +395,7 @@ int main(int argc, char **argv)
     if (!e) e = create_kernels(&b, &st);
     if (!e) {
         json_string(b.device_json, sizeof b.device_json, lvcl_session_device(b.s, 0)->name);
-        /* Embree is handed the triangles as stored: world space only in a flat scene. */
-        if (lvcl_session_scene(b.s)->mesh_count == 0)
-            b.embree = bench_embree_create(lvcl_session_scene(b.s)->positions, lvcl_session_scene(b.s)->vertex_count,
-                                           lvcl_session_scene(b.s)->indices, lvcl_session_scene(b.s)->triangle_count,
-                                           &b.embree_build_seconds);
+        b.embree = bench_embree_create(lvcl_session_scene(b.s), &b.embree_build_seconds);
         e = run(&b, &st);
     }
     if (e) fprintf(stderr, "lvcl-bench: error: %s\n", st.message);

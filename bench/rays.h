@@ -7,6 +7,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "../host/scene/scene.h"
+
 #define BENCH_NO_HIT 0xffffffffu
 
 /* Two float4 on the device: (origin, tmax), (dir, 0); dir is unit length. */
@@ -30,10 +32,10 @@ typedef struct bench_embree bench_embree;
 typedef enum { BENCH_EMBREE_PACKETS, BENCH_EMBREE_SINGLE } bench_embree_api;
 
 #ifdef LVCL_HAVE_EMBREE
-/* Builds Embree's BVH over the triangles in glTF order, so that its
- * primitive ids are the prim_ids of the checksums. NULL if unavailable. */
-bench_embree *bench_embree_create(const float *positions, size_t vertex_count, const uint32_t *indices,
-                                  size_t triangle_count, double *build_seconds);
+/* Builds Embree's BVHs over the scene's triangles in glTF order, a scene
+ * per mesh under instances where the scene has them, so that hits name
+ * the prim_ids of the checksums. NULL if unavailable. */
+bench_embree *bench_embree_create(const lvcl_scene *scene, double *build_seconds);
 
 /* Traces `count` rays with every thread: closest hits, or occlusion only if
  * any_hit. Fills hits like the kernels do (t of an occluded ray: its tmax). */
@@ -46,10 +48,9 @@ const char *bench_embree_method(void);
 void bench_embree_destroy(bench_embree *e);
 #else
 /* Without Embree the comparison is simply absent. */
-static inline bench_embree *bench_embree_create(const float *positions, size_t vertex_count, const uint32_t *indices,
-                                                size_t triangle_count, double *build_seconds)
+static inline bench_embree *bench_embree_create(const lvcl_scene *scene, double *build_seconds)
 {
-    (void)positions, (void)vertex_count, (void)indices, (void)triangle_count, (void)build_seconds;
+    (void)scene, (void)build_seconds;
     return NULL;
 }
 static inline void bench_embree_trace(bench_embree *e, const bench_ray *rays, size_t count, int any_hit,
