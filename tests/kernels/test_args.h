@@ -92,9 +92,8 @@ LV_ARG_INDICES(T_BIN_TABLE_ARGS, t_bin_table);
 LV_ARG_INDICES(T_BIN_COSINE_ARGS, t_bin_cosine);
 LV_ARG_INDICES(T_CAMERA_STREAMS_ARGS, t_camera_streams);
 
-#define T_COS_SIN_ARGS(X, SEP)          \
-    X(t_cos_sin, VALUE, float, phi_min) \
-    SEP() X(t_cos_sin, VALUE, float, phi_step) SEP() X(t_cos_sin, BUFFER, float, out)
+/* lv_cos_sin of each angle in phis, (cos, sin) per angle. */
+#define T_COS_SIN_ARGS(X, SEP) X(t_cos_sin, BUFFER, const float, phis) SEP() X(t_cos_sin, BUFFER, float, out)
 LV_ARG_INDICES(T_COS_SIN_ARGS, t_cos_sin);
 
 #endif

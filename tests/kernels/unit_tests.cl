@@ -83,11 +83,11 @@ __kernel void t_camera_streams(LV_KERNEL_PARAMS(T_CAMERA_STREAMS_ARGS))
     for (uint d = 0; d < dims; d++) out[(size_t)i * dims + d] = lv_rng_next(&rng);
 }
 
-/* lv_cos_sin at phi_min + i phi_step, two floats per work-item. */
+/* lv_cos_sin of each angle, two floats per work-item. */
 __kernel void t_cos_sin(LV_KERNEL_PARAMS(T_COS_SIN_ARGS))
 {
     uint i = get_global_id(0);
-    vstore2(lv_cos_sin(phi_min + (float)i * phi_step), i, out);
+    vstore2(lv_cos_sin(phis[i]), i, out);
 }
 
 /* Monte Carlo moments of one BSDF seen from one direction. config: 8 floats
