@@ -146,10 +146,12 @@ inline float lv_bin_cut_cosine(__global const float *edge, float3 mean, float3 n
     for (int k = 0; k < (same ? 1 : 2); k++) {
         float3 n = k ? ng : ns;
         float8 c = -(ex * n.x + ey * n.y + ez * n.z); /* light arrives against its travel */
-        float4 lo4 = fmin(c.lo, c.hi), hi4 = fmax(c.lo, c.hi);
-        float2 lo2 = fmin(lo4.lo, lo4.hi), hi2 = fmax(hi4.lo, hi4.hi);
-        if (fmax(hi2.x, hi2.y) <= LV_HORIZON_TOLERANCE) return 0.0f;
-        front = front && fmin(lo2.x, lo2.y) >= -LV_HORIZON_TOLERANCE;
+        /* min and max, not fmin and fmax: c is finite, and PoCL builds the
+         * latter with NaN handling */
+        float4 lo4 = min(c.lo, c.hi), hi4 = max(c.lo, c.hi);
+        float2 lo2 = min(lo4.lo, lo4.hi), hi2 = max(hi4.lo, hi4.hi);
+        if (max(hi2.x, hi2.y) <= LV_HORIZON_TOLERANCE) return 0.0f;
+        front = front && min(lo2.x, lo2.y) >= -LV_HORIZON_TOLERANCE;
     }
     if (front) return -dot(mean, ns);
     /* The parts 16 at a time, one lane each (the table's layout is for this). */
