@@ -205,10 +205,12 @@ inline float3 lv_transform(__global const float *m, float3 p, float w)
 #define LV_LEAF_NODE(ref) ((uint)(-2 - (ref)) / LV_BVH_WIDTH)
 #define LV_LEAF_LANE(ref) ((uint)(-2 - (ref)) % LV_BVH_WIDTH)
 
-/* Pushes child `lane` of node `node` if the ray enters it (at t). A
- * closest-hit traversal keeps the children it pushes from one node sorted,
- * nearest on top (`from` is where they start); any-hit leaves them in
- * lane order. */
+/* Pushes child `lane` of node `node` (read through `n`) if the ray enters
+ * it (at t), for lv_trace, whose stack and locals it uses. A closest-hit
+ * traversal keeps the children it pushes from one node sorted, nearest on
+ * top (`from` is where they start); any-hit leaves them in lane order.
+ * (Plain branches: a branch-free sorting network measured slower on PoCL,
+ * docs/performance.md.) */
 #define LV_PUSH_CHILD(t, lane)                                                    \
     if ((t) != LV_FAR) {                                                          \
         int ref_ = n->count[lane] > 0 ? LV_LEAF_REF(node, lane) : n->index[lane]; \
