@@ -163,20 +163,23 @@ static lvcl_error pack_wide_trees(const lvcl_accel *a, lvcl_packed_scene *p, siz
 {
     lvcl_wide_bvh top = {0}, *mesh = calloc(a->mesh_count, sizeof *mesh);
     if (!mesh) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for %zu BVHs", a->mesh_count);
+    static const int widths[] = {LV_BVH_WIDTH, 2};
     lvcl_error e = LVCL_OK;
-    for (int width = LV_BVH_WIDTH; width >= 2; width = width == 2 ? 0 : 2) {
-        e = lvcl_bvh_widen(&a->top, width, &top, st);
+    for (size_t w = 0; w < sizeof widths / sizeof widths[0]; w++) {
+        if (w > 0) {
+            lvcl_wide_bvh_free(&top);
+            for (size_t m = 0; m < a->mesh_count; m++) lvcl_wide_bvh_free(&mesh[m]);
+        }
+        e = lvcl_bvh_widen(&a->top, widths[w], &top, st);
         int mesh_need = 0;
         for (size_t m = 0; m < a->mesh_count && !e; m++) {
-            e = lvcl_bvh_widen(&a->mesh_bvh[m], width, &mesh[m], st);
+            e = lvcl_bvh_widen(&a->mesh_bvh[m], widths[w], &mesh[m], st);
             if (mesh[m].stack_need > mesh_need) mesh_need = mesh[m].stack_need;
         }
         /* Below a top-level leaf: the marker back to the top level, then a mesh. */
         p->stack_need = top.stack_need + 1 + mesh_need;
-        p->bvh_width = width;
+        p->bvh_width = widths[w];
         if (e || p->stack_need <= LV_TRAVERSAL_STACK) break;
-        lvcl_wide_bvh_free(&top);
-        for (size_t m = 0; m < a->mesh_count; m++) lvcl_wide_bvh_free(&mesh[m]);
     }
     if (!e && p->stack_need > LV_TRAVERSAL_STACK)
         e = lvcl_fail(st, LVCL_ERR_TOO_LARGE, "the BVH needs %d traversal stack entries, the kernels have %d",
