@@ -214,7 +214,13 @@ $(BUILD)/gen/bench_kernel_source.c: bench/kernels/rays.cl bench/kernels/rays_arg
 	@mkdir -p $(@D)
 	$(BUILD)/embed source lvcl_bench_kernel_source $< > $@
 
-$(BUILD)/lvcl-bench: $(BENCH_SOURCES) bench/rays.h bench/kernels/rays_args.h $(HOST_H) $(BUILD)/gen/bench_kernel_source.c $(BUILD)/liblvcl.a
+# A stamp named for whether Embree is there, so lvcl-bench is rebuilt when
+# it comes or goes.
+BENCH_EMBREE_STAMP := $(BUILD)/gen/bench-embree-$(if $(wildcard $(EMBREE_HEADER)),yes,no)
+$(BENCH_EMBREE_STAMP):
+	@mkdir -p $(@D) && rm -f $(BUILD)/gen/bench-embree-* && touch $@
+
+$(BUILD)/lvcl-bench: $(BENCH_SOURCES) bench/rays.h bench/kernels/rays_args.h $(HOST_H) $(BUILD)/gen/bench_kernel_source.c $(BUILD)/liblvcl.a $(BENCH_EMBREE_STAMP)
 	$(CC) $(ALL_CFLAGS) $(BENCH_FLAGS) -o $@ $(BENCH_SOURCES) $(BUILD)/gen/bench_kernel_source.c $(BUILD)/liblvcl.a \
 	  $(LIBS) $(BENCH_LIBS)
 
