@@ -57,8 +57,8 @@ static int widen_node(widener *w, size_t at, size_t node)
         out->index[i] = c->index;
         out->count[i] = c->count;
     }
-    /* Children are numbered before the recursion writes more nodes; `out`
-     * stays valid since the array was sized up front. */
+    /* Each interior child gets the next node just before the recursion
+     * fills it, so the nodes are in depth-first order. */
     int deepest = 0;
     for (int i = 0; i < n; i++) {
         if (nodes[child[i]].count > 0) continue;

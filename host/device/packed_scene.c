@@ -158,7 +158,8 @@ static void pack_triangles(const lvcl_scene *scene, const lvcl_mesh *mesh, const
 /* Collapses the top level and every mesh's tree LV_BVH_WIDTH wide, or 2
  * wide where the wider trees could overflow the kernels' traversal stack
  * (a binary path pushes one entry a level, so LVCL_BVH_MAX_DEPTH bounds
- * it), and packs them into p->nodes; mesh_root gets each mesh's root. */
+ * it), and packs them into p->nodes, leaves at p->mesh_first; mesh_root
+ * gets each mesh's root. */
 static lvcl_error pack_wide_trees(const lvcl_accel *a, lvcl_packed_scene *p, size_t *mesh_root, lvcl_status *st)
 {
     lvcl_wide_bvh top = {0}, *mesh = calloc(a->mesh_count, sizeof *mesh);
@@ -193,12 +194,11 @@ static lvcl_error pack_wide_trees(const lvcl_accel *a, lvcl_packed_scene *p, siz
         e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for %zu BVH nodes", count);
     if (!e) {
         pack_wide_tree(&top, 0, 0, p->nodes);
-        size_t node_base = top.node_count, tri_base = 0;
+        size_t node_base = top.node_count;
         for (size_t m = 0; m < a->mesh_count; m++) {
-            pack_wide_tree(&mesh[m], node_base, tri_base, p->nodes);
+            pack_wide_tree(&mesh[m], node_base, p->mesh_first[m], p->nodes);
             mesh_root[m] = node_base;
             node_base += mesh[m].node_count;
-            tri_base += a->mesh_bvh[m].triangle_count;
         }
         p->node_count = count;
     }
@@ -237,12 +237,6 @@ lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *a, uint32_
 
     /* Nodes: the top level first (the kernels start at node 0), then each
      * mesh's tree; triangles mesh after mesh. */
-    lvcl_error e = pack_wide_trees(a, p, mesh_root, st);
-    if (e) {
-        free(mesh_root);
-        lvcl_packed_scene_free(p);
-        return e;
-    }
     pack_tree(&a->top, 0, 0, p->tree_nodes);
     size_t node_base = a->top.node_count, tri_base = 0;
     for (size_t m = 0; m < a->mesh_count; m++) {
@@ -255,9 +249,14 @@ lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *a, uint32_
         node_base += b->node_count;
         tri_base += b->triangle_count;
     }
-    p->tree_node_count = node_base;
     p->triangle_count = n;
     p->mesh_count = a->mesh_count;
+    lvcl_error e = pack_wide_trees(a, p, mesh_root, st);
+    if (e) {
+        free(mesh_root);
+        lvcl_packed_scene_free(p);
+        return e;
+    }
 
     /* Instances in the top level's leaf order (one per leaf). */
     for (size_t slot = 0; slot < a->instance_count; slot++) {

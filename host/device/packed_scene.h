@@ -14,10 +14,9 @@ typedef struct {
     size_t node_count;
     int bvh_width;             /* children per node: LV_BVH_WIDTH, or 2 where that would overflow the traversal stack */
     int stack_need;            /* traversal stack entries the deepest path can hold */
-    lvcl_bvh_node *tree_nodes; /* the same trees binary, for walks on the host */
-    size_t tree_node_count;
-    size_t *mesh_tree_root; /* each mesh's root in tree_nodes */
-    lv_instance *instances; /* in the top level's leaf order */
+    lvcl_bvh_node *tree_nodes; /* the same trees binary (lvcl_accel.node_count), for walks on the host */
+    size_t *mesh_tree_root;    /* each mesh's root in tree_nodes */
+    lv_instance *instances;    /* in the top level's leaf order */
     size_t instance_count;
     size_t *mesh_first, *mesh_size; /* each mesh's range of the leaf-ordered triangles */
     size_t mesh_count;
