@@ -93,6 +93,21 @@ static uint32_t prim_id(const bench_embree *e, unsigned inst, unsigned prim)
 
 #define PACKET 16
 
+/* An Embree answer for ray b as the kernels write it: an occluded ray's t
+ * is its tmax (Embree sets tfar to -inf), a closest hit names its prim_id. */
+static void store_hit(const bench_embree *e, const bench_ray *b, int any_hit, float tfar, unsigned geom, unsigned inst,
+                      unsigned prim, bench_hit *h)
+{
+    memset(h, 0, sizeof *h);
+    if (any_hit) {
+        h->t = b->tmax;
+        h->prim_id = tfar < 0.0f ? 0u : BENCH_NO_HIT;
+    } else {
+        h->t = tfar;
+        h->prim_id = geom == RTC_INVALID_GEOMETRY_ID ? BENCH_NO_HIT : prim_id(e, inst, prim);
+    }
+}
+
 /* The n (at most 16) rays at `rays` as one packet (Embree's SoA layout);
  * unused lanes are masked off. */
 static void trace_packet(const bench_embree *e, const bench_ray *rays, size_t n, int any_hit, bench_hit *hits)
@@ -120,19 +135,9 @@ static void trace_packet(const bench_embree *e, const bench_ray *rays, size_t n,
     }
     if (any_hit) rtcOccluded16(valid, e->scene, &ctx, &rh.ray);
     else rtcIntersect16(valid, e->scene, &ctx, &rh);
-    for (size_t k = 0; k < n; k++) {
-        bench_hit *h = &hits[k];
-        memset(h, 0, sizeof *h);
-        if (any_hit) {
-            h->t = rays[k].tmax;
-            h->prim_id = rh.ray.tfar[k] < 0.0f ? 0u : BENCH_NO_HIT;
-        } else {
-            h->t = rh.ray.tfar[k];
-            h->prim_id = rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID
-                ? BENCH_NO_HIT
-                : prim_id(e, rh.hit.instID[0][k], rh.hit.primID[k]);
-        }
-    }
+    for (size_t k = 0; k < n; k++)
+        store_hit(e, &rays[k], any_hit, rh.ray.tfar[k], rh.hit.geomID[k], rh.hit.instID[0][k], rh.hit.primID[k],
+                  &hits[k]);
 }
 
 /* One ray at a time (rtcIntersect1/rtcOccluded1), Embree's single-ray
@@ -155,17 +160,9 @@ static void trace_single(const bench_embree *e, const bench_ray *b, int any_hit,
     rh.ray.id = 0;
     rh.ray.flags = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    memset(h, 0, sizeof *h);
-    if (any_hit) {
-        rtcOccluded1(e->scene, &ctx, &rh.ray);
-        h->t = b->tmax;
-        h->prim_id = rh.ray.tfar < 0.0f ? 0u : BENCH_NO_HIT;
-    } else {
-        rtcIntersect1(e->scene, &ctx, &rh);
-        h->t = rh.ray.tfar;
-        h->prim_id =
-            rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? BENCH_NO_HIT : prim_id(e, rh.hit.instID[0], rh.hit.primID);
-    }
+    if (any_hit) rtcOccluded1(e->scene, &ctx, &rh.ray);
+    else rtcIntersect1(e->scene, &ctx, &rh);
+    store_hit(e, b, any_hit, rh.ray.tfar, rh.hit.geomID, rh.hit.instID[0], rh.hit.primID, h);
 }
 
 /* Both ways run over all threads with OpenMP. Packets were the fastest of
