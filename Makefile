@@ -201,7 +201,8 @@ format:
 # says "embree": null.
 .PHONY: bench
 EMBREE_HEADER := /usr/include/embree3/rtcore.h
-BENCH_SOURCES := bench/rays.c
+BENCH_SOURCES := bench/main.c bench/common.c bench/rays.c bench/wavefront.c
+BENCH_HEADERS := bench/bench.h bench/rays.h bench/kernels/rays_args.h bench/kernels/wavefront_args.h
 BENCH_FLAGS :=
 BENCH_LIBS :=
 ifneq ($(wildcard $(EMBREE_HEADER)),)
@@ -214,14 +215,19 @@ $(BUILD)/gen/bench_kernel_source.c: bench/kernels/rays.cl bench/kernels/rays_arg
 	@mkdir -p $(@D)
 	$(BUILD)/embed source lvcl_bench_kernel_source $< > $@
 
+$(BUILD)/gen/wavefront_kernel_source.c: bench/kernels/wavefront.cl bench/kernels/wavefront_args.h $(KERNELS) $(BUILD)/embed
+	@mkdir -p $(@D)
+	$(BUILD)/embed source lvcl_wavefront_kernel_source $< > $@
+
 # A stamp named for whether Embree is there, so lvcl-bench is rebuilt when
 # it comes or goes.
 BENCH_EMBREE_STAMP := $(BUILD)/gen/bench-embree-$(if $(wildcard $(EMBREE_HEADER)),yes,no)
 $(BENCH_EMBREE_STAMP):
 	@mkdir -p $(@D) && rm -f $(BUILD)/gen/bench-embree-* && touch $@
 
-$(BUILD)/lvcl-bench: $(BENCH_SOURCES) bench/rays.h bench/kernels/rays_args.h $(HOST_H) $(BUILD)/gen/bench_kernel_source.c $(BUILD)/liblvcl.a $(BENCH_EMBREE_STAMP)
-	$(CC) $(ALL_CFLAGS) $(BENCH_FLAGS) -o $@ $(BENCH_SOURCES) $(BUILD)/gen/bench_kernel_source.c $(BUILD)/liblvcl.a \
+BENCH_GEN := $(BUILD)/gen/bench_kernel_source.c $(BUILD)/gen/wavefront_kernel_source.c
+$(BUILD)/lvcl-bench: $(BENCH_SOURCES) $(BENCH_HEADERS) $(HOST_H) $(BENCH_GEN) $(BUILD)/liblvcl.a $(BENCH_EMBREE_STAMP)
+	$(CC) $(ALL_CFLAGS) $(BENCH_FLAGS) -o $@ $(BENCH_SOURCES) $(BENCH_GEN) $(BUILD)/liblvcl.a \
 	  $(LIBS) $(BENCH_LIBS)
 
 # A ~1M-triangle scene made by the project's own generator (not checked in).

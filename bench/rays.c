@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "../host/render/session.h"
+#include "bench.h"
 #include "../host/util/timer.h"
 #include "kernels/rays_args.h"
 #include "rays.h"
@@ -62,64 +63,14 @@ static int parse_options(int argc, char **argv, options *o)
     return o->scene && o->width > 0 && o->repeat > 0;
 }
 
-/* s as a quoted JSON string (control characters dropped). */
-static void json_string(char *out, size_t size, const char *s)
-{
-    size_t n = 0;
-    out[n++] = '"';
-    for (; *s && n + 3 < size; s++) {
-        if ((unsigned char)*s < 0x20) continue;
-        if (*s == '"' || *s == '\\') out[n++] = '\\';
-        out[n++] = *s;
-    }
-    out[n++] = '"';
-    out[n] = '\0';
-}
-
-static cl_mem device_buffer(bench *b, size_t bytes, const void *data, lvcl_status *st)
-{
-    cl_int err;
-    cl_mem m =
-        clCreateBuffer(lvcl_session_device(b->s, 0)->context, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0),
-                       bytes ? bytes : 16, (void *)data, &err);
-    char what[64];
-    snprintf(what, sizeof what, "allocating %.1f MiB", bytes / 1048576.0);
-    if (lvcl_cl_check(err, what, st)) return NULL;
-    return m;
-}
-
-static lvcl_error launch(bench *b, cl_kernel k, size_t count, const char *what, lvcl_status *st)
-{
-    lvcl_error e = lvcl_kernel_enqueue(lvcl_session_device(b->s, 0), k, count, what, st);
-    return e ? e : lvcl_cl_check(clFinish(lvcl_session_device(b->s, 0)->queue), what, st);
-}
-
-static lvcl_error read_back(bench *b, cl_mem m, size_t bytes, void *out, lvcl_status *st)
-{
-    return lvcl_cl_check(
-        clEnqueueReadBuffer(lvcl_session_device(b->s, 0)->queue, m, CL_TRUE, 0, bytes, out, 0, NULL, NULL),
-        "reading back", st);
-}
-
-static int compare_seconds(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Sorts the timings; returns the median. */
-static double median(double *t, int n)
-{
-    qsort(t, (size_t)n, sizeof *t, compare_seconds);
-    return n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
-}
-
 typedef LVCL_KERNEL_ARGS(LV_RAYS_PRIMARY_ARGS) rays_primary_args;
 typedef LVCL_KERNEL_ARGS(LV_RAYS_TRACE_ARGS) rays_trace_args;
 typedef LVCL_KERNEL_ARGS(LV_RAYS_SECONDARY_ARGS) rays_secondary_args;
-static LVCL_DEFINE_BINDER(lv_rays_primary, LV_RAYS_PRIMARY_ARGS, rays_primary_args) static LVCL_DEFINE_BINDER(
-    lv_rays_trace, LV_RAYS_TRACE_ARGS,
-    rays_trace_args) static LVCL_DEFINE_BINDER(lv_rays_secondary, LV_RAYS_SECONDARY_ARGS, rays_secondary_args)
+/* clang-format off */
+static LVCL_DEFINE_BINDER(lv_rays_primary, LV_RAYS_PRIMARY_ARGS, rays_primary_args)
+static LVCL_DEFINE_BINDER(lv_rays_trace, LV_RAYS_TRACE_ARGS, rays_trace_args)
+static LVCL_DEFINE_BINDER(lv_rays_secondary, LV_RAYS_SECONDARY_ARGS, rays_secondary_args)
+    /* clang-format on */
 
     /* Times the trace kernel alone, after one untimed launch (PoCL compiles a
  * kernel's machine code on its first launch). */
@@ -130,10 +81,10 @@ static LVCL_DEFINE_BINDER(lv_rays_primary, LV_RAYS_PRIMARY_ARGS, rays_primary_ar
     rays_trace_args a = {
         .scene = &lvcl_session_device_scene(b->s, 0)->buffers, .rays = rays, .count = (cl_uint)count, .hits = hits};
     lvcl_error e = lvcl_bind_lv_rays_trace(k, &a, st);
-    if (!e) e = launch(b, k, count, "tracing", st);
+    if (!e) e = bench_launch(b->s, k, count, "tracing", st);
     for (int r = 0; r < b->opt.repeat && !e; r++) {
         double start = lvcl_seconds();
-        e = launch(b, k, count, "tracing", st);
+        e = bench_launch(b->s, k, count, "tracing", st);
         seconds[r] = lvcl_seconds() - start;
     }
     return e;
@@ -193,7 +144,7 @@ static void print_embree(bench *b, const bench_ray *rays, const bench_hit *hits,
         return;
     }
     time_embree(b, rays, count, any_hit, BENCH_EMBREE_PACKETS, eh, t);
-    double sec = median(t, b->opt.repeat);
+    double sec = bench_median(t, b->opt.repeat);
     summary s = summarize(rays, eh, count, any_hit);
     printf(", \"embree_mrays\": %.3f, \"embree_mrays_best\": %.3f, \"embree_seconds\": %.6f, \"embree_hits\": %zu, "
            "\"embree_checksum\": %u, \"embree_mean_distance\": %.7g, \"differing_rays\": %zu, \"ratio\": %.4f",
@@ -201,7 +152,7 @@ static void print_embree(bench *b, const bench_ray *rays, const bench_hit *hits,
            count_differences(hits, eh, count, any_hit), sec / lvcl_seconds_median);
     /* The single-ray API on the same rays: the yardstick for primary and shadow rays. */
     time_embree(b, rays, count, any_hit, BENCH_EMBREE_SINGLE, eh, t);
-    double single = median(t, b->opt.repeat);
+    double single = bench_median(t, b->opt.repeat);
     printf(", \"embree_single_mrays\": %.3f, \"embree_single_hits\": %zu, \"ratio_single\": %.4f",
            count / single * 1e-6, summarize(rays, eh, count, any_hit).hits, single / lvcl_seconds_median);
     free(eh);
@@ -219,15 +170,15 @@ static lvcl_error run_workload(bench *b, const char *name, cl_mem rays, cl_mem h
     bench_hit *hh = malloc((count ? count : 1) * sizeof *hh);
     lvcl_error e = !t || !hr || !hh ? lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory") : LVCL_OK;
     if (!e) e = time_lvcl(b, rays, hits, count, any_hit, t, st);
-    if (!e) e = read_back(b, rays, count * sizeof *hr, hr, st);
-    if (!e) e = read_back(b, hits, count * sizeof *hh, hh, st);
+    if (!e) e = bench_read_back(b->s, rays, count * sizeof *hr, hr, st);
+    if (!e) e = bench_read_back(b->s, hits, count * sizeof *hh, hh, st);
     if (e) {
         free(t);
         free(hr);
         free(hh);
         return e;
     }
-    double sec = median(t, b->opt.repeat);
+    double sec = bench_median(t, b->opt.repeat);
     summary s = summarize(hr, hh, count, any_hit);
     printf("{\"workload\": \"%s\", \"device\": %s, \"triangles\": %zu, \"rays\": %zu, \"query\": \"%s\", "
            "\"mrays\": %.3f, \"mrays_best\": %.3f, \"seconds\": %.6f, \"hits\": %zu, \"checksum\": %u, "
@@ -267,7 +218,7 @@ static lvcl_error generate_primary(bench *b, const lv_camera *cam, cl_mem rays, 
 {
     rays_primary_args a = {.camera = *cam, .rays = rays};
     lvcl_error e = lvcl_bind_lv_rays_primary(b->primary, &a, st);
-    return e ? e : launch(b, b->primary, (size_t)cam->width * cam->height, "generating primary rays", st);
+    return e ? e : bench_launch(b->s, b->primary, (size_t)cam->width * cam->height, "generating primary rays", st);
 }
 
 /* Emissive triangles lead the light table (host/device/packed_scene.c). */
@@ -295,7 +246,7 @@ static lvcl_error generate_secondary(bench *b, cl_mem primary, cl_mem primary_hi
                              .shadow = shadow};
     cl_kernel k = b->secondary;
     lvcl_error e = lvcl_bind_lv_rays_secondary(k, &a, st);
-    return e ? e : launch(b, k, count, "generating secondary rays", st);
+    return e ? e : bench_launch(b->s, k, count, "generating secondary rays", st);
 }
 
 /* The pixels whose primary ray hit, in pixel order: the secondary rays'
@@ -312,7 +263,7 @@ static uint32_t *hit_pixel_list(const bench_hit *hits, size_t count, size_t *n)
 static void print_setup(bench *b, int width, int height)
 {
     char scene[300];
-    json_string(scene, sizeof scene, b->opt.scene);
+    bench_json_string(scene, sizeof scene, b->opt.scene);
     printf("{\"bench\": \"rays\", \"scene\": %s, \"device\": %s, \"triangles\": %zu, \"bvh_triangles\": %zu, "
            "\"bvh_nodes\": %zu, \"bvh_width\": %d, \"bvh_build_seconds\": %.4f, \"kernel_build_seconds\": %.3f, "
            "\"kernel_from_cache\": %s, \"width\": %d, \"height\": %d, \"repeat\": %d",
@@ -343,18 +294,18 @@ static lvcl_error run(bench *b, lvcl_status *st)
     uint32_t *pix = NULL;
     cl_uint emitters = emissive_count(lvcl_session_packed_scene(b->s));
     lvcl_error e = LVCL_OK;
-    if (!(mem[0] = device_buffer(b, pixels * sizeof(bench_ray), NULL, st)) ||
-        !(mem[1] = device_buffer(b, pixels * sizeof(bench_hit), NULL, st)))
+    if (!(mem[0] = bench_device_buffer(b->s, pixels * sizeof(bench_ray), NULL, st)) ||
+        !(mem[1] = bench_device_buffer(b->s, pixels * sizeof(bench_hit), NULL, st)))
         e = st->code;
     if (!e) e = generate_primary(b, &cam, mem[0], st);
     if (!e) e = run_workload(b, "primary", mem[0], mem[1], pixels, 0, &pr, &ph, st);
     if (!e && !(pix = hit_pixel_list(ph, pixels, &n_sec)))
         e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory");
     if (!e &&
-        (!(mem[2] = device_buffer(b, n_sec * sizeof *pix, pix, st)) ||
-         !(mem[3] = device_buffer(b, n_sec * sizeof(bench_ray), NULL, st)) ||
-         !(mem[4] = device_buffer(b, n_sec * sizeof(bench_ray), NULL, st)) ||
-         !(mem[5] = device_buffer(b, n_sec * sizeof(bench_hit), NULL, st))))
+        (!(mem[2] = bench_device_buffer(b->s, n_sec * sizeof *pix, pix, st)) ||
+         !(mem[3] = bench_device_buffer(b->s, n_sec * sizeof(bench_ray), NULL, st)) ||
+         !(mem[4] = bench_device_buffer(b->s, n_sec * sizeof(bench_ray), NULL, st)) ||
+         !(mem[5] = bench_device_buffer(b->s, n_sec * sizeof(bench_hit), NULL, st))))
         e = st->code;
     if (!e) e = generate_secondary(b, mem[0], mem[1], mem[2], n_sec, emitters, mem[3], mem[4], st);
     if (!e) e = run_workload(b, "diffuse", mem[3], mem[5], n_sec, 0, &dr, &dh, st);
@@ -376,7 +327,7 @@ static void release_kernels(bench *b)
         if (all[i]) clReleaseKernel(all[i]);
 }
 
-int main(int argc, char **argv)
+int bench_rays(int argc, char **argv)
 {
     bench b;
     memset(&b, 0, sizeof b);
@@ -394,7 +345,7 @@ int main(int argc, char **argv)
     if (!e) e = lvcl_session_open(&scene, &cfg, &b.s, &st);
     if (!e) e = create_kernels(&b, &st);
     if (!e) {
-        json_string(b.device_json, sizeof b.device_json, lvcl_session_device(b.s, 0)->name);
+        bench_json_string(b.device_json, sizeof b.device_json, lvcl_session_device(b.s, 0)->name);
         b.embree = bench_embree_create(lvcl_session_scene(b.s), &b.embree_build_seconds);
         e = run(&b, &st);
     }

@@ -8,25 +8,53 @@
 #include "../light/lights.h"
 #include "scatter.h"
 
+/* A light sample's shadow ray (origin + t d, t in (0, 0.9999), leaving
+ * triangle tri of instance inst) and the radiance it brings if nothing
+ * blocks it. */
+typedef struct {
+    float3 origin, d;
+    uint inst, tri;
+    float3 li;
+} lv_shadow_ray;
+
+/* Samples one light for surface s (hit h), MIS-weighted against BSDF
+ * sampling; returns 0 where the sample cannot contribute. Draws three
+ * numbers. The occlusion test is the caller's, so that a wavefront can
+ * trace shadow rays in a kernel of their own. */
+inline int lv_light_sample_ray(const lv_scene *sc, const lv_surface *s, lv_hit h, const lv_shading *sh, lv_rng *rng,
+                               lv_shadow_ray *out)
+{
+    lv_light_sample ls;
+    float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
+    if (!lv_sample_light(sc, s->p, u, &ls)) return 0;
+    float3 wi = lv_to_local(sh->f, ls.wi);
+    float pdf;
+    float3 fcos = lv_bsdf_eval(&sh->b, sh->wo, wi, LV_RADIANCE, &pdf);
+    if (lv_max3(fcos) <= 0.0f) return 0;
+    /* Leave from the side of the surface the light is on. */
+    float3 n_side = dot(ls.wi, sh->ng_out) >= 0.0f ? sh->ng_out : -sh->ng_out;
+    if (!lv_bsdf_transmits(sh->b.type) && dot(ls.wi, sh->ng_out) <= 0.0f) return 0;
+    out->origin = lv_offset_origin(s->p, n_side, sc->info.scene_scale);
+    out->d = ls.target - out->origin;
+    out->inst = h.inst;
+    out->tri = h.tri;
+    float w = ls.delta ? 1.0f : lv_power_heuristic(ls.pdf, pdf);
+    out->li = fcos * ls.li * (w / ls.pdf);
+    return 1;
+}
+
+inline int lv_shadow_ray_blocked(const lv_scene *sc, const lv_shadow_ray *r)
+{
+    return lv_occluded(sc, r->origin, r->d, 0.9999f, r->inst, r->tri);
+}
+
 /* Direct light at surface s (hit h) from one light sample, MIS-weighted
  * against BSDF sampling. Draws three numbers. */
 inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, lv_hit h, const lv_shading *sh, lv_rng *rng)
 {
-    lv_light_sample ls;
-    float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
-    if (!lv_sample_light(sc, s->p, u, &ls)) return (float3)(0.0f);
-    float3 wi = lv_to_local(sh->f, ls.wi);
-    float pdf;
-    float3 fcos = lv_bsdf_eval(&sh->b, sh->wo, wi, LV_RADIANCE, &pdf);
-    if (lv_max3(fcos) <= 0.0f) return (float3)(0.0f);
-    /* Leave from the side of the surface the light is on. */
-    float3 n_side = dot(ls.wi, sh->ng_out) >= 0.0f ? sh->ng_out : -sh->ng_out;
-    if (!lv_bsdf_transmits(sh->b.type) && dot(ls.wi, sh->ng_out) <= 0.0f) return (float3)(0.0f);
-    float3 origin = lv_offset_origin(s->p, n_side, sc->info.scene_scale);
-    float3 d = ls.target - origin;
-    if (lv_occluded(sc, origin, d, 0.9999f, h.inst, h.tri)) return (float3)(0.0f);
-    float w = ls.delta ? 1.0f : lv_power_heuristic(ls.pdf, pdf);
-    return fcos * ls.li * (w / ls.pdf);
+    lv_shadow_ray r;
+    if (!lv_light_sample_ray(sc, s, h, sh, rng, &r) || lv_shadow_ray_blocked(sc, &r)) return (float3)(0.0f);
+    return r.li;
 }
 
 /* The MIS weight of emission that a ray along dir found at h (front normal

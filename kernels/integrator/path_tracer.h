@@ -7,32 +7,74 @@
 
 #include "direct_light.h"
 
-/* Radiance arriving along r at its origin. */
-inline float3 lv_path_trace(const lv_scene *sc, lv_ray r, lv_rng *rng, uint max_depth)
+/* A path between two segments: all a wavefront keeps of it from one
+ * kernel to the next. */
+typedef struct {
+    lv_ray ray;      /* the next segment */
+    float3 beta;     /* throughput up to its origin */
+    float3 radiance; /* gathered so far */
+    float prev_pdf;  /* density of the BSDF sample that made ray */
+    int prev_delta;  /* ray came from a delta lobe or the camera: no MIS */
+    uint depth;      /* ray's number among the segments, from 1 */
+} lv_path;
+
+inline lv_path lv_path_start(lv_ray r)
+{
+    lv_path p;
+    p.ray = r;
+    p.beta = (float3)(1.0f);
+    p.radiance = (float3)(0.0f);
+    p.prev_pdf = 0.0f;
+    p.prev_delta = 1; /* the camera ray counts as a delta sample */
+    p.depth = 1u;
+    return p;
+}
+
+/* One vertex of path p at hit h of its ray: the emission found there, the
+ * absorption on the way, a light sample (*shadow, where it returns with
+ * *has_shadow set; its light counts, times the beta it carries, once its
+ * ray is found clear) and the next ray. Returns whether the path goes on. */
+inline int lv_path_shade(const lv_scene *sc, lv_path *p, lv_hit h, lv_rng *rng, uint max_depth, lv_shadow_ray *shadow,
+                         int *has_shadow)
 {
     const lv_walk walk = {LV_RADIANCE, LV_ROULETTE_BETA, (float3)(1.0f)};
-    float3 radiance = (float3)(0.0f);
-    float3 beta = (float3)(1.0f);
-    lv_bsdf_sample bs;
-    bs.pdf = 0.0f;
-    bs.delta = 1; /* the camera ray counts as a delta sample: no MIS */
-    for (uint depth = 1; depth <= max_depth; depth++) {
-        lv_hit h = lv_trace(sc, r, 0);
-        if (h.tri == LV_NO_HIT) break;
-        lv_surface s = lv_surface_at(sc, r, h);
-        __global const lv_material *m = &sc->materials[s.material];
-        float3 le = LV_F3(m->emission);
-        if (s.front && lv_max3(le) > 0.0f)
-            radiance += beta * le * lv_emission_weight(sc, h, r.dir, s.ng, bs.pdf, bs.delta);
-        if (lv_inside_glass(m, &s)) beta *= exp(-LV_F3(m->attenuation) * h.t);
-        if (depth == max_depth) break;
+    *has_shadow = 0;
+    if (h.tri == LV_NO_HIT) return 0;
+    lv_surface s = lv_surface_at(sc, p->ray, h);
+    __global const lv_material *m = &sc->materials[s.material];
+    float3 le = LV_F3(m->emission);
+    if (s.front && lv_max3(le) > 0.0f)
+        p->radiance += p->beta * le * lv_emission_weight(sc, h, p->ray.dir, s.ng, p->prev_pdf, p->prev_delta);
+    if (lv_inside_glass(m, &s)) p->beta *= exp(-LV_F3(m->attenuation) * h.t);
+    if (p->depth == max_depth) return 0;
 
-        lv_shading sh;
-        if (!lv_shading_at(sc, &s, r.dir, &sh)) break;
-        if (depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b)) radiance += beta * lv_direct_light(sc, &s, h, &sh, rng);
-        if (!lv_scatter(sc, &s, h, &sh, walk, depth, rng, &beta, &r, &bs)) break;
+    lv_shading sh;
+    if (!lv_shading_at(sc, &s, p->ray.dir, &sh)) return 0;
+    if (p->depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b) && lv_light_sample_ray(sc, &s, h, &sh, rng, shadow)) {
+        shadow->li = p->beta * shadow->li;
+        *has_shadow = 1;
     }
-    return lv_finite3(radiance) ? radiance : (float3)(0.0f);
+    lv_bsdf_sample bs;
+    if (!lv_scatter(sc, &s, h, &sh, walk, p->depth, rng, &p->beta, &p->ray, &bs)) return 0;
+    p->prev_pdf = bs.pdf;
+    p->prev_delta = bs.delta;
+    p->depth++;
+    return 1;
+}
+
+/* Radiance arriving along r at its origin: the megakernel, one path from
+ * start to end in one work-item. */
+inline float3 lv_path_trace(const lv_scene *sc, lv_ray r, lv_rng *rng, uint max_depth)
+{
+    lv_path p = lv_path_start(r);
+    int more = 1;
+    while (more) {
+        lv_shadow_ray shadow;
+        int has_shadow;
+        more = lv_path_shade(sc, &p, lv_trace(sc, p.ray, 0), rng, max_depth, &shadow, &has_shadow);
+        if (has_shadow && !lv_shadow_ray_blocked(sc, &shadow)) p.radiance += shadow.li;
+    }
+    return lv_finite3(p.radiance) ? p.radiance : (float3)(0.0f);
 }
 
 #endif
