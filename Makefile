@@ -44,7 +44,7 @@ TEST_BINS := $(addprefix $(BUILD)/tests/,$(basename $(notdir $(TEST_SOURCES))))
 .PHONY: all run test test-asan deps references clean format
 # Keep generated sources (kernel and scene arrays) between builds.
 .SECONDARY:
-all: $(BUILD)/lvcl $(BUILD)/lvcl-compare $(TEST_BINS)
+all: $(BUILD)/lvcl $(BUILD)/lvcl-compare $(BUILD)/lvcl-bench $(TEST_BINS)
 	@# A test program whose source has gone or moved would still run.
 	@rm -f $(filter-out $(TEST_BINS),$(wildcard $(BUILD)/tests/test_*))
 

@@ -165,3 +165,19 @@ if [ $status -eq 0 ] && grep -q '"budget": {' "$tmp/budget.json" && [ "${particl
     "$build/lvcl-compare" "$tmp/budget.exr" "$tmp/fixed.exr" | grep -q '"rmse": 0,'
 then pass "time-limited lv render equals the fixed render of its particles and spp ($particles, $spp; $([ "$particles" -gt 262144 ] && echo 'measured plan' || echo 'first pass only'))"
 else fail "time-limited lv render equals the fixed render of its particles and spp" "status $status, particles ${particles:-?}, spp ${spp:-?}: $(cat "$tmp/err")"; fi
+
+# lvcl-bench wavefront runs the path tracer as wavefront kernels and as the
+# megakernel on the same random streams: the images must agree (PoCL gives
+# the same bits; another compiler may round the split code differently,
+# Intel's measured up to 1e-5 on the kitchen). The glass table adds
+# specular chains and absorption; the kitchen, instances.
+for scene in cornell "$(dirname "$0")/../../scenes/glass-table.gltf" kitchen; do
+    name="wavefront image equals the megakernel's ($(basename "$scene"))"
+    if "$build/lvcl-bench" wavefront --spp 2 --width 32 --batch 300 "$scene" >"$tmp/wf.json" 2>"$tmp/err" &&
+        awk -F'"relmse_between": ' 'NF > 1 { split($2, v, ","); exit !(v[1] + 0 <= 1e-5) } END { if (NR == 0) exit 1 }' "$tmp/wf.json"
+    then pass "$name"
+    else fail "$name" "$(cat "$tmp/wf.json" "$tmp/err")"; fi
+done
+"$build/lvcl-bench" wavefront --spp 0 cornell >/dev/null 2>"$tmp/err"
+if [ $? -eq 2 ] && grep -q '^usage: lvcl-bench wavefront' "$tmp/err"; then pass "lvcl-bench wavefront refuses --spp 0"
+else fail "lvcl-bench wavefront refuses --spp 0" "$(cat "$tmp/err")"; fi
