@@ -11,6 +11,12 @@
 int bench_rays(int argc, char **argv);
 int bench_wavefront(int argc, char **argv);
 
+/* Loads scene_name (a path or an embedded name) into *scene and opens a
+ * session on `device` with fast math, as the renderer builds its kernels
+ * by default, so what is measured is what lvcl renders with. */
+lvcl_error bench_open(const char *scene_name, const char *device, unsigned seed, int max_depth, lvcl_scene *scene,
+                      lvcl_session **s, lvcl_status *st);
+
 /* s as a quoted JSON string (control characters dropped). */
 void bench_json_string(char *out, size_t size, const char *s);
 

@@ -4,6 +4,15 @@
 
 #include "bench.h"
 
+lvcl_error bench_open(const char *scene_name, const char *device, unsigned seed, int max_depth, lvcl_scene *scene,
+                      lvcl_session **s, lvcl_status *st)
+{
+    lvcl_device_prepare_environment();
+    lvcl_session_config cfg = {.device = device, .seed = seed, .max_depth = max_depth, .fast_math = 1};
+    lvcl_error e = lvcl_scene_load(scene_name, scene, st);
+    return e ? e : lvcl_session_open(scene, &cfg, s, st);
+}
+
 void bench_json_string(char *out, size_t size, const char *s)
 {
     size_t n = 0;

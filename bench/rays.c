@@ -335,14 +335,9 @@ int bench_rays(int argc, char **argv)
         usage();
         return 2;
     }
-    lvcl_device_prepare_environment();
     lvcl_status st = {0};
     lvcl_scene scene = {0};
-    /* Fast math as the renderer uses by default: the traversal measured is
-     * the one lvcl renders with. */
-    lvcl_session_config cfg = {.device = b.opt.device, .seed = b.opt.seed, .max_depth = 1, .fast_math = 1};
-    lvcl_error e = lvcl_scene_load(b.opt.scene, &scene, &st);
-    if (!e) e = lvcl_session_open(&scene, &cfg, &b.s, &st);
+    lvcl_error e = bench_open(b.opt.scene, b.opt.device, b.opt.seed, 1, &scene, &b.s, &st);
     if (!e) e = create_kernels(&b, &st);
     if (!e) {
         bench_json_string(b.device_json, sizeof b.device_json, lvcl_session_device(b.s, 0)->name);

@@ -361,13 +361,10 @@ int bench_wavefront(int argc, char **argv)
         usage();
         return 2;
     }
-    lvcl_device_prepare_environment();
     lvcl_status st = {0};
     lvcl_scene scene = {0};
-    /* The renderer's defaults: fast math, paths of up to 64 segments. */
-    lvcl_session_config cfg = {.device = b.opt.device, .seed = b.opt.seed, .max_depth = 64, .fast_math = 1};
-    lvcl_error e = lvcl_scene_load(b.opt.scene, &scene, &st);
-    if (!e) e = lvcl_session_open(&scene, &cfg, &b.s, &st);
+    /* Paths of up to 64 segments, the renderer's default. */
+    lvcl_error e = bench_open(b.opt.scene, b.opt.device, b.opt.seed, 64, &scene, &b.s, &st);
     if (!e) e = create_kernels(&b, &st);
     if (!e) e = run(&b, &st);
     if (e) fprintf(stderr, "lvcl-bench: error: %s\n", st.message);

@@ -105,7 +105,9 @@ lvcl_error lvcl_program_build_source(const lvcl_device *dev, const unsigned char
                                      const char *defines, int fast_math, lvcl_program *prog, lvcl_status *st)
 {
     memset(prog, 0, sizeof *prog);
-    snprintf(prog->options, sizeof prog->options, "-cl-std=CL1.2%s%s", fast_math ? " -cl-fast-relaxed-math" : "",
+    /* -w: some PoCL builds print clang's "N warnings generated." to stderr
+     * on a cold cache, which broke lvcl's one-line errors. */
+    snprintf(prog->options, sizeof prog->options, "-cl-std=CL1.2 -w%s%s", fast_math ? " -cl-fast-relaxed-math" : "",
              defines);
     char path[4096];
     cache_path(dev, prog->options, source, source_size, path, sizeof path);
