@@ -17,6 +17,11 @@ int bench_wavefront(int argc, char **argv);
 lvcl_error bench_open(const char *scene_name, const char *device, unsigned seed, int max_depth, lvcl_scene *scene,
                       lvcl_session **s, lvcl_status *st);
 
+/* Builds a benchmark's own program on the session's first device with the
+ * scene's features and fast math, as the renderer builds its own. */
+lvcl_error bench_build_program(lvcl_session *s, const unsigned char *source, size_t size, lvcl_program *prog,
+                               lvcl_status *st);
+
 /* s as a quoted JSON string (control characters dropped). */
 void bench_json_string(char *out, size_t size, const char *s);
 

@@ -13,6 +13,14 @@ lvcl_error bench_open(const char *scene_name, const char *device, unsigned seed,
     return e ? e : lvcl_session_open(scene, &cfg, s, st);
 }
 
+lvcl_error bench_build_program(lvcl_session *s, const unsigned char *source, size_t size, lvcl_program *prog,
+                               lvcl_status *st)
+{
+    char defines[160];
+    lvcl_program_feature_defines(lvcl_session_features(s), defines, sizeof defines);
+    return lvcl_program_build_source(lvcl_session_device(s, 0), source, size, defines, 1, prog, st);
+}
+
 void bench_json_string(char *out, size_t size, const char *s)
 {
     size_t n = 0;

@@ -202,10 +202,7 @@ extern const size_t lvcl_bench_kernel_source_size;
  * renders with. */
 static lvcl_error create_kernels(bench *b, lvcl_status *st)
 {
-    char defines[160];
-    lvcl_program_feature_defines(lvcl_session_features(b->s), defines, sizeof defines);
-    lvcl_error e = lvcl_program_build_source(lvcl_session_device(b->s, 0), lvcl_bench_kernel_source,
-                                             lvcl_bench_kernel_source_size, defines, 1, &b->program, st);
+    lvcl_error e = bench_build_program(b->s, lvcl_bench_kernel_source, lvcl_bench_kernel_source_size, &b->program, st);
     if (e || (e = lvcl_kernel_create(&b->program, "lv_rays_primary", &b->primary, st)) ||
         (e = lvcl_kernel_create(&b->program, "lv_rays_trace_closest", &b->closest, st)) ||
         (e = lvcl_kernel_create(&b->program, "lv_rays_trace_any", &b->any, st)) ||

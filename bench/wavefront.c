@@ -114,10 +114,8 @@ extern const size_t lvcl_wavefront_kernel_source_size;
  * lv_path_shade into lv_pt_pass, which then ran 4x slower.) */
 static lvcl_error create_kernels(bench_wf *b, lvcl_status *st)
 {
-    char defines[160];
-    lvcl_program_feature_defines(lvcl_session_features(b->s), defines, sizeof defines);
-    lvcl_error e = lvcl_program_build_source(lvcl_session_device(b->s, 0), lvcl_wavefront_kernel_source,
-                                             lvcl_wavefront_kernel_source_size, defines, 1, &b->program, st);
+    lvcl_error e =
+        bench_build_program(b->s, lvcl_wavefront_kernel_source, lvcl_wavefront_kernel_source_size, &b->program, st);
     if (e || (e = lvcl_kernel_create(lvcl_session_program(b->s, 0), "lv_pt_pass", &b->mega, st)) ||
         (e = lvcl_kernel_create(&b->program, "lv_wf_generate", &b->generate, st)) ||
         (e = lvcl_kernel_create(&b->program, "lv_wf_intersect", &b->intersect, st)) ||
