@@ -3,3 +3,4 @@
 #include "passes/pt.cl"
 #include "passes/particles.cl"
 #include "passes/gather.cl"
+#include "passes/guided.cl"

@@ -24,6 +24,7 @@
 #include "volume/segment.h"
 #include "volume/subcells.h"
 #include "volume/lookup.h"
+#include "volume/guide.h"
 #include "integrator/scatter.h"
 #include "integrator/direct_light.h"
 #include "integrator/path_tracer.h"

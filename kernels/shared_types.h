@@ -426,6 +426,21 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
     X(lv_gather_pass, VALUE, float, threshold) SEP()  /* near-hit distance, metres */ \
     LV_PIXEL_ARGS(X, SEP, lv_gather_pass)
 
+#define LV_GUIDED_PASS_ARGS(X, SEP)                                   \
+    X(lv_guided_pass, SCENE, , scene) SEP()                           \
+    X(lv_guided_pass, VOLUME, , volume) SEP()                         \
+    X(lv_guided_pass, BUFFER, const float, bin_table) SEP()      \
+    X(lv_guided_pass, BUFFER, const float, fine_bin_table) SEP() /* the bin table of 2n x 2n */ \
+    X(lv_guided_pass, BUFFER, const float, guide_table) SEP()    /* lv_guide_table's */ \
+    LV_PIXEL_ARGS(X, SEP, lv_guided_pass)
+
+/* Fills the guide table: per tally set and bin, the luminance of its
+ * tallies (volume/guide.h), laid out as the tallies are, then
+ * LV_BIN_GROUP floats of padding. */
+#define LV_GUIDE_TABLE_ARGS(X, SEP)              \
+    X(lv_guide_table, VOLUME, , volume) SEP()    \
+    X(lv_guide_table, BUFFER, float, guide_table)
+
 #define LV_PARTICLE_TRACE_ARGS(X, SEP)                                                       \
     X(lv_particle_trace, SCENE, , scene) SEP()                                               \
     X(lv_particle_trace, VOLUME, , volume) SEP()                                             \
@@ -455,6 +470,8 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
 
 LV_ARG_INDICES(LV_PT_PASS_ARGS, lv_pt_pass);
 LV_ARG_INDICES(LV_GATHER_PASS_ARGS, lv_gather_pass);
+LV_ARG_INDICES(LV_GUIDED_PASS_ARGS, lv_guided_pass);
+LV_ARG_INDICES(LV_GUIDE_TABLE_ARGS, lv_guide_table);
 LV_ARG_INDICES(LV_PARTICLE_TRACE_ARGS, lv_particle_trace);
 LV_ARG_INDICES(LV_LIT_VOLUMES_ARGS, lv_lit_volumes);
 LV_ARG_INDICES(LV_BIN_TABLE_ARGS, lv_bin_table);

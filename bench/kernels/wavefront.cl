@@ -111,7 +111,7 @@ __kernel void lv_wf_shade(LV_KERNEL_PARAMS(LV_WF_SHADE_ARGS))
         h.tri = as_uint(hv.w);
         h.inst = hit_inst[i];
         lv_shadow_ray shadow;
-        more = lv_path_shade(&sc, &p, h, &r, sc.info.max_depth, &shadow, &has_shadow);
+        more = lv_path_shade(&sc, 0, &p, h, &r, sc.info.max_depth, &shadow, &has_shadow);
         lv_wf_store(i, &p, ray_origin, ray_dir, ray_skip_inst, beta, radiance, depth);
         rng[i] = lv_wf_rng_pack(r);
         if (has_shadow) {

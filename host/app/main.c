@@ -62,6 +62,7 @@ static lvcl_error run(const lvcl_options *o, lvcl_session **s, lvcl_render_resul
     lvcl_render_request req = {
         .mode = !strcmp(o->mode, "lv")   ? LVCL_MODE_LV
             : !strcmp(o->mode, "lv-all") ? LVCL_MODE_LV_ALL
+            : !strcmp(o->mode, "guided") ? LVCL_MODE_GUIDED
                                          : LVCL_MODE_PT,
         .width = o->width,
         .height = o->height,

@@ -209,8 +209,8 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         }
         if (e) return e;
     }
-    if (strcmp(o->mode, "pt") && strcmp(o->mode, "lv") && strcmp(o->mode, "lv-all"))
-        return lvcl_fail(st, LVCL_ERR_USAGE, "unknown mode '%s' (expected pt, lv or lv-all)", o->mode);
+    if (strcmp(o->mode, "pt") && strcmp(o->mode, "lv") && strcmp(o->mode, "lv-all") && strcmp(o->mode, "guided"))
+        return lvcl_fail(st, LVCL_ERR_USAGE, "unknown mode '%s' (expected pt, lv, lv-all or guided)", o->mode);
     if (strcmp(o->gather, "sample") && strcmp(o->gather, "integrate"))
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown gather '%s' (expected sample or integrate)", o->gather);
     if (strcmp(o->adaptive, "on") && strcmp(o->adaptive, "off"))
@@ -234,8 +234,10 @@ void lvcl_options_print_help(const char *program)
         "                       all renders on several at once\n"
         "  --list-devices       list OpenCL devices and exit\n"
         "  --device-memory MIB  act as a device of MIB MiB, a quarter of it in one buffer (default: the device's own)\n"
-        "  --mode pt|lv|lv-all  pt: path tracing; lv: light volume for indirect light, shadow rays\n"
-        "                       for direct (default pt); lv-all: the light volume answers all light\n"
+        "  --mode pt|lv|lv-all|guided  pt: path tracing; lv: light volume for indirect light, shadow\n"
+        "                       rays for direct (default pt); lv-all: the light volume answers all\n"
+        "                       light; guided: path tracing that samples by the light volume too\n"
+        "                       (unbiased)\n"
         "  --particles N        light volume: particles traced (default 1e6; under --time-limit\n"
         "                       as many as the measured split of the time gives)\n"
         "  --cells N            light volume: cells along the longest axis (default 32)\n"

@@ -73,6 +73,8 @@ void lvcl_volume_buffers_release(lvcl_volume_buffers *b)
 
 LVCL_DEFINE_BINDER(lv_pt_pass, LV_PT_PASS_ARGS, lvcl_pt_pass_args)
 LVCL_DEFINE_BINDER(lv_gather_pass, LV_GATHER_PASS_ARGS, lvcl_gather_pass_args)
+LVCL_DEFINE_BINDER(lv_guided_pass, LV_GUIDED_PASS_ARGS, lvcl_guided_pass_args)
+LVCL_DEFINE_BINDER(lv_guide_table, LV_GUIDE_TABLE_ARGS, lvcl_guide_table_args)
 LVCL_DEFINE_BINDER(lv_particle_trace, LV_PARTICLE_TRACE_ARGS, lvcl_particle_trace_args)
 LVCL_DEFINE_BINDER(lv_lit_volumes, LV_LIT_VOLUMES_ARGS, lvcl_lit_volumes_args)
 LVCL_DEFINE_BINDER(lv_bin_table, LV_BIN_TABLE_ARGS, lvcl_bin_table_args)

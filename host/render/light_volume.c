@@ -225,6 +225,7 @@ void lvcl_volume_release(lvcl_light_volume *vol)
     free(vol->block_of_slot);
     free(vol->restarted);
     if (vol->fine_bin_table_buf) clReleaseMemObject(vol->fine_bin_table_buf);
+    if (vol->guide_table_buf) clReleaseMemObject(vol->guide_table_buf);
     free(vol->region_shares);
     free(vol);
 }

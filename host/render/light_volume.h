@@ -165,6 +165,12 @@ cl_mem lvcl_volume_bin_table(const lvcl_light_volume *vol);
 /* The bin table of 2n x 2n bins (the coarse one while no slot has fine bins). */
 cl_mem lvcl_volume_fine_bin_table(const lvcl_light_volume *vol);
 
+/* Guided mode, after lvcl_volume_finish: fills the guide table
+ * (kernels/volume/guide.h), which lvcl_volume_guide_table then returns
+ * (NULL before). */
+lvcl_error lvcl_volume_fill_guide(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st);
+cl_mem lvcl_volume_guide_table(const lvcl_light_volume *vol);
+
 /* Releases everything; NULL is allowed. */
 void lvcl_volume_release(lvcl_light_volume *vol);
 

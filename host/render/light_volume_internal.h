@@ -1,7 +1,8 @@
 /* The light volume's private parts, shared by the files of host/render/
  * that implement it: grid choice and cell marking (volume_grid.c), the
  * allocation within the device's budget (light_volume.c), the trace
- * (volume_trace.c) and the read-back and merge (volume_readback.c). */
+ * (volume_trace.c), the read-back and merge (volume_readback.c) and the
+ * guide table (volume_guide.c). */
 #ifndef LVCL_LIGHT_VOLUME_INTERNAL_H
 #define LVCL_LIGHT_VOLUME_INTERNAL_H
 
@@ -24,6 +25,7 @@ struct lvcl_light_volume {
     double split_from;         /* the particle count when it refined them */
     uint8_t *restarted;        /* per slot: 1 where its tallies hold the particles from split_from on */
     cl_mem fine_bin_table_buf; /* the bin table of 2n x 2n, once there are fine slots */
+    cl_mem guide_table_buf;    /* guided mode: lvcl_volume_fill_guide's table, or NULL */
     float *region_shares;      /* host copy of the cut cells' region shares */
     size_t region_share_count;
     size_t cell_count; /* dims[0] * dims[1] * dims[2] */

@@ -27,7 +27,9 @@ typedef struct {
     unsigned build_flags;   /* LVCL_BUILD_* switches for the kernels, besides the scene's features */
 } lvcl_session_config;
 
-typedef enum { LVCL_MODE_PT, LVCL_MODE_LV, LVCL_MODE_LV_ALL } lvcl_mode;
+/* pt: path tracing; lv, lv-all: the light volume answers for indirect or
+ * all light; guided: path tracing with the light volume as a sampling guide. */
+typedef enum { LVCL_MODE_PT, LVCL_MODE_LV, LVCL_MODE_LV_ALL, LVCL_MODE_GUIDED } lvcl_mode;
 
 typedef struct {
     lvcl_mode mode;

@@ -1,7 +1,7 @@
 /* The session's private parts, shared by session.c (opening, closing,
  * accessors), session_volume.c (the light volume over every device),
- * session_render.c (the camera passes) and session_budget.c (one time
- * budget for an lv render). */
+ * session_render.c (the camera passes), session_budget.c (one time
+ * budget for an lv render) and session_guided.c (guided renders). */
 #ifndef LVCL_SESSION_INTERNAL_H
 #define LVCL_SESSION_INTERNAL_H
 
@@ -39,6 +39,11 @@ lvcl_error lvcl_session_camera_pass(lvcl_session *s, const lvcl_render_request *
 
 /* An lv render that keeps to req->pass.time_limit on one device. */
 lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
+                                      lvcl_status *st);
+
+/* A guided render: the light volume, then guided camera paths; under a
+ * time limit the trace takes a fixed share of it (session_guided.c). */
+lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
                                       lvcl_status *st);
 
 #endif

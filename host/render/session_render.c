@@ -17,6 +17,18 @@ static lvcl_error bind_pass_args(session_device *sd, lvcl_pass_device *pd, const
         return lvcl_bind_lv_pt_pass(pd->kernel, &a, st);
     }
     const lvcl_light_volume *v = sd->volume;
+    if (req->mode == LVCL_MODE_GUIDED) {
+        pd->pixel_args = LVCL_PIXEL_ARG_INDICES(lv_guided_pass);
+        lvcl_guided_pass_args a = {
+            .scene = &sd->device_scene.buffers,
+            .volume = lvcl_volume_kernel_buffers(v),
+            .bin_table = lvcl_volume_bin_table(v),
+            .fine_bin_table = lvcl_volume_fine_bin_table(v),
+            .guide_table = lvcl_volume_guide_table(v),
+            .camera = *camera,
+        };
+        return lvcl_bind_lv_guided_pass(pd->kernel, &a, st);
+    }
     pd->pixel_args = LVCL_PIXEL_ARG_INDICES(lv_gather_pass);
     lvcl_gather_pass_args a = {
         .scene = &sd->device_scene.buffers,
@@ -28,6 +40,18 @@ static lvcl_error bind_pass_args(session_device *sd, lvcl_pass_device *pd, const
         .camera = *camera,
     };
     return lvcl_bind_lv_gather_pass(pd->kernel, &a, st);
+}
+
+static const char *pass_kernel_name(lvcl_mode mode)
+{
+    switch (mode) {
+    case LVCL_MODE_PT:
+        return "lv_pt_pass";
+    case LVCL_MODE_GUIDED:
+        return "lv_guided_pass";
+    default:
+        return "lv_gather_pass";
+    }
 }
 
 lvcl_error lvcl_session_camera_pass(lvcl_session *s, const lvcl_render_request *req, int width, int height,
@@ -42,9 +66,7 @@ lvcl_error lvcl_session_camera_pass(lvcl_session *s, const lvcl_render_request *
     for (int d = 0; d < s->device_count && !e; d++) {
         session_device *sd = &s->devices[d];
         passes[d].device = &sd->device;
-        if ((e = lvcl_kernel_create(&sd->program, req->mode == LVCL_MODE_PT ? "lv_pt_pass" : "lv_gather_pass",
-                                    &passes[d].kernel, st)))
-            break;
+        if ((e = lvcl_kernel_create(&sd->program, pass_kernel_name(req->mode), &passes[d].kernel, st))) break;
         e = bind_pass_args(sd, &passes[d], req, &cam, st);
     }
     if (!e) e = lvcl_image_pass(passes, s->device_count, &cam, pass, out, st);
@@ -66,6 +88,7 @@ lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, 
         return lvcl_fail(st, LVCL_ERR_USAGE, "--time-limit works on one device only, not on %d", s->device_count);
     if (req->mode == LVCL_MODE_PT)
         return lvcl_session_camera_pass(s, req, req->width, req->height, &req->pass, out, st);
+    if (req->mode == LVCL_MODE_GUIDED) return lvcl_session_render_guided(s, req, out, st);
     /* Under a time limit the whole render keeps to it. */
     if (req->pass.time_limit > 0) return lvcl_session_render_budget(s, req, out, st);
     lvcl_volume_settings vs = req->volume;

@@ -18,11 +18,13 @@ typedef struct {
 } lv_shadow_ray;
 
 /* Samples one light for surface s (hit h), MIS-weighted against BSDF
- * sampling; returns 0 where the sample cannot contribute. Draws three
- * numbers. The occlusion test is the caller's, so that a wavefront can
- * trace shadow rays in a kernel of their own. */
-inline int lv_light_sample_ray(const lv_scene *sc, const lv_surface *s, lv_hit h, const lv_shading *sh, lv_rng *rng,
-                               lv_shadow_ray *out)
+ * sampling, or against the mixture of BSDF and guide where gv is not null
+ * (a guided path scatters by that mixture); returns 0 where the sample
+ * cannot contribute. Draws three numbers. The occlusion test is the
+ * caller's, so that a wavefront can trace shadow rays in a kernel of their
+ * own. */
+inline int lv_light_sample_ray(const lv_scene *sc, const lv_surface *s, lv_hit h, const lv_shading *sh,
+                               const lv_guide_vertex *gv, lv_rng *rng, lv_shadow_ray *out)
 {
     lv_light_sample ls;
     float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
@@ -38,6 +40,7 @@ inline int lv_light_sample_ray(const lv_scene *sc, const lv_surface *s, lv_hit h
     out->d = ls.target - out->origin;
     out->inst = h.inst;
     out->tri = h.tri;
+    if (gv) pdf = lv_guide_mix(gv, pdf, lv_guide_pdf(gv, ls.wi));
     float w = ls.delta ? 1.0f : lv_power_heuristic(ls.pdf, pdf);
     out->li = fcos * ls.li * (w / ls.pdf);
     return 1;
@@ -53,7 +56,7 @@ inline int lv_shadow_ray_blocked(const lv_scene *sc, const lv_shadow_ray *r)
 inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, lv_hit h, const lv_shading *sh, lv_rng *rng)
 {
     lv_shadow_ray r;
-    if (!lv_light_sample_ray(sc, s, h, sh, rng, &r) || lv_shadow_ray_blocked(sc, &r)) return (float3)(0.0f);
+    if (!lv_light_sample_ray(sc, s, h, sh, 0, rng, &r) || lv_shadow_ray_blocked(sc, &r)) return (float3)(0.0f);
     return r.li;
 }
 

@@ -33,9 +33,14 @@ inline lv_path lv_path_start(lv_ray r)
 /* One vertex of path p at hit h of its ray: the emission found there, the
  * absorption on the way, a light sample (*shadow, where it returns with
  * *has_shadow set; its light counts, times the beta it carries, once its
- * ray is found clear) and the next ray. Returns whether the path goes on. */
-inline int lv_path_shade(const lv_scene *sc, lv_path *p, lv_hit h, lv_rng *rng, uint max_depth, lv_shadow_ray *shadow,
-                         int *has_shadow)
+ * ray is found clear) and the next ray. Returns whether the path goes on.
+ * With a guide (not null: --mode guided) the next ray at a rough surface
+ * comes from the mixture of BSDF and guide. Always inlined, so that a null
+ * guide folds away and each caller keeps its own copy (out of line, Intel's
+ * compiler slows the megakernel 4x; docs/performance.md). */
+__attribute__((always_inline)) inline int lv_path_shade(const lv_scene *sc, const lv_guide *guide, lv_path *p, lv_hit h,
+                                                        lv_rng *rng, uint max_depth, lv_shadow_ray *shadow,
+                                                        int *has_shadow)
 {
     const lv_walk walk = {LV_RADIANCE, LV_ROULETTE_BETA, (float3)(1.0f)};
     *has_shadow = 0;
@@ -50,12 +55,19 @@ inline int lv_path_shade(const lv_scene *sc, lv_path *p, lv_hit h, lv_rng *rng, 
 
     lv_shading sh;
     if (!lv_shading_at(sc, &s, p->ray.dir, &sh)) return 0;
-    if (p->depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b) && lv_light_sample_ray(sc, &s, h, &sh, rng, shadow)) {
+    /* The guide serves the surfaces whose light the volume may answer for
+     * in lv mode: rough, opaque, no delta lobe. */
+    lv_guide_vertex gv;
+    int guided = guide && lv_bsdf_gathers(sh.b.type, sh.b.alpha) && lv_guide_at(guide, s.p, sh.f.n, sh.ng_out, &gv);
+    if (p->depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b) &&
+        lv_light_sample_ray(sc, &s, h, &sh, guided ? &gv : 0, rng, shadow)) {
         shadow->li = p->beta * shadow->li;
         *has_shadow = 1;
     }
     lv_bsdf_sample bs;
-    if (!lv_scatter(sc, &s, h, &sh, walk, p->depth, rng, &p->beta, &p->ray, &bs)) return 0;
+    if (guided ? !lv_guided_scatter(sc, &s, h, &sh, &gv, walk, p->depth, rng, &p->beta, &p->ray, &bs)
+               : !lv_scatter(sc, &s, h, &sh, walk, p->depth, rng, &p->beta, &p->ray, &bs))
+        return 0;
     p->prev_pdf = bs.pdf;
     p->prev_delta = bs.delta;
     p->depth++;
@@ -63,15 +75,15 @@ inline int lv_path_shade(const lv_scene *sc, lv_path *p, lv_hit h, lv_rng *rng, 
 }
 
 /* Radiance arriving along r at its origin: the megakernel, one path from
- * start to end in one work-item. */
-inline float3 lv_path_trace(const lv_scene *sc, lv_ray r, lv_rng *rng, uint max_depth)
+ * start to end in one work-item; guide as lv_path_shade's. */
+inline float3 lv_path_trace(const lv_scene *sc, const lv_guide *guide, lv_ray r, lv_rng *rng, uint max_depth)
 {
     lv_path p = lv_path_start(r);
     int more = 1;
     while (more) {
         lv_shadow_ray shadow;
         int has_shadow;
-        more = lv_path_shade(sc, &p, lv_trace(sc, p.ray, 0), rng, max_depth, &shadow, &has_shadow);
+        more = lv_path_shade(sc, guide, &p, lv_trace(sc, p.ray, 0), rng, max_depth, &shadow, &has_shadow);
         if (has_shadow && !lv_shadow_ray_blocked(sc, &shadow)) p.radiance += shadow.li;
     }
     return lv_finite3(p.radiance) ? p.radiance : (float3)(0.0f);

@@ -8,6 +8,7 @@
 
 #include "../scene/surface.h"
 #include "../util/rng.h"
+#include "../volume/guide.h"
 
 /* Walks longer than this many segments may end by Russian roulette. */
 #define LV_RR_DEPTH 5
@@ -54,20 +55,13 @@ inline float lv_shading_normal_adjoint(const lv_surface *s, float3 wo, float3 wi
     return den > 0.0f ? num / den : 0.0f;
 }
 
-/* Scatters the walk that arrived along r at hit h (surface s, shading sh)
- * of its segment number `depth`: on success *beta carries the BSDF weight
- * (and roulette's), *bs holds the sample and *r the next ray, leaving from
- * the side of the surface it goes to. Returns 0 where the walk ends. Draws
- * three numbers, and one more for roulette. Always inlined: each walk's
- * constant lv_walk then folds away, and out of line (fast-math) the
- * particle trace's arithmetic rounds differently from the images that
- * tests/data/golden.txt pins. */
-__attribute__((always_inline)) inline int lv_scatter(const lv_scene *sc, const lv_surface *s, lv_hit h,
-                                                     const lv_shading *sh, lv_walk w, uint depth, lv_rng *rng,
-                                                     float3 *beta, lv_ray *r, lv_bsdf_sample *bs)
+/* The rest of a scatter step once bs holds a direction: the check
+ * against the geometric normal, the throughput update, roulette (one
+ * number) and the next ray. */
+__attribute__((always_inline)) inline int lv_scatter_along(const lv_scene *sc, const lv_surface *s, lv_hit h,
+                                                           const lv_shading *sh, lv_walk w, uint depth, lv_rng *rng,
+                                                           float3 *beta, lv_ray *r, const lv_bsdf_sample *bs)
 {
-    float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
-    if (!lv_bsdf_sample_dir(&sh->b, sh->wo, u, w.mode, bs)) return 0;
     float3 wi = lv_to_world(sh->f, bs->wi);
     /* Reject directions that the shading normal allows but the true
      * surface does not (reflection into it, transmission out of it). */
@@ -88,6 +82,53 @@ __attribute__((always_inline)) inline int lv_scatter(const lv_scene *sc, const l
     *r = lv_ray_make(lv_offset_origin(s->p, reflected ? sh->ng_out : -sh->ng_out, sc->info.scene_scale), wi, LV_FAR,
                      h.inst, h.tri);
     return 1;
+}
+
+/* Scatters the walk that arrived along r at hit h (surface s, shading sh)
+ * of its segment number `depth`: on success *beta carries the BSDF weight
+ * (and roulette's), *bs holds the sample and *r the next ray, leaving from
+ * the side of the surface it goes to. Returns 0 where the walk ends. Draws
+ * three numbers, and one more for roulette. Always inlined: each walk's
+ * constant lv_walk then folds away, and out of line (fast-math) the
+ * particle trace's arithmetic rounds differently from the images that
+ * tests/data/golden.txt pins. */
+__attribute__((always_inline)) inline int lv_scatter(const lv_scene *sc, const lv_surface *s, lv_hit h,
+                                                     const lv_shading *sh, lv_walk w, uint depth, lv_rng *rng,
+                                                     float3 *beta, lv_ray *r, lv_bsdf_sample *bs)
+{
+    float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
+    if (!lv_bsdf_sample_dir(&sh->b, sh->wo, u, w.mode, bs)) return 0;
+    return lv_scatter_along(sc, s, h, sh, w, depth, rng, beta, r, bs);
+}
+
+/* lv_scatter with the direction drawn from the one-sample mixture of the
+ * BSDF and the guide gv (at a surface with no delta lobe, where the guide
+ * is set up): bs->pdf is the mixture's density, which the path's MIS
+ * weights need. Draws four numbers, and one more for roulette. */
+__attribute__((always_inline)) inline int lv_guided_scatter(const lv_scene *sc, const lv_surface *s, lv_hit h,
+                                                            const lv_shading *sh, const lv_guide_vertex *gv, lv_walk w,
+                                                            uint depth, lv_rng *rng, float3 *beta, lv_ray *r,
+                                                            lv_bsdf_sample *bs)
+{
+    float pick = lv_rng_next(rng);
+    float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
+    float bsdf_pdf, guide_pdf;
+    float3 fcos;
+    if (pick < gv->share) {
+        float3 wiw;
+        if (!lv_guide_sample(gv, u, &wiw, &guide_pdf)) return 0;
+        bs->wi = lv_to_local(sh->f, wiw);
+        fcos = lv_bsdf_eval(&sh->b, sh->wo, bs->wi, w.mode, &bsdf_pdf);
+    } else {
+        if (!lv_bsdf_sample_dir(&sh->b, sh->wo, u, w.mode, bs) || bs->delta) return 0;
+        bsdf_pdf = bs->pdf;
+        fcos = bs->weight * bs->pdf;
+        guide_pdf = lv_guide_pdf(gv, lv_to_world(sh->f, bs->wi));
+    }
+    float pdf = lv_guide_mix(gv, bsdf_pdf, guide_pdf);
+    if (!(pdf > 0.0f) || lv_max3(fcos) <= 0.0f) return 0;
+    lv_bsdf_sample_lobe(bs->wi, fcos, pdf, bs);
+    return lv_scatter_along(sc, s, h, sh, w, depth, rng, beta, r, bs);
 }
 
 #endif

@@ -23,14 +23,19 @@ typedef struct {
     __global long *tallies[LV_TALLY_PARTS];
 } lv_grid;
 
-/* The three (RGB) tallies of one bin of a stored cell. */
-inline __global long *lv_tally_bin(const lv_grid *grid, uint slot, uint bin)
+/* The RGB tallies of tally set `set`'s first bin (its bins follow). */
+inline __global long *lv_tally_set(const lv_grid *grid, uint set)
 {
-    uint set = grid->tally_slot[slot] & ~LV_FINE_DIRS;
     /* Most grids fit one buffer: skip the division there. */
     uint part = set < grid->g.slots_per_part ? 0u : set / grid->g.slots_per_part;
     uint in_part = set - part * grid->g.slots_per_part;
-    return grid->tallies[part] + ((size_t)in_part * grid->g.bins + bin) * 3;
+    return grid->tallies[part] + (size_t)in_part * grid->g.bins * 3;
+}
+
+/* The three (RGB) tallies of one bin of a stored cell. */
+inline __global long *lv_tally_bin(const lv_grid *grid, uint slot, uint bin)
+{
+    return lv_tally_set(grid, grid->tally_slot[slot] & ~LV_FINE_DIRS) + (size_t)bin * 3;
 }
 
 /* n of the n x n bins per hemisphere that slot's tally set holds. */

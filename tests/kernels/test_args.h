@@ -72,6 +72,20 @@
     X(t_bin_cosine, VALUE, lv_u32, count) SEP()            \
     X(t_bin_cosine, BUFFER, float4, sums)
 
+/* The guide of one cell (volume/guide.h) over the bins' luminance (padded
+ * by LV_BIN_GROUP) for the normals (shading, geometric): per work-item,
+ * per_item uniform directions' pdf times 4 pi (its mean is the pdf's
+ * integral), per_item guide samples counted per bin, and how many samples
+ * came back with a density other than lv_guide_pdf's, or none. */
+#define T_GUIDE_SAMPLING_ARGS(X, SEP)                          \
+    X(t_guide_sampling, VALUE, lv_u32, n) SEP()                \
+    X(t_guide_sampling, BUFFER, const float, table) SEP()      \
+    X(t_guide_sampling, BUFFER, const float, luminance) SEP()  \
+    X(t_guide_sampling, BUFFER, const float4, normals) SEP()   \
+    X(t_guide_sampling, VALUE, lv_u32, per_item) SEP()         \
+    X(t_guide_sampling, BUFFER, uint, counts) SEP()            \
+    X(t_guide_sampling, BUFFER, float4, results)
+
 /* The first `dims` numbers of the camera streams (pixel, sample) for
  * `pixels` pixels and `samples` samples each, pixel-major. */
 #define T_CAMERA_STREAMS_ARGS(X, SEP)                \
@@ -90,6 +104,7 @@ LV_ARG_INDICES(T_OFFSET_RAYS_ARGS, t_offset_rays);
 LV_ARG_INDICES(T_BIN_RADIANCE_ARGS, t_bin_radiance);
 LV_ARG_INDICES(T_BIN_TABLE_ARGS, t_bin_table);
 LV_ARG_INDICES(T_BIN_COSINE_ARGS, t_bin_cosine);
+LV_ARG_INDICES(T_GUIDE_SAMPLING_ARGS, t_guide_sampling);
 LV_ARG_INDICES(T_CAMERA_STREAMS_ARGS, t_camera_streams);
 
 /* lv_cos_sin of each angle in phis, (cos, sin) per angle. */

@@ -74,6 +74,36 @@ __kernel void t_bin_cosine(LV_KERNEL_PARAMS(T_BIN_COSINE_ARGS))
     sums[i] = (float4)(table_sum, centre_sum, dense_sum, 0.0f);
 }
 
+__kernel void t_guide_sampling(LV_KERNEL_PARAMS(T_GUIDE_SAMPLING_ARGS))
+{
+    uint i = get_global_id(0);
+    lv_guide_vertex gv;
+    gv.luminance = luminance;
+    gv.table = table;
+    gv.n = n;
+    gv.bins = 2u * n * n;
+    gv.ns = normals[0].xyz;
+    gv.ng = normals[1].xyz;
+    if (!lv_guide_prepare(&gv)) {
+        results[i] = (float4)(-1.0f);
+        return;
+    }
+    lv_rng rng = lv_rng_make(13u, i, 0u);
+    float integral = 0.0f, mismatches = 0.0f, none = 0.0f;
+    for (uint k = 0; k < per_item; k++) {
+        integral += lv_guide_pdf(&gv, uniform_sphere(lv_rng_next2(&rng))) * 4.0f * LV_PI;
+        float3 u = (float3)(lv_rng_next2(&rng), lv_rng_next(&rng)), wi;
+        float pdf;
+        if (!lv_guide_sample(&gv, u, &wi, &pdf)) {
+            none += 1.0f;
+            continue;
+        }
+        atomic_inc(&counts[lv_direction_bin(-wi, n)]);
+        if (fabs(lv_guide_pdf(&gv, wi) - pdf) > 1e-3f * pdf) mismatches += 1.0f;
+    }
+    results[i] = (float4)(integral / (float)per_item, mismatches, none, gv.total);
+}
+
 /* One work-item per (pixel, sample): the first `dims` numbers of its
  * camera stream, as the camera passes draw them. */
 __kernel void t_camera_streams(LV_KERNEL_PARAMS(T_CAMERA_STREAMS_ARGS))

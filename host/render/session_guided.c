@@ -1,0 +1,35 @@
+/* Guided path tracing (docs/guided.md): the light volume, traced as lv
+ * mode traces it (indirect light only: light samples find the direct),
+ * guides the camera paths' scattering (kernels/volume/guide.h). */
+#include <math.h>
+
+#include "session_internal.h"
+#include "../util/timer.h"
+
+/* Under a time limit, the most of it the trace may take; the paths take
+ * the rest. Guiding needs far fewer particles than lv's lookups do: a
+ * guide only has to be roughly right to help (docs/guided.md). */
+#define GUIDE_TIME_SHARE 0.2
+/* Particles a time-limited trace stops at if its share of the time has not
+ * ended it first. */
+#define GUIDE_PARTICLES_MAX (1u << 24)
+
+lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
+                                      lvcl_status *st)
+{
+    lvcl_volume_settings vs = req->volume;
+    vs.store_emitted = 0;
+    lvcl_pass_settings pass = req->pass;
+    double start = lvcl_seconds();
+    if (pass.time_limit > 0) {
+        if (!vs.particles) vs.particles = GUIDE_PARTICLES_MAX;
+        vs.deadline = start + GUIDE_TIME_SHARE * pass.time_limit;
+    }
+    lvcl_error e = lvcl_session_trace_volume(s, &vs, st);
+    for (int d = 0; d < s->device_count && !e; d++)
+        e = lvcl_volume_fill_guide(s->devices[d].volume, &s->devices[d].program, st);
+    if (e) return e;
+    /* At least one sample is taken, however long the trace took. */
+    if (pass.time_limit > 0) pass.time_limit = fmax(pass.time_limit - (lvcl_seconds() - start), 1e-3);
+    return lvcl_session_camera_pass(s, req, req->width, req->height, &pass, out, st);
+}

@@ -1,0 +1,154 @@
+/* The light volume as a sampling density for guided path tracing
+ * (docs/guided.md). At a rough surface the guide picks one of the cell's
+ * 2 n^2 bins with probability proportional to its tally's luminance
+ * times the cosine of the bin's central direction to the surface, then a
+ * direction uniform in the bin's solid angle. Its density is exact and cheap to evaluate for any direction, so
+ * a path tracer can mix it with BSDF sampling and weigh light samples
+ * against the mixture: the image is unbiased whatever the volume holds. */
+#ifndef LV_VOLUME_GUIDE_H
+#define LV_VOLUME_GUIDE_H
+
+#include "lookup.h"
+
+/* The guide's share of a mixture with BSDF sampling where the cell holds
+ * light. With share g every sample's weight is at most 1 / (1 - g) times
+ * BSDF sampling's, so a useless guide at most doubles the second moment of
+ * a scattering step (docs/guided.md). */
+#define LV_GUIDE_SHARE 0.5f
+
+/* The weight of a tally set's bin before the cosine: its luminance (the
+ * guide table, one float per bin, filled once after the trace). */
+inline float lv_guide_luminance(__global const long *t)
+{
+    return 0.2126f * (float)t[0] + 0.7152f * (float)t[1] + 0.0722f * (float)t[2];
+}
+
+/* The volume a guided path tracer reads. */
+typedef struct {
+    lv_grid grid;
+    __global const float *bin_table;      /* shared_types.h has its layout */
+    __global const float *fine_bin_table; /* the same for 2n x 2n bins (LV_FINE_DIRS) */
+    __global const float *luminance;      /* per tally set and bin (lv_guide_luminance), as the tallies are laid out */
+} lv_guide;
+
+/* The guide at one surface point: the bins of the cell region in front of
+ * it, the normals their cosines are taken to, and the sum of their weights. */
+typedef struct {
+    __global const float *luminance; /* the slot's bins' */
+    __global const float *table;
+    uint n, bins;
+    float3 ns, ng; /* shading normal and geometric normal, both on the side light arrives from */
+    float total;
+    float share; /* probability of sampling the guide: LV_GUIDE_SHARE, or 0 where it holds no light */
+} lv_guide_vertex;
+
+/* A bin's weight: its luminance times the cosine of its central direction
+ * c to the shading normal (light travels along c, so it arrives from -c);
+ * 0 where -c is behind either normal. */
+inline float lv_guide_weight(float luminance, float cos_s, float cos_g)
+{
+    return cos_s > 0.0f && cos_g > 0.0f ? cos_s * luminance : 0.0f;
+}
+
+/* The weights of bins first .. first + LV_BIN_GROUP - 1 (first a multiple
+ * of LV_BIN_GROUP) at once; 0 past the last bin (the guide table is padded
+ * for this read). */
+inline float16 lv_guide_group(const lv_guide_vertex *gv, uint first)
+{
+    __global const float *group = gv->table + (size_t)(first / LV_BIN_GROUP) * LV_BIN_GROUP_FLOATS;
+    float16 cx = vload16(0, group), cy = vload16(1, group), cz = vload16(2, group);
+    float16 cs = -(cx * gv->ns.x + cy * gv->ns.y + cz * gv->ns.z);
+    float16 cg = -(cx * gv->ng.x + cy * gv->ng.y + cz * gv->ng.z);
+    int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    int16 use = (cs > 0.0f) & (cg > 0.0f) & (lane < (int16)((int)(gv->bins - first)));
+    return select((float16)(0.0f), cs * vload16(0, gv->luminance + first), use);
+}
+
+inline float lv_sum16(float16 v)
+{
+    float8 s8 = v.lo + v.hi;
+    float4 s4 = s8.lo + s8.hi;
+    return (s4.x + s4.y) + (s4.z + s4.w);
+}
+
+/* Finishes setting up gv once its bins and normals are in: the total and
+ * the share. Returns 0 (share 0) where the bins hold no light from the
+ * front. */
+inline int lv_guide_prepare(lv_guide_vertex *gv)
+{
+    float16 sum = (float16)(0.0f);
+    for (uint first = 0; first < gv->bins; first += LV_BIN_GROUP) sum += lv_guide_group(gv, first);
+    gv->total = lv_sum16(sum);
+    gv->share = gv->total > 0.0f && isfinite(gv->total) ? LV_GUIDE_SHARE : 0.0f;
+    return gv->share > 0.0f;
+}
+
+/* Sets up the guide at surface point p, with shading normal ns and
+ * geometric normal ng on the side light arrives from. Reads the region of
+ * the cell in front of p, where that side's light is tallied. Returns 0
+ * (share 0) where the volume holds no light there. */
+inline int lv_guide_at(const lv_guide *g, float3 p, float3 ns, float3 ng, lv_guide_vertex *gv)
+{
+    gv->share = 0.0f;
+    uint slot = lv_grid_slot_at(&g->grid, lv_front_point(&g->grid, p, ng));
+    if (slot == LV_EMPTY_CELL) return 0;
+    gv->luminance = g->luminance + (size_t)(g->grid.tally_slot[slot] & ~LV_FINE_DIRS) * g->grid.g.bins;
+    gv->n = lv_slot_dirs(&g->grid, slot);
+    gv->bins = 2u * gv->n * gv->n;
+    gv->table = gv->n == g->grid.g.dirs ? g->bin_table : g->fine_bin_table;
+    gv->ns = ns;
+    gv->ng = ng;
+    return lv_guide_prepare(gv);
+}
+
+/* The guide's density (per steradian) of light arriving from world
+ * direction wi. */
+inline float lv_guide_pdf(const lv_guide_vertex *gv, float3 wi)
+{
+    if (!(gv->share > 0.0f)) return 0.0f;
+    uint bin = lv_direction_bin(-wi, gv->n); /* light arriving from wi travels along -wi */
+    float3 c = lv_bin_centre(gv->table, bin);
+    return lv_guide_weight(gv->luminance[bin], -dot(c, gv->ns), -dot(c, gv->ng)) /
+        (gv->total * lv_bin_solid_angle(gv->n));
+}
+
+/* Draws a world direction light arrives from: a bin by u.x, a point in it
+ * by u.yz. *pdf is the guide's density there. Returns 0 if none. */
+inline int lv_guide_sample(const lv_guide_vertex *gv, float3 u, float3 *wi, float *pdf)
+{
+    /* The group, then the bin, whose stretch of the running sum holds u.x
+     * times the total; where rounding leaves the sum short, the last group
+     * and its last bin with weight. */
+    float target = u.x * gv->total, below = 0.0f;
+    uint first = 0;
+    float16 w = lv_guide_group(gv, 0);
+    for (;;) {
+        float sum = lv_sum16(w);
+        if (below + sum > target || first + LV_BIN_GROUP >= gv->bins) break;
+        below += sum;
+        first += LV_BIN_GROUP;
+        w = lv_guide_group(gv, first);
+    }
+    float ws[LV_BIN_GROUP];
+    vstore16(w, 0, ws);
+    uint chosen = gv->bins;
+    float weight = 0.0f;
+    for (uint l = 0; l < LV_BIN_GROUP; l++)
+        if (ws[l] > 0.0f && below <= target) {
+            chosen = first + l;
+            weight = ws[l];
+            below += ws[l];
+        }
+    if (chosen == gv->bins) return 0;
+    *wi = -lv_bin_direction(chosen, gv->n, u.yz);
+    *pdf = weight / (gv->total * lv_bin_solid_angle(gv->n));
+    return 1;
+}
+
+/* The density of the one-sample mixture of BSDF sampling and the guide. */
+inline float lv_guide_mix(const lv_guide_vertex *gv, float bsdf_pdf, float guide_pdf)
+{
+    return (1.0f - gv->share) * bsdf_pdf + gv->share * guide_pdf;
+}
+
+#endif
