@@ -31,7 +31,8 @@ time of T (at least one pass), so it ends as near T as a pass allows.
 "total_seconds" adds the warm-up pass.
 
 One JSON object per run goes to stdout, then a summary with, per budget, the
-ratio relmse(lvcl mode) / relmse(mitsuba) for each lvcl mode (means over the
+ratio relmse(lvcl mode) / relmse(mitsuba) for each lvcl mode, and with pt
+among the modes relmse(mode) / relmse(lvcl pt) for the others (means over the
 repeats).  A plot of relMSE against the seconds spent goes to --out (default build/bench),
 with the images, when matplotlib is available.
 """
@@ -136,6 +137,10 @@ def summarize(records, modes):
             lv = mean("lvcl", m)
             entry[f"relmse_lvcl_{m}"] = lv
             entry[f"ratio_{m}_to_mitsuba"] = lv / mit if lv is not None and mit else None
+        pt = entry.get("relmse_lvcl_pt")
+        for m in modes:
+            if m != "pt" and pt and entry[f"relmse_lvcl_{m}"] is not None:
+                entry[f"ratio_{m}_to_lvcl_pt"] = entry[f"relmse_lvcl_{m}"] / pt
         out[str(budget)] = entry
     return out
 

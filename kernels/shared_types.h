@@ -189,6 +189,13 @@ typedef struct {
  * never reads the region table. */
 #define LV_CUT_CELL 0x80000000u
 #define LV_TALLY_SCALE 16777216.0f /* 2^24 */
+/* The mean tally (units of one) that one particle's piece of segment adds
+ * to a cell's bins, per channel: a weight near one (power over total
+ * power, kept near one by the BSDF weights and Russian roulette) times the
+ * mean chord of a cube, 2/3 of its side. Tallies over it count pieces;
+ * adaptive cells take a bin's variance as this times its tally, as if its
+ * pieces were alike; the guide trusts a cell by its pieces. */
+#define LV_PIECE_TALLY 0.67f
 /* Largest single contribution accepted, in tally units of 1 (2^36 units):
  * 2^32 particles of weight below 32 cannot overflow a bin (see
  * docs/light-volume.md). */

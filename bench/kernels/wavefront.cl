@@ -21,6 +21,7 @@ inline lv_path lv_wf_load(uint i, __global const float4 *ray_origin, __global co
     p.radiance = l.xyz;
     p.prev_delta = as_int(l.w);
     p.depth = depth[i];
+    p.rough = 0u; /* only guided paths count them */
     return p;
 }
 

@@ -39,13 +39,6 @@ struct lvcl_light_volume {
     uint64_t visibility_rays;
 };
 
-/* The mean tally (units of one) that one particle's piece of segment adds
- * to a cell's bins, per channel: a weight near one (power over total
- * power, kept near one by the BSDF weights and Russian roulette) times the
- * mean chord of a cube, 2/3 of its side. Tallies over it count pieces;
- * adaptive cells take a bin's variance as this times its tally, as if its
- * pieces were alike. */
-#define LVCL_PIECE_TALLY 0.67
 
 /* Planes whose normals are within 25 degrees (cos 25 degrees) are one
  * wall's to the regions of cut cells (volume_planes.c, volume_refine.c). */

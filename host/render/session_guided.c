@@ -19,6 +19,9 @@ lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request
 {
     lvcl_volume_settings vs = req->volume;
     vs.store_emitted = 0;
+    /* The guide reads bins only: no subcells, so no lit points or
+     * visibility rays (a quarter of the trace's time). */
+    vs.subcells = 0;
     lvcl_pass_settings pass = req->pass;
     double start = lvcl_seconds();
     if (pass.time_limit > 0) {

@@ -240,7 +240,7 @@ static int block_should_merge(const int64_t *tallies, const uint32_t *records, u
         volume += lit[i];
     }
     /* Per cell and moment: the sum, and the sum with squared weights (its
-     * variance over LVCL_PIECE_TALLY). */
+     * variance over LV_PIECE_TALLY). */
     double m[8][MOMENTS] = {{0}}, m2[8][MOMENTS] = {{0}}, total[MOMENTS] = {0}, total2[MOMENTS] = {0};
     for (uint32_t i = 0; i < count; i++)
         for (uint32_t b = 0; b < bins; b++) {
@@ -262,7 +262,7 @@ static int block_should_merge(const int64_t *tallies, const uint32_t *records, u
         if (!(total[j] > 0)) continue;
         for (uint32_t i = 0; i < count; i++) {
             double share = lit[i] / volume, expected = total[j] * share,
-                   variance = LVCL_PIECE_TALLY * total2[j] * share;
+                   variance = LV_PIECE_TALLY * total2[j] * share;
             if (variance > 0) chi2 += (m[i][j] - expected) * (m[i][j] - expected) / variance;
         }
         df += count - 1;

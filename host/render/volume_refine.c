@@ -78,7 +78,7 @@ static double pieces(const int64_t *tallies, size_t per_set, uint32_t base, uint
 {
     double sum = 0;
     for (size_t t = (size_t)base * per_set; t < (size_t)end * per_set; t++) sum += (double)tallies[t];
-    return sum / (3.0 * LV_TALLY_SCALE * LVCL_PIECE_TALLY) / particles;
+    return sum / (3.0 * LV_TALLY_SCALE * LV_PIECE_TALLY) / particles;
 }
 
 /* Replaces the device's per-slot buffers by ones of the new layout, filled

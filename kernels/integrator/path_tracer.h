@@ -16,6 +16,7 @@ typedef struct {
     float prev_pdf;  /* density of the BSDF sample that made ray */
     int prev_delta;  /* ray came from a delta lobe or the camera: no MIS */
     uint depth;      /* ray's number among the segments, from 1 */
+    uint rough;      /* rough surfaces passed (guided paths' guide serves the first LV_GUIDE_VERTICES) */
 } lv_path;
 
 inline lv_path lv_path_start(lv_ray r)
@@ -27,6 +28,7 @@ inline lv_path lv_path_start(lv_ray r)
     p.prev_pdf = 0.0f;
     p.prev_delta = 1; /* the camera ray counts as a delta sample */
     p.depth = 1u;
+    p.rough = 0u;
     return p;
 }
 
@@ -56,9 +58,11 @@ __attribute__((always_inline)) inline int lv_path_shade(const lv_scene *sc, cons
     lv_shading sh;
     if (!lv_shading_at(sc, &s, p->ray.dir, &sh)) return 0;
     /* The guide serves the surfaces whose light the volume may answer for
-     * in lv mode: rough, opaque, no delta lobe. */
+     * in lv mode (rough, opaque, no delta lobe), the first few on a path. */
+    int rough = lv_bsdf_gathers(sh.b.type, sh.b.alpha);
     lv_guide_vertex gv;
-    int guided = guide && lv_bsdf_gathers(sh.b.type, sh.b.alpha) && lv_guide_at(guide, s.p, sh.f.n, sh.ng_out, &gv);
+    int guided = guide && rough && p->rough < LV_GUIDE_VERTICES && lv_guide_at(guide, s.p, sh.f.n, sh.ng_out, &gv);
+    p->rough += rough ? 1u : 0u;
     if (p->depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b) &&
         lv_light_sample_ray(sc, &s, h, &sh, guided ? &gv : 0, rng, shadow)) {
         shadow->li = p->beta * shadow->li;

@@ -11,10 +11,18 @@
 #include "lookup.h"
 
 /* The guide's share of a mixture with BSDF sampling where the cell holds
- * light. With share g every sample's weight is at most 1 / (1 - g) times
- * BSDF sampling's, so a useless guide at most doubles the second moment of
- * a scattering step (docs/guided.md). */
+ * light from many particles. With share g every sample's weight is at most
+ * 1 / (1 - g) times BSDF sampling's, so a useless guide at most doubles the
+ * second moment of a scattering step (docs/guided.md). */
 #define LV_GUIDE_SHARE 0.5f
+/* A guided path samples by the guide at its first this many rough
+ * surfaces, by the BSDF alone at the rest: past them a path carries little
+ * of the image's noise, and a guide costs about as much as the rest of the
+ * vertex (docs/guided.md). */
+#define LV_GUIDE_VERTICES 2u
+/* A cell whose bins hold this many particle pieces gets half the share,
+ * more pieces up to all of it: a guide from a few pieces is a few spikes. */
+#define LV_GUIDE_TRUSTED_PIECES 256.0f
 
 /* The weight of a tally set's bin before the cosine: its luminance (the
  * guide table, one float per bin, filled once after the trace). */
@@ -50,6 +58,13 @@ inline float lv_guide_weight(float luminance, float cos_s, float cos_g)
     return cos_s > 0.0f && cos_g > 0.0f ? cos_s * luminance : 0.0f;
 }
 
+/* Which lanes of the group from bin `first` are bins of gv's set. */
+inline int16 lv_guide_lanes(const lv_guide_vertex *gv, uint first)
+{
+    int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    return lane < (int16)((int)(gv->bins - first));
+}
+
 /* The weights of bins first .. first + LV_BIN_GROUP - 1 (first a multiple
  * of LV_BIN_GROUP) at once; 0 past the last bin (the guide table is padded
  * for this read). */
@@ -59,8 +74,7 @@ inline float16 lv_guide_group(const lv_guide_vertex *gv, uint first)
     float16 cx = vload16(0, group), cy = vload16(1, group), cz = vload16(2, group);
     float16 cs = -(cx * gv->ns.x + cy * gv->ns.y + cz * gv->ns.z);
     float16 cg = -(cx * gv->ng.x + cy * gv->ng.y + cz * gv->ng.z);
-    int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-    int16 use = (cs > 0.0f) & (cg > 0.0f) & (lane < (int16)((int)(gv->bins - first)));
+    int16 use = (cs > 0.0f) & (cg > 0.0f) & lv_guide_lanes(gv, first);
     return select((float16)(0.0f), cs * vload16(0, gv->luminance + first), use);
 }
 
@@ -76,10 +90,17 @@ inline float lv_sum16(float16 v)
  * front. */
 inline int lv_guide_prepare(lv_guide_vertex *gv)
 {
-    float16 sum = (float16)(0.0f);
-    for (uint first = 0; first < gv->bins; first += LV_BIN_GROUP) sum += lv_guide_group(gv, first);
+    float16 sum = (float16)(0.0f), all = (float16)(0.0f);
+    for (uint first = 0; first < gv->bins; first += LV_BIN_GROUP) {
+        sum += lv_guide_group(gv, first);
+        all += select((float16)(0.0f), vload16(0, gv->luminance + first), lv_guide_lanes(gv, first));
+    }
     gv->total = lv_sum16(sum);
-    gv->share = gv->total > 0.0f && isfinite(gv->total) ? LV_GUIDE_SHARE : 0.0f;
+    /* Luminance weights add to 1, so the luminance counts pieces as one
+     * channel does (pieces that lost power count as less than one). */
+    float pieces = lv_sum16(all) * (1.0f / (LV_TALLY_SCALE * LV_PIECE_TALLY));
+    gv->share = gv->total > 0.0f && isfinite(gv->total) ? LV_GUIDE_SHARE * pieces / (pieces + LV_GUIDE_TRUSTED_PIECES)
+                                                         : 0.0f;
     return gv->share > 0.0f;
 }
 
