@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Run time against error: renders SCENE with the path tracer and with the
-light volume over a range of budgets, measures each image against a
+"""Run time against error: renders SCENE with the path tracer, guided path
+tracing and the light volume over a range of budgets, measures each image against a
 reference, prints one JSON object per run and plots error against time on
 log-log axes (PNG, when matplotlib is available).
 
@@ -57,6 +57,8 @@ def budgets(quick):
     """(label, lvcl arguments) for every run."""
     pt_spp = [4, 16, 64] if quick else [4, 16, 64, 256, 1024]
     runs = [("pt", ["--mode", "pt", "--spp", str(s)]) for s in pt_spp]
+    # Guided path tracing over a volume of 10^6 particles (docs/guided.md).
+    runs += [("guided", ["--mode", "guided", "--particles", str(int(1e6)), "--spp", str(s)]) for s in pt_spp]
     # (cells, particles, subcells): the subcell estimate at several grids and
     # particle counts, and the whole-cell volume (--subcells 0) beside it.
     series = ([(16, 1e5, 4), (32, 1e6, 4), (32, 1e6, 0)] if quick else
@@ -84,12 +86,13 @@ def plot(records, path):
         series.setdefault(r["label"], []).append((r["seconds"], r["relmse"]))
     # One colour per grid size, one marker per particle count.
     colours = plt.get_cmap("viridis")
-    cell_sizes = sorted({r["cells"][0] for r in records if r["cells"]})
+    cell_sizes = sorted({r["cells"][0] for r in records if r["cells"] and r["mode"] == "lv"})
     markers = {}
     for label, pts in sorted(series.items()):
         pts.sort()
-        if label == "pt":
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", color="crimson", linewidth=2, label=label)
+        if label in ("pt", "guided"):
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", color="crimson" if label == "pt" else "darkorange",
+                    linewidth=2, label=label)
             continue
         rec = next(r for r in records if r["label"] == label)
         colour = colours(cell_sizes.index(rec["cells"][0]) / max(1, len(cell_sizes) - 1))

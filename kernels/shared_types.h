@@ -443,7 +443,10 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
 
 /* Fills the guide table: per tally set and bin, the luminance of its
  * tallies (volume/guide.h), laid out as the tallies are, then
- * LV_BIN_GROUP floats of padding. */
+ * LV_BIN_GROUP floats of padding, then per tally set the sum and the
+ * largest of its bins' (from LV_GUIDE_STATS_AT). */
+#define LV_GUIDE_STATS_AT(info) ((size_t)(info).tally_sets * (info).bins + LV_BIN_GROUP)
+#define LV_GUIDE_TABLE_FLOATS(info) (LV_GUIDE_STATS_AT(info) + 2 * (size_t)(info).tally_sets)
 #define LV_GUIDE_TABLE_ARGS(X, SEP)              \
     X(lv_guide_table, VOLUME, , volume) SEP()    \
     X(lv_guide_table, BUFFER, float, guide_table)

@@ -39,7 +39,6 @@ struct lvcl_light_volume {
     uint64_t visibility_rays;
 };
 
-
 /* Planes whose normals are within 25 degrees (cos 25 degrees) are one
  * wall's to the regions of cut cells (volume_planes.c, volume_refine.c). */
 #define LVCL_SAME_NORMAL 0.9063077870366499

@@ -6,10 +6,10 @@
 #include "session_internal.h"
 #include "../util/timer.h"
 
-/* Under a time limit, the most of it the trace may take; the paths take
- * the rest. Guiding needs far fewer particles than lv's lookups do: a
- * guide only has to be roughly right to help (docs/guided.md). */
-#define GUIDE_TIME_SHARE 0.2
+/* Under a time limit, the most of it the trace may take (it stops at the
+ * first batch past it); the paths take the rest. A first choice, not
+ * measured against others (docs/guided.md, "Open"). */
+#define GUIDE_TIME_SHARE 0.1
 /* Particles a time-limited trace stops at if its share of the time has not
  * ended it first. */
 #define GUIDE_PARTICLES_MAX (1u << 24)

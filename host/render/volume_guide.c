@@ -1,15 +1,16 @@
 /* The guide table of guided path tracing (kernels/volume/guide.h): one
  * float per tally set and bin, the luminance of its tallies, so that a
  * path vertex weighs a cell's bins with one read each instead of three
- * 64-bit ones. Filled on the device after the trace. */
+ * 64-bit ones, and per set the sum and the largest of them, which decide
+ * its guide's share before any bin is read. Filled on the device after
+ * the trace. */
 #include "light_volume_internal.h"
 
 lvcl_error lvcl_volume_fill_guide(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st)
 {
     const lvcl_device *dev = vol->dev;
     const lv_grid_info *g = &vol->buf.info;
-    size_t count = (size_t)g->tally_sets * g->bins + LV_BIN_GROUP; /* padding: the guide reads bins a group at once */
-    size_t bytes = count * sizeof(float);
+    size_t bytes = LV_GUIDE_TABLE_FLOATS(*g) * sizeof(float);
     if (bytes > dev->max_alloc)
         return lvcl_fail(st, LVCL_ERR_TOO_LARGE,
                          "the guide table needs %.1f MiB but %s allows %.1f MiB in one buffer; use fewer --cells "
@@ -24,7 +25,7 @@ lvcl_error lvcl_volume_fill_guide(lvcl_light_volume *vol, const lvcl_program *pr
     if ((e = lvcl_kernel_create(prog, "lv_guide_table", &k, st))) return e;
     lvcl_guide_table_args args = {.volume = &vol->buf, .guide_table = vol->guide_table_buf};
     if (!(e = lvcl_bind_lv_guide_table(k, &args, st)) &&
-        !(e = lvcl_kernel_enqueue(dev, k, count, "filling the guide table", st)))
+        !(e = lvcl_kernel_enqueue(dev, k, (size_t)g->tally_sets + 1, "filling the guide table", st)))
         e = lvcl_cl_check(clFinish(dev->queue), "filling the guide table", st);
     clReleaseKernel(k);
     return e;

@@ -38,8 +38,9 @@ inline lv_path lv_path_start(lv_ray r)
  * ray is found clear) and the next ray. Returns whether the path goes on.
  * With a guide (not null: --mode guided) the next ray at a rough surface
  * comes from the mixture of BSDF and guide. Always inlined, so that a null
- * guide folds away and each caller keeps its own copy (out of line, Intel's
- * compiler slows the megakernel 4x; docs/performance.md). */
+ * guide folds away and each caller keeps its own copy (with a second
+ * caller in its program, Intel's compiler stopped inlining it and the
+ * megakernel ran 4x slower: bench/wavefront.c). */
 __attribute__((always_inline)) inline int lv_path_shade(const lv_scene *sc, const lv_guide *guide, lv_path *p, lv_hit h,
                                                         lv_rng *rng, uint max_depth, lv_shadow_ray *shadow,
                                                         int *has_shadow)

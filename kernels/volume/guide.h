@@ -1,10 +1,11 @@
 /* The light volume as a sampling density for guided path tracing
  * (docs/guided.md). At a rough surface the guide picks one of the cell's
- * 2 n^2 bins with probability proportional to its tally's luminance
- * times the cosine of the bin's central direction to the surface, then a
- * direction uniform in the bin's solid angle. Its density is exact and cheap to evaluate for any direction, so
- * a path tracer can mix it with BSDF sampling and weigh light samples
- * against the mixture: the image is unbiased whatever the volume holds. */
+ * 2 n^2 bins with probability proportional to its tally's luminance times
+ * the cosine of the bin's central direction to the surface, then a
+ * direction uniform in the bin's solid angle. Its density is exact and
+ * cheap to evaluate for any direction, so a path tracer can mix it with
+ * BSDF sampling and weigh light samples against the mixture: the image is
+ * unbiased whatever the volume holds. */
 #ifndef LV_VOLUME_GUIDE_H
 #define LV_VOLUME_GUIDE_H
 
@@ -20,6 +21,10 @@
  * of the image's noise, and a guide costs about as much as the rest of the
  * vertex (docs/guided.md). */
 #define LV_GUIDE_VERTICES 2u
+/* A set whose brightest bin holds less than this many times its mean bin
+ * gets no guide: its light is nearly even, which the BSDF's cosine already
+ * follows, and setting up the guide would only cost time. */
+#define LV_GUIDE_MIN_PEAK 8.0f
 /* A cell whose bins hold this many particle pieces gets half the share,
  * more pieces up to all of it: a guide from a few pieces is a few spikes. */
 #define LV_GUIDE_TRUSTED_PIECES 256.0f
@@ -28,7 +33,7 @@
  * guide table, one float per bin, filled once after the trace). */
 inline float lv_guide_luminance(__global const long *t)
 {
-    return 0.2126f * (float)t[0] + 0.7152f * (float)t[1] + 0.0722f * (float)t[2];
+    return LV_LUMINANCE((float)t[0], (float)t[1], (float)t[2]);
 }
 
 /* The volume a guided path tracer reads. */
@@ -37,6 +42,7 @@ typedef struct {
     __global const float *bin_table;      /* shared_types.h has its layout */
     __global const float *fine_bin_table; /* the same for 2n x 2n bins (LV_FINE_DIRS) */
     __global const float *luminance;      /* per tally set and bin (lv_guide_luminance), as the tallies are laid out */
+    __global const float *stats;          /* per tally set: its bins' summed and largest luminance */
 } lv_guide;
 
 /* The guide at one surface point: the bins of the cell region in front of
@@ -47,7 +53,7 @@ typedef struct {
     uint n, bins;
     float3 ns, ng; /* shading normal and geometric normal, both on the side light arrives from */
     float total;
-    float share; /* probability of sampling the guide: LV_GUIDE_SHARE, or 0 where it holds no light */
+    float share; /* probability of sampling the guide (lv_guide_prepare), 0 where it holds no light */
 } lv_guide_vertex;
 
 /* A bin's weight: its luminance times the cosine of its central direction
@@ -85,23 +91,33 @@ inline float lv_sum16(float16 v)
     return (s4.x + s4.y) + (s4.z + s4.w);
 }
 
-/* Finishes setting up gv once its bins and normals are in: the total and
- * the share. Returns 0 (share 0) where the bins hold no light from the
- * front. */
-inline int lv_guide_prepare(lv_guide_vertex *gv)
+/* Finishes setting up gv once its bins and normals are in: the total, and
+ * the share given. Returns 0 (share 0) where the bins hold no light from
+ * the front. */
+inline int lv_guide_prepare(lv_guide_vertex *gv, float share)
 {
-    float16 sum = (float16)(0.0f), all = (float16)(0.0f);
-    for (uint first = 0; first < gv->bins; first += LV_BIN_GROUP) {
-        sum += lv_guide_group(gv, first);
-        all += select((float16)(0.0f), vload16(0, gv->luminance + first), lv_guide_lanes(gv, first));
-    }
+    float16 sum = (float16)(0.0f);
+    for (uint first = 0; first < gv->bins; first += LV_BIN_GROUP) sum += lv_guide_group(gv, first);
     gv->total = lv_sum16(sum);
+    gv->share = gv->total > 0.0f && isfinite(gv->total) ? share : 0.0f;
+    return gv->share > 0.0f;
+}
+
+/* The share the guide of a tally set of `bins` bins gets, from the sum and
+ * the largest of their luminance in the guide table: over `rooms` entries,
+ * as a set of fine bins takes four sets' room, each with its own. */
+inline float lv_guide_share(__global const float *stats, uint rooms, uint bins)
+{
+    float sum = 0.0f, top = 0.0f;
+    for (uint r = 0; r < rooms; r++) {
+        sum += stats[2 * r];
+        top = fmax(top, stats[2 * r + 1]);
+    }
     /* Luminance weights add to 1, so the luminance counts pieces as one
      * channel does (pieces that lost power count as less than one). */
-    float pieces = lv_sum16(all) * (1.0f / (LV_TALLY_SCALE * LV_PIECE_TALLY));
-    gv->share = gv->total > 0.0f && isfinite(gv->total) ? LV_GUIDE_SHARE * pieces / (pieces + LV_GUIDE_TRUSTED_PIECES)
-                                                         : 0.0f;
-    return gv->share > 0.0f;
+    float pieces = sum * (1.0f / (LV_TALLY_SCALE * LV_PIECE_TALLY));
+    if (!(top * (float)bins >= LV_GUIDE_MIN_PEAK * sum) || !(sum > 0.0f)) return 0.0f;
+    return LV_GUIDE_SHARE * pieces / (pieces + LV_GUIDE_TRUSTED_PIECES);
 }
 
 /* Sets up the guide at surface point p, with shading normal ns and
@@ -113,13 +129,17 @@ inline int lv_guide_at(const lv_guide *g, float3 p, float3 ns, float3 ng, lv_gui
     gv->share = 0.0f;
     uint slot = lv_grid_slot_at(&g->grid, lv_front_point(&g->grid, p, ng));
     if (slot == LV_EMPTY_CELL) return 0;
-    gv->luminance = g->luminance + (size_t)(g->grid.tally_slot[slot] & ~LV_FINE_DIRS) * g->grid.g.bins;
+    uint set = g->grid.tally_slot[slot] & ~LV_FINE_DIRS;
+    uint fine = g->grid.tally_slot[slot] & LV_FINE_DIRS;
+    float share = lv_guide_share(g->stats + 2 * (size_t)set, fine ? 4u : 1u, (fine ? 4u : 1u) * g->grid.g.bins);
+    if (!(share > 0.0f)) return 0; /* no guide: the cost of setting one up is saved too */
+    gv->luminance = g->luminance + (size_t)set * g->grid.g.bins;
     gv->n = lv_slot_dirs(&g->grid, slot);
     gv->bins = 2u * gv->n * gv->n;
     gv->table = gv->n == g->grid.g.dirs ? g->bin_table : g->fine_bin_table;
     gv->ns = ns;
     gv->ng = ng;
-    return lv_guide_prepare(gv);
+    return lv_guide_prepare(gv, share);
 }
 
 /* The guide's density (per steradian) of light arriving from world

@@ -129,6 +129,17 @@ for mode in lv lv-all; do
     else fail "--mode $mode renders and reports its grid" "$(cat "$tmp/err")"; fi
 done
 
+# Guided path tracing renders over its light volume, repeats its image for
+# a seed, and renders under a time limit too.
+guided="--mode guided --particles 20000 --cells 8 --spp 4 --width 32"
+"$lvcl" -q $guided --stats "$tmp/g1.json" -o "$tmp/g1.exr" cornell 2>"$tmp/err"
+"$lvcl" -q $guided -o "$tmp/g2.exr" cornell 2>>"$tmp/err"
+"$lvcl" -q --mode guided --time-limit 2 --width 32 -o "$tmp/g3.exr" cornell 2>>"$tmp/err"
+if grep -q '"particle_trace_seconds"' "$tmp/g1.json" 2>/dev/null && [ -s "$tmp/g3.exr" ] &&
+    "$build/lvcl-compare" "$tmp/g1.exr" "$tmp/g2.exr" | grep -q '"rmse": 0,'
+then pass "--mode guided renders, repeats its image and renders under --time-limit"
+else fail "--mode guided renders, repeats its image and renders under --time-limit" "$(cat "$tmp/err")"; fi
+
 # Refined cells and directions refine some and report them; the same
 # command gives the same image.
 refined="--mode lv --refine 1e-6 --refine-dirs 4 --particles 40000 --cells 8 --spp 2 --width 32"

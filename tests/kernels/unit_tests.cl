@@ -84,7 +84,7 @@ __kernel void t_guide_sampling(LV_KERNEL_PARAMS(T_GUIDE_SAMPLING_ARGS))
     gv.bins = 2u * n * n;
     gv.ns = normals[0].xyz;
     gv.ng = normals[1].xyz;
-    if (!lv_guide_prepare(&gv)) {
+    if (!lv_guide_prepare(&gv, LV_GUIDE_SHARE)) {
         results[i] = (float4)(-1.0f);
         return;
     }
