@@ -100,8 +100,8 @@ static lvcl_error run(const lvcl_options *o, lvcl_session **s, lvcl_render_resul
         fprintf(stderr, "lvcl: %s, %s, %dx%d, %d spp: %.1f s in all", o->scene, o->mode, res->width, res->height,
                 res->samples, lvcl_seconds() - stats->process_start);
         if (volume > 0)
-            fprintf(stderr, " (particle trace %.1f s, %s %.1f s)", volume, strcmp(o->mode, "guided") ? "gather" : "paths",
-                    res->render_seconds);
+            fprintf(stderr, " (particle trace %.1f s, %s %.1f s)", volume,
+                    strcmp(o->mode, "guided") ? "gather" : "paths", res->render_seconds);
         else fprintf(stderr, " (render %.1f s)", res->render_seconds);
         fputc('\n', stderr);
     }

@@ -261,8 +261,7 @@ static int block_should_merge(const int64_t *tallies, const uint32_t *records, u
     for (int j = 0; j < MOMENTS; j++) {
         if (!(total[j] > 0)) continue;
         for (uint32_t i = 0; i < count; i++) {
-            double share = lit[i] / volume, expected = total[j] * share,
-                   variance = LV_PIECE_TALLY * total2[j] * share;
+            double share = lit[i] / volume, expected = total[j] * share, variance = LV_PIECE_TALLY * total2[j] * share;
             if (variance > 0) chi2 += (m[i][j] - expected) * (m[i][j] - expected) / variance;
         }
         df += count - 1;

@@ -81,8 +81,8 @@ static void test_furnace(void)
     double mean[3];
     lvcl_mean_rgb(im, SIZE * SIZE, mean);
     CHECK("guided white furnace, spiky guides: Le/(1-a) = 2 within 1%",
-          fabs(mean[0] - 2.0) < 0.02 && fabs(mean[1] - 2.0) < 0.02 && fabs(mean[2] - 2.0) < 0.02,
-          "mean %.5f %.5f %.5f", mean[0], mean[1], mean[2]);
+          fabs(mean[0] - 2.0) < 0.02 && fabs(mean[1] - 2.0) < 0.02 && fabs(mean[2] - 2.0) < 0.02, "mean %.5f %.5f %.5f",
+          mean[0], mean[1], mean[2]);
     free(im);
 }
 
@@ -129,7 +129,8 @@ static void test_cornell(void)
         }
         double mean[3], e16 = lvcl_relmse(low, small, n), e64 = lvcl_relmse(high, small, n);
         lvcl_mean_rgb(high, SIZE * SIZE, mean);
-        snprintf(name, sizeof name, "guided Cornell box, %s: channel means within 1%% of the reference", guides[g].name);
+        snprintf(name, sizeof name, "guided Cornell box, %s: channel means within 1%% of the reference",
+                 guides[g].name);
         int close = 1;
         for (int c = 0; c < 3; c++) close = close && fabs(mean[c] / ref_mean[c] - 1.0) < 0.01;
         CHECK(name, close, "means %.5f %.5f %.5f against %.5f %.5f %.5f", mean[0], mean[1], mean[2], ref_mean[0],
