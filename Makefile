@@ -128,12 +128,12 @@ run: $(BUILD)/lvcl
 test: all
 	@tests/run.sh $(BUILD) $(T)
 
-# The bad-input and import tests under AddressSanitizer and UBSan, in a
-# build tree of their own.
+# The bad-input, import and command-line tests (lvcl-bench's too) under
+# AddressSanitizer and UBSan, in a build tree of their own.
 ASAN_FLAGS := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 test-asan: $(BUILD)/.deps-ok
 	$(MAKE) BUILD=$(BUILD)/asan CFLAGS="$(ASAN_FLAGS)" CXXFLAGS="$(ASAN_FLAGS)" \
-	  $(BUILD)/asan/lvcl $(BUILD)/asan/lvcl-compare $(BUILD)/asan/tests/test_gltf_import \
+	  $(BUILD)/asan/lvcl $(BUILD)/asan/lvcl-compare $(BUILD)/asan/lvcl-bench $(BUILD)/asan/tests/test_gltf_import \
 	  $(BUILD)/asan/tests/test_adaptive_sampling
 	@ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=tests/asan/lsan.supp:print_suppressions=0 \
 	  tests/run.sh $(BUILD)/asan --asan
