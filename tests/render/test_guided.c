@@ -1,10 +1,11 @@
 /* Guided path tracing (--mode guided) is unbiased whatever its guide holds:
- * the white furnace gives Le/(1-a) under guides of a few spikes; the
- * Cornell box converges to its Mitsuba reference with guides from many
- * particles, from very few, and from a deliberately wrong volume (every
- * cell's bins reversed, so the guide points away from the light), and each
- * stays within a bounded factor of the path tracer's error at the same
- * samples; a volume that holds no light gives the path tracer's image. */
+ * the white furnace gives Le/(1-a) under guides of a few trusted spikes;
+ * the Cornell box converges to its Mitsuba reference with guides from many
+ * particles, from very few, and from deliberately wrong volumes (every
+ * cell's bins reversed, so the guide points away from the light; one bin
+ * in 16 kept and scaled up, spikes the guide trusts), and each stays within
+ * the bound on its error against the path tracer's at the same samples; a
+ * volume that holds no light gives the path tracer's image. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -48,9 +49,11 @@ static float *render(const char *what, const char *scene_name, int spp, uint64_t
             const lv_grid_info *g = lvcl_volume_grid(sd->volume);
             for (size_t set = 0; set < g->tally_sets; set++) {
                 int64_t *t = tallies + set * g->bins * 3;
-                if (change == GUIDE_SPIKY) /* one bin in 16 keeps its light */
+                /* One bin in 16 keeps its light, a thousandfold: spikes
+                 * the guide trusts (its share is near the most). */
+                if (change == GUIDE_SPIKY)
                     for (unsigned b = 0; b < g->bins; b++)
-                        for (int c = 0; c < 3; c++) t[3 * b + c] = b % 16 ? 0 : t[3 * b + c];
+                        for (int c = 0; c < 3; c++) t[3 * b + c] = b % 16 ? 0 : 1000 * t[3 * b + c];
                 for (unsigned b = 0; b < g->bins / 2 && change != GUIDE_SPIKY; b++)
                     for (int c = 0; c < 3; c++) {
                         int64_t x = t[3 * b + c];
@@ -75,7 +78,7 @@ static float *render(const char *what, const char *scene_name, int spp, uint64_t
 static void test_furnace(void)
 {
     /* The furnace's light is even, which gets no guide; with one bin in 16
-     * kept, every cell's guide is a few spikes. */
+     * kept and scaled up, every cell's guide is a few trusted spikes. */
     float *im = render("guided white furnace", "furnace", 64, 100000, GUIDE_SPIKY);
     if (!im) return;
     double mean[3];
@@ -117,8 +120,9 @@ static void test_cornell(void)
         guide_change change;
     } guides[] = {{"a guide of 2e5 particles", 200000, GUIDE_AS_TRACED},
                   {"a guide of 300 particles", 300, GUIDE_AS_TRACED},
-                  {"a reversed guide", 200000, GUIDE_REVERSED}};
-    for (int g = 0; g < 3; g++) {
+                  {"a reversed guide", 200000, GUIDE_REVERSED},
+                  {"a guide of trusted spikes", 200000, GUIDE_SPIKY}};
+    for (int g = 0; g < 4; g++) {
         char name[160];
         float *low = render(guides[g].name, "cornell", 16, guides[g].particles, guides[g].change);
         float *high = render(guides[g].name, "cornell", 64, guides[g].particles, guides[g].change);
@@ -139,10 +143,11 @@ static void test_cornell(void)
          * dominates any bias here). */
         snprintf(name, sizeof name, "guided Cornell box, %s: error falls as 1/spp", guides[g].name);
         CHECK(name, e16 / e64 > 2.5, "relMSE %.3g at 16 spp, %.3g at 64", e16, e64);
-        /* With half the samples from the BSDF, a useless guide can at most
-         * double a scattering step's second moment (docs/guided.md). */
-        snprintf(name, sizeof name, "guided Cornell box, %s: error within 2x the path tracer's", guides[g].name);
-        CHECK(name, e64 < 2.0 * pt_error, "relMSE %.3g against pt's %.3g at 64 spp", e64, pt_error);
+        /* With at least half the samples from the BSDF, a useless guide can
+         * at most double a scattering step's second moment, and a path has
+         * two guided steps (docs/guided.md). */
+        snprintf(name, sizeof name, "guided Cornell box, %s: error within 4x the path tracer's", guides[g].name);
+        CHECK(name, e64 < 4.0 * pt_error, "relMSE %.3g against pt's %.3g at 64 spp", e64, pt_error);
         /* Else the checks above would test the path tracer: some cells of
          * the good and the reversed guide must be guided. */
         if (guides[g].particles > 1000) {
