@@ -19,10 +19,9 @@
 /* How the final gather reads the light volume. */
 typedef struct {
     lv_grid grid;
-    __global const float *bin_table;      /* shared_types.h has its layout */
-    __global const float *fine_bin_table; /* the same for 2n x 2n bins (LV_FINE_DIRS) */
-    uint flags;                           /* LV_GATHER_* (shared_types.h) */
-    float threshold;                      /* a BSDF ray hitting closer than this continues as a path */
+    lv_bin_tables tables;
+    uint flags;      /* LV_GATHER_* (shared_types.h) */
+    float threshold; /* a BSDF ray hitting closer than this continues as a path */
 } lv_gather;
 
 /* The BSDF-weighted sum of the volume's radiance over every bin of the cell
@@ -33,7 +32,7 @@ inline float3 lv_gather_integrate(const lv_gather *g, const lv_shading *sh, floa
     if (slot == LV_EMPTY_CELL) return (float3)(0.0f);
     __global const long *tallies = lv_tally_bin(&g->grid, slot, 0u); /* a slot's bins are consecutive */
     uint n = lv_slot_dirs(&g->grid, slot), bins = 2u * n * n;
-    __global const float *table = n == g->grid.g.dirs ? g->bin_table : g->fine_bin_table;
+    __global const float *table = lv_bin_table_for(&g->tables, &g->grid, n);
     float3 sum = (float3)(0.0f);
     if (sh->b.type == LV_BSDF_DIFFUSE) {
         /* f cos is base / pi times cos: weigh each bin by its exact mean

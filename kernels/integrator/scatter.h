@@ -120,6 +120,8 @@ __attribute__((always_inline)) inline int lv_guided_scatter(const lv_scene *sc, 
         bs->wi = lv_to_local(sh->f, wiw);
         fcos = lv_bsdf_eval(&sh->b, sh->wo, bs->wi, w.mode, &bsdf_pdf);
     } else {
+        /* No delta lobe here: the guide serves rough surfaces only (and
+         * the mixture's density would not hold for one). */
         if (!lv_bsdf_sample_dir(&sh->b, sh->wo, u, w.mode, bs) || bs->delta) return 0;
         bsdf_pdf = bs->pdf;
         fcos = bs->weight * bs->pdf;

@@ -9,8 +9,8 @@ __kernel void lv_gather_pass(LV_KERNEL_PARAMS(LV_GATHER_PASS_ARGS))
     if (get_global_id(0) >= pixel_count) return;
     lv_gather g;
     LV_VOLUME_OPEN(g.grid);
-    g.bin_table = bin_table;
-    g.fine_bin_table = fine_bin_table;
+    g.tables.coarse = bin_table;
+    g.tables.fine = fine_bin_table;
     g.flags = flags;
     g.threshold = threshold;
     lv_camera_sample cs = lv_camera_sample_next(camera, sc.info.seed, pixel_list, first_pixel, first_sample, sum);

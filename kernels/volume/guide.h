@@ -39,10 +39,9 @@ inline float lv_guide_luminance(__global const long *t)
 /* The volume a guided path tracer reads. */
 typedef struct {
     lv_grid grid;
-    __global const float *bin_table;      /* shared_types.h has its layout */
-    __global const float *fine_bin_table; /* the same for 2n x 2n bins (LV_FINE_DIRS) */
-    __global const float *luminance;      /* per tally set and bin (lv_guide_luminance), as the tallies are laid out */
-    __global const float *stats;          /* per tally set: its bins' summed and largest luminance */
+    lv_bin_tables tables;
+    __global const float *luminance; /* per tally set and bin (lv_guide_luminance), as the tallies are laid out */
+    __global const float *stats;     /* per tally set: its bins' summed and largest luminance */
 } lv_guide;
 
 /* The guide at one surface point: the bins of the cell region in front of
@@ -130,13 +129,12 @@ inline int lv_guide_at(const lv_guide *g, float3 p, float3 ns, float3 ng, lv_gui
     uint slot = lv_grid_slot_at(&g->grid, lv_front_point(&g->grid, p, ng));
     if (slot == LV_EMPTY_CELL) return 0;
     uint set = g->grid.tally_slot[slot] & ~LV_FINE_DIRS;
-    uint fine = g->grid.tally_slot[slot] & LV_FINE_DIRS;
-    float share = lv_guide_share(g->stats + 2 * (size_t)set, fine ? 4u : 1u, (fine ? 4u : 1u) * g->grid.g.bins);
-    if (!(share > 0.0f)) return 0; /* no guide: the cost of setting one up is saved too */
-    gv->luminance = g->luminance + (size_t)set * g->grid.g.bins;
     gv->n = lv_slot_dirs(&g->grid, slot);
     gv->bins = 2u * gv->n * gv->n;
-    gv->table = gv->n == g->grid.g.dirs ? g->bin_table : g->fine_bin_table;
+    float share = lv_guide_share(g->stats + 2 * (size_t)set, gv->bins / g->grid.g.bins, gv->bins);
+    if (!(share > 0.0f)) return 0; /* no guide: the cost of setting one up is saved too */
+    gv->luminance = g->luminance + (size_t)set * g->grid.g.bins;
+    gv->table = lv_bin_table_for(&g->tables, &g->grid, gv->n);
     gv->ns = ns;
     gv->ng = ng;
     return lv_guide_prepare(gv, share);
