@@ -5,6 +5,8 @@
 CC ?= cc
 CXX ?= c++
 BUILD := build
+# The ICD folder of the OpenCL implementations lvcl checks its kernels on.
+VENDORS := $(BUILD)/opencl-vendors
 CFLAGS ?= -O2 -g
 CXXFLAGS ?= -O2 -g
 WARN := -Wall -Wextra -Wno-missing-field-initializers -Wno-format-truncation
@@ -18,7 +20,7 @@ LIBS := -lOpenCL -lOpenImageIO -lOpenImageIO_Util -ltinygltf -lstdc++ -lm -lpthr
 
 # Debian packages lvcl needs to build and run.
 DEBIAN_PACKAGES := build-essential pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers \
-	libopenimageio-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libglm-dev
+	libopenimageio-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libglm-dev oclgrind python3-venv
 
 # host/<layer>/ and host/<layer>/<part>/; host/tools/ and host/embed/ build programs of their own.
 HOST_DIRS := $(filter-out host/tools/ host/embed/,$(wildcard host/*/))
@@ -44,7 +46,7 @@ TEST_BINS := $(addprefix $(BUILD)/tests/,$(basename $(notdir $(TEST_SOURCES))))
 .PHONY: all run test test-asan deps references clean format
 # Keep generated sources (kernel and scene arrays) between builds.
 .SECONDARY:
-all: $(BUILD)/lvcl $(BUILD)/lvcl-compare $(BUILD)/lvcl-bench $(TEST_BINS)
+all: $(BUILD)/lvcl $(BUILD)/lvcl-compare $(BUILD)/lvcl-bench $(TEST_BINS) $(VENDORS)/.stamp
 	@# A test program whose source has gone or moved would still run.
 	@rm -f $(filter-out $(TEST_BINS),$(wildcard $(BUILD)/tests/test_*))
 
@@ -65,9 +67,28 @@ define install_debian_packages
 endef
 
 deps: $(BUILD)/.deps-ok
-$(BUILD)/.deps-ok:
+# Again when the list here changes.
+$(BUILD)/.deps-ok: Makefile
 	$(call install_debian_packages,$(DEBIAN_PACKAGES))
 	@mkdir -p $(BUILD) && touch $@
+
+# Three OpenCL implementations to check the kernels on (docs/devices.md):
+# $(VENDORS) is an ICD folder that lvcl points the loader at, with the
+# machine's own implementations, Intel's CPU runtime (PyPI opencl-rt, in a
+# venv in the build tree) and the Oclgrind simulator (Debian). Without
+# pip's registry the tests that need Intel's runtime skip, saying so.
+INTEL_OPENCL := $(BUILD)/intel-opencl
+INTEL_OPENCL_VERSION := 2021.2.0
+OCLGRIND_ICD := /usr/lib/oclgrind/liboclgrind-rt-icd.so
+$(VENDORS)/.stamp: | $(BUILD)/.deps-ok
+	@rm -rf $(VENDORS) && mkdir -p $(VENDORS)
+	@for f in /etc/OpenCL/vendors/*.icd; do [ -e "$$f" ] && ln -s "$$f" $(VENDORS)/; done; true
+	@[ -e $(INTEL_OPENCL)/lib/libintelocl.so ] || { echo "make: installing Intel's CPU OpenCL runtime (PyPI opencl-rt)"; \
+	  python3 -m venv $(INTEL_OPENCL) && $(INTEL_OPENCL)/bin/pip install -q opencl-rt==$(INTEL_OPENCL_VERSION); } \
+	  || echo "make: warning: Intel's CPU OpenCL runtime could not be installed; the tests that need it will skip"
+	@[ ! -e $(INTEL_OPENCL)/lib/libintelocl.so ] || echo "$(abspath $(INTEL_OPENCL))/lib/libintelocl.so" > $(VENDORS)/intel-cpu.icd
+	@[ ! -e $(OCLGRIND_ICD) ] || echo $(OCLGRIND_ICD) > $(VENDORS)/oclgrind.icd
+	@touch $@
 
 # ---- build ----
 $(BUILD)/embed: host/embed/embed.c

@@ -457,6 +457,7 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
     X(lv_particle_trace, VALUE, lv_u32, first) SEP()         /* first particle of the batch */ \
     X(lv_particle_trace, VALUE, lv_u32, count) SEP()                                         \
     X(lv_particle_trace, VALUE, lv_u32, store_emitted) SEP() /* lv-all: tally the lights' own segments */ \
+    X(lv_particle_trace, BUFFER, const uint, subcells_seen) SEP() /* each slot's masks before the batch */ \
     X(lv_particle_trace, BUFFER, uint, ray_counts)           /* segments, visibility rays */
 
 #define LV_LIT_VOLUMES_ARGS(X, SEP)               \

@@ -1,12 +1,13 @@
 #!/bin/sh
 # Runs lvcl's tests: every test program in BUILD/tests (built from
 # tests/<layer>/test_<name>.c; each prints PASS and FAIL lines) and the
-# command-line tests (tests/app/cli_tests.sh), then one line of totals. Each
+# shell tests (tests/app/*_tests.sh), then one line of totals. Each
 # program gets this folder as its argument.
 #   tests/run.sh BUILD [--asan] [NAME...]
 #   --asan: only the tests that matter under sanitizers
 #   NAME:   only these tests: a program's name with or without "test_"
-#           (golden, test_render, ...) or "cli" for the command-line tests
+#           (golden, test_render, ...), or "cli" or "oclgrind" for the
+#           shell tests in tests/app/
 #   make test T=NAME runs the same.
 build=${1:-build}
 [ $# -gt 0 ] && shift
@@ -60,15 +61,19 @@ for t in $programs; do
     count "$name" "$status"
 done
 
-if wanted cli || wanted cli_tests; then
+# The shell tests: tests/app/NAME_tests.sh (cli, oclgrind).
+for script in "$tests_dir"/app/*_tests.sh; do
+    name=$(basename "$script" .sh)
+    wanted "${name%_tests}" || wanted "$name" || continue
+    [ -n "$asan" ] && [ "$name" != cli_tests ] && continue
     ran=$((ran + 1))
-    "$tests_dir/app/cli_tests.sh" "$build" >"$log" 2>&1
-    count cli_tests $?
-fi
+    "$script" "$build" >"$log" 2>&1
+    count "$name" $?
+done
 
 rm -f "$log" "$log.err"
 if [ "$ran" -eq 0 ]; then
-    echo "FAIL tests/run.sh: no test is named$names (tests: $(cd "$build/tests" 2>/dev/null && ls -d test_* | sed 's/^test_//' | tr '\n' ' ')cli)"
+    echo "FAIL tests/run.sh: no test is named$names (tests: $(cd "$build/tests" 2>/dev/null && ls -d test_* | sed 's/^test_//' | tr '\n' ' ')cli oclgrind)"
     failed=1
 fi
 echo "$passed passed, $failed failed"

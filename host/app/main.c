@@ -1,5 +1,6 @@
 /* lvcl: renders a glTF scene on an OpenCL device. */
 #include <errno.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +11,7 @@
 #include "../render/adaptive_sampling.h"
 #include "../render/session.h"
 #include "stats.h"
+#include "../util/interrupt.h"
 #include "../util/timer.h"
 
 #define LVCL_VERSION "0.1.0"
@@ -55,6 +57,9 @@ static lvcl_error run(const lvcl_options *o, lvcl_session **s, lvcl_render_resul
                                .seed = o->seed,
                                .max_depth = o->max_depth,
                                .fast_math = o->fast_math,
+                               /* To check the 32-bit-atomics fallback on devices with 64-bit ones. */
+                               .build_flags =
+                                   getenv("LVCL_EMULATE_INT64_ATOMICS") ? LVCL_BUILD_EMULATED_INT64_ATOMICS : 0,
                                .device_memory = (uint64_t)(o->device_memory_mib * 1048576.0)};
     if ((e = lvcl_session_open(&scene, &cfg, s, st))) return e;
     stats->session = *s;
@@ -86,13 +91,20 @@ static lvcl_error run(const lvcl_options *o, lvcl_session **s, lvcl_render_resul
         .threshold = o->threshold,
     };
     stats->startup_seconds = lvcl_seconds() - stats->process_start;
+    /* Until now a signal ends lvcl at once: there is nothing to save. */
+    lvcl_interrupt_catch();
     if ((e = lvcl_session_render(*s, &req, res, st))) return e;
     stats->result = res;
+    stats->interrupted_by = lvcl_interrupted();
+    if (stats->interrupted_by)
+        fprintf(stderr, "lvcl: %s: sampling stopped after %d of %d samples per pixel; writing the image so far\n",
+                stats->interrupted_by == SIGINT ? "interrupted (SIGINT)" : "terminated (SIGTERM)", res->samples,
+                o->spp);
     if (req.pass.adaptive && !res->adaptive && lvcl_session_device_count(*s) > 1 && res->samples > LVCL_EPOCH_SPP &&
         !o->quiet)
         fprintf(stderr, "lvcl: adaptive sampling needs one device; the %d devices sampled uniformly\n",
                 lvcl_session_device_count(*s));
-    if (o->spp_given && res->samples < o->spp && !o->quiet)
+    if (o->spp_given && res->samples < o->spp && !o->quiet && !stats->interrupted_by)
         fprintf(stderr, "lvcl: time limit reached after %d of %d samples per pixel\n", res->samples, o->spp);
     if ((e = write_outputs(o, res, st))) return e;
     if (!o->quiet) {
@@ -143,5 +155,6 @@ int main(int argc, char **argv)
     if (e) fprintf(stderr, "lvcl: error: %s\n", st.message);
     free(result.rgb);
     lvcl_session_close(session);
-    return e == LVCL_ERR_USAGE ? 2 : e ? 1 : 0;
+    /* Stopped by a signal: the shell's status for death by it, 128 + its number. */
+    return e == LVCL_ERR_USAGE ? 2 : e ? 1 : stats.interrupted_by ? 128 + stats.interrupted_by : 0;
 }

@@ -278,6 +278,11 @@ void lvcl_options_print_help(const char *program)
         "  --no-fast-math       build kernels without -cl-fast-relaxed-math\n"
         "  -q, --quiet          no progress bar\n"
         "  --version            print the version and exit\n"
-        "  -h, --help           this text\n",
+        "  -h, --help           this text\n"
+        "\n"
+        "Ctrl-C (SIGINT) or SIGTERM while rendering stops sampling after the launch in flight\n"
+        "and writes the image so far (exit status 130 or 143); a second signal ends lvcl at once.\n"
+        "Devices: --list-devices; the build's opencl-vendors folder adds Intel's CPU runtime and\n"
+        "the Oclgrind simulator (used only when named by index).\n",
         program);
 }

@@ -50,9 +50,9 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
             prog->from_cache ? "true" : "false", prog->build_seconds, s->scene_load_seconds,
             lvcl_session_bvh_build_seconds(ss), s->startup_seconds, r->first_launch_seconds, r->render_seconds);
     fprintf(f,
-            "  \"width\": %d,\n  \"height\": %d,\n  \"spp\": %d,\n  \"adaptive\": %s,\n"
+            "  \"width\": %d,\n  \"height\": %d,\n  \"spp\": %d,\n  \"interrupted\": %s,\n  \"adaptive\": %s,\n"
             "  \"samples_per_second\": %.1f,\n  \"seed\": %u,\n  \"max_depth\": %d",
-            r->width, r->height, r->samples, r->adaptive ? "true" : "false",
+            r->width, r->height, r->samples, s->interrupted_by ? "true" : "false", r->adaptive ? "true" : "false",
             r->render_seconds > 0 ? pixel_samples / r->render_seconds : 0.0, s->options->seed, s->options->max_depth);
     /* The light volume: the grid is every device's; the work adds up. */
     int devices = lvcl_session_device_count(ss);

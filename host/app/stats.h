@@ -12,6 +12,7 @@ typedef struct {
     double process_start;
     double scene_load_seconds;
     double startup_seconds; /* process start to the first kernel launch */
+    int interrupted_by;     /* the signal that stopped sampling early, or 0 */
 } lvcl_stats;
 
 lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *st);

@@ -12,7 +12,22 @@
 typedef struct {
     cl_platform_id platform;
     cl_device_id device;
+    int rank; /* platform_rank */
 } device_ref;
+
+/* The implementations the project adds to check its kernels against
+ * (Makefile: opencl-vendors) are numbered after the machine's own, so that
+ * device 0 and the default stay what they were without them: Intel's CPU
+ * runtime, then the Oclgrind simulator, which is never chosen by default
+ * or by --device all (it checks every access, at a thousandth of the speed). */
+enum { RANK_OWN, RANK_ADDED_CPU, RANK_SIMULATOR };
+static int platform_rank(cl_platform_id p)
+{
+    char name[256] = {0};
+    if (clGetPlatformInfo(p, CL_PLATFORM_NAME, sizeof name - 1, name, NULL) != CL_SUCCESS) return RANK_OWN;
+    if (strstr(name, "Oclgrind")) return RANK_SIMULATOR;
+    return strcmp(name, "Intel(R) OpenCL") ? RANK_OWN : RANK_ADDED_CPU;
+}
 
 static int make_dirs(const char *path)
 {
@@ -50,38 +65,62 @@ const char *lvcl_cache_dir(void)
     return dir;
 }
 
+/* The build's ICD directory (Makefile: opencl-vendors) beside the
+ * executable or up to two folders above it (tests/, asan/tests/), if any. */
+static int find_vendors_dir(char *dir, size_t size)
+{
+    char exe[PATH_MAX];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n <= 0) return 0;
+    exe[n] = 0;
+    for (int up = 0; up < 3; up++) {
+        char *slash = strrchr(exe, '/');
+        if (!slash) return 0;
+        *slash = 0;
+        struct stat sb;
+        snprintf(dir, size, "%s/opencl-vendors", exe);
+        if (stat(dir, &sb) == 0 && S_ISDIR(sb.st_mode)) return 1;
+    }
+    return 0;
+}
+
 void lvcl_device_prepare_environment(void)
 {
     char pocl[PATH_MAX];
     snprintf(pocl, sizeof pocl, "%s/pocl", lvcl_cache_dir());
     make_dirs(pocl);
     setenv("POCL_CACHE_DIR", pocl, 0);
+    char vendors[PATH_MAX];
+    if (!getenv("OCL_ICD_VENDORS") && find_vendors_dir(vendors, sizeof vendors)) setenv("OCL_ICD_VENDORS", vendors, 0);
 }
 
-/* All devices of all platforms, in a fixed order. */
+/* All devices of all platforms, in a fixed order: the loader's, with the
+ * added implementations after (platform_rank). */
 static int enumerate(device_ref *refs, int max)
 {
     cl_uint np = 0;
     cl_platform_id platforms[16];
     if (clGetPlatformIDs(16, platforms, &np) != CL_SUCCESS) return 0;
     int count = 0;
-    for (cl_uint p = 0; p < np && p < 16; p++) {
-        cl_uint nd = 0;
-        cl_device_id ids[MAX_DEVICES];
-        if (clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, MAX_DEVICES, ids, &nd) != CL_SUCCESS) continue;
-        for (cl_uint d = 0; d < nd && d < MAX_DEVICES && count < max; d++) {
-            refs[count].platform = platforms[p];
-            refs[count].device = ids[d];
-            count++;
+    for (int rank = RANK_OWN; rank <= RANK_SIMULATOR; rank++)
+        for (cl_uint p = 0; p < np && p < 16; p++) {
+            cl_uint nd = 0;
+            cl_device_id ids[MAX_DEVICES];
+            if (platform_rank(platforms[p]) != rank ||
+                clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, MAX_DEVICES, ids, &nd) != CL_SUCCESS)
+                continue;
+            for (cl_uint d = 0; d < nd && d < MAX_DEVICES && count < max; d++)
+                refs[count++] = (device_ref){platforms[p], ids[d], rank};
         }
-    }
     return count;
 }
 
-int lvcl_device_count(void)
+int lvcl_device_count(int simulators)
 {
     device_ref refs[MAX_DEVICES];
-    return enumerate(refs, MAX_DEVICES);
+    int n = enumerate(refs, MAX_DEVICES);
+    while (!simulators && n > 0 && refs[n - 1].rank == RANK_SIMULATOR) n--;
+    return n;
 }
 
 static lvcl_error describe(device_ref r, int index, lvcl_device *dev, lvcl_status *st)
@@ -136,8 +175,9 @@ lvcl_error lvcl_device_list(FILE *out, lvcl_status *st)
         lvcl_device d;
         lvcl_error e = describe(refs[i], i, &d, st);
         if (e) return e;
-        fprintf(out, "%d  %-4s  %s  [%s, %u compute units, %.1f GiB]\n", i, type_name(d.type), d.name, d.platform_name,
-                d.compute_units, (double)d.global_mem / (1u << 30));
+        fprintf(out, "%d  %-4s  %s  [%s, %u compute units, %.1f GiB]%s\n", i, type_name(d.type), d.name,
+                d.platform_name, d.compute_units, (double)d.global_mem / (1u << 30),
+                refs[i].rank == RANK_SIMULATOR ? "  (simulator: only by index)" : "");
     }
     return LVCL_OK;
 }
@@ -157,7 +197,7 @@ lvcl_error lvcl_device_open(const char *spec, lvcl_device *dev, lvcl_status *st)
             lvcl_error e = lvcl_cl_check(clGetDeviceInfo(refs[i].device, CL_DEVICE_TYPE, sizeof t, &t, NULL),
                                          "asking a device's type", st);
             if (e) return e;
-            if (t & want) chosen = i;
+            if ((t & want) && refs[i].rank != RANK_SIMULATOR) chosen = i;
         }
         if (chosen < 0 && spec)
             return lvcl_fail(st, LVCL_ERR_DEVICE, "no OpenCL %s device found (see --list-devices)", spec);

@@ -26,7 +26,9 @@ typedef struct {
 } lvcl_device;
 
 /* Points the OpenCL drivers' own caches (PoCL's kernel cache) into lvcl's
- * cache directory. Call before any other OpenCL call. */
+ * cache directory, and the ICD loader at the build's opencl-vendors folder
+ * (the machine's implementations and those the project adds) when there
+ * is one and OCL_ICD_VENDORS is unset. Call before any other OpenCL call. */
 void lvcl_device_prepare_environment(void);
 
 /* The directory for cached program binaries: $LVCL_CACHE_DIR, or cache/
@@ -36,11 +38,13 @@ const char *lvcl_cache_dir(void);
 /* Prints one line per device: index, type, name, platform. */
 lvcl_error lvcl_device_list(FILE *out, lvcl_status *st);
 
-/* Number of devices over all platforms (0 if there is no OpenCL at all). */
-int lvcl_device_count(void);
+/* Number of devices over all platforms (0 if there is no OpenCL at all);
+ * simulators, numbered last, count only if `simulators` is set. */
+int lvcl_device_count(int simulators);
 
 /* Opens the device that `spec` names: "cpu", "gpu", a list index, or NULL
- * for the default (first GPU, else first CPU, else the first device). */
+ * for the default (first GPU, else first CPU, else the first device). A
+ * simulator is opened only by its index. */
 lvcl_error lvcl_device_open(const char *spec, lvcl_device *dev, lvcl_status *st);
 
 /* Makes dev act as a device of `bytes` bytes (--device-memory): no more

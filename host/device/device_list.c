@@ -9,7 +9,7 @@ lvcl_error lvcl_device_list_parse(const char *spec, int indices[LVCL_MAX_DEVICES
     if (!spec || (strcmp(spec, "all") && !strchr(spec, ','))) return LVCL_OK;
     int n = 0;
     if (!strcmp(spec, "all")) {
-        int available = lvcl_device_count();
+        int available = lvcl_device_count(0);
         if (available == 0) return lvcl_fail(st, LVCL_ERR_DEVICE, "no OpenCL device found");
         for (; n < available && n < LVCL_MAX_DEVICES; n++) indices[n] = n;
         *count = n;

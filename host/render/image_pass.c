@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../util/interrupt.h"
 #include "../util/parallel.h"
 #include "adaptive_sampling.h"
 #include "../device/program.h"
@@ -28,7 +29,7 @@ typedef struct {
     long launches_done, launches_total;
     const char *unit; /* what the progress bar counts */
     double start, first_launch_seconds;
-    int samples; /* samples per pixel taken (one device: may stop at the time limit) */
+    int samples; /* samples per pixel taken, the fewest of any band (may stop at the time limit or a signal) */
 } pass_state;
 
 typedef struct {
@@ -102,9 +103,11 @@ static void *render_bands(void *arg)
     if (bind_shared(w)) return fail_pass(ps);
     for (;;) {
         pthread_mutex_lock(&ps->lock);
+        /* Bands not started when a signal asks to stop stay black. */
         int band = ps->failed ? ps->bands : ps->next_band++;
+        if (band < ps->bands && lvcl_interrupted()) ps->samples = 0;
         pthread_mutex_unlock(&ps->lock);
-        if (band >= ps->bands) break;
+        if (band >= ps->bands || lvcl_interrupted()) break;
         double band_start = lvcl_seconds();
         cl_uint first = (cl_uint)((size_t)band * ps->band_pixels);
         cl_uint count = (cl_uint)(ps->pixels - first < ps->band_pixels ? ps->pixels - first : ps->band_pixels);
@@ -117,11 +120,11 @@ static void *render_bands(void *arg)
             pthread_mutex_unlock(&ps->lock);
             double elapsed = launched(ps, (double)done, (double)ps->launches_total);
             /* The time limit applies to one device, whose one band is the whole image. */
-            if (ps->settings->time_limit > 0 && elapsed >= ps->settings->time_limit) break;
+            if ((ps->settings->time_limit > 0 && elapsed >= ps->settings->time_limit) || lvcl_interrupted()) break;
         }
         pthread_mutex_lock(&ps->lock);
         ps->owner[band] = w->index;
-        ps->samples = s;
+        if (s < ps->samples) ps->samples = s;
         pthread_mutex_unlock(&ps->lock);
         w->pd->bands++;
         w->pd->pixels += count;
@@ -154,10 +157,11 @@ static void *render_adaptive(void *arg)
     while (taken < set->spp && taken < LVCL_EPOCH_SPP) {
         if (launch(w, 0, (cl_uint)n)) goto done;
         elapsed = launched(ps, ++taken, set->spp);
-        if (set->time_limit > 0 && elapsed >= set->time_limit) break;
+        if ((set->time_limit > 0 && elapsed >= set->time_limit) || lvcl_interrupted()) break;
     }
     int last = set->time_limit > 0 && elapsed >= set->time_limit;
-    for (uint32_t epoch = 1; taken < set->spp && !last; epoch++) {
+    /* A signal stops sampling after the epoch it came in. */
+    for (uint32_t epoch = 1; taken < set->spp && !last && !lvcl_interrupted(); epoch++) {
         int spp = set->spp - taken < LVCL_EPOCH_SPP ? set->spp - taken : LVCL_EPOCH_SPP;
         if (set->time_limit > 0) {
             /* An epoch cut short is the last, as a fixed count's is. */
@@ -263,7 +267,7 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
                            const lvcl_pass_settings *settings, lvcl_render_result *out, lvcl_status *st)
 {
     memset(out, 0, sizeof *out);
-    pass_state ps = {.camera = camera, .settings = settings};
+    pass_state ps = {.camera = camera, .settings = settings, .samples = settings->spp};
     ps.pixels = (size_t)camera->width * camera->height;
     ps.bands = n == 1 ? 1 : n * BANDS_PER_DEVICE;
     if ((size_t)ps.bands > camera->height) ps.bands = (int)camera->height;

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "light_volume_internal.h"
+#include "../util/interrupt.h"
 #include "../util/progress.h"
 #include "../util/timer.h"
 
@@ -67,10 +68,10 @@ void lvcl_particle_source_destroy(lvcl_particle_source *src)
 
 /* The next batch of particle indices: from the shared source, or else the
  * next slice of the settings' range (cursor). Returns 0 when none is left
- * or the deadline has passed. */
+ * or the deadline has passed, or a signal asked lvcl to stop. */
 static int next_batch(const lvcl_volume_settings *s, uint64_t *cursor, uint64_t *first, cl_uint *count)
 {
-    if (s->deadline > 0 && lvcl_seconds() >= s->deadline) return 0;
+    if ((s->deadline > 0 && lvcl_seconds() >= s->deadline) || lvcl_interrupted()) return 0;
     uint64_t end = s->particles;
     if (s->source) {
         pthread_mutex_lock(&s->source->lock);
@@ -114,6 +115,18 @@ static lvcl_error clear_volume(lvcl_light_volume *vol, const lvcl_program *prog,
     return LVCL_OK;
 }
 
+/* Copies each slot's two subcell mask words into `seen` (packed, two words
+ * a slot), which the next batch reads to skip marks already made. */
+static lvcl_error snapshot_masks(const lvcl_light_volume *vol, cl_mem seen, lvcl_status *st)
+{
+    if (!vol->buf.info.subcells) return LVCL_OK;
+    size_t slots = (size_t)vol->buf.info.slot_count + 1, words = 2 * sizeof(cl_uint);
+    const size_t origin[3] = {0, 0, 0}, region[3] = {words, slots, 1};
+    return lvcl_cl_check(clEnqueueCopyBufferRect(vol->dev->queue, vol->buf.subcells, seen, origin, origin, region,
+                                                 LV_SUBCELL_STRIDE * sizeof(cl_uint), 0, words, 0, 0, NULL, NULL),
+                         "copying the subcell masks", st);
+}
+
 lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, const lvcl_device_scene *ds,
                              const lvcl_volume_settings *s, lvcl_status *st)
 {
@@ -129,15 +142,22 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
     /* Per batch: segments traced, visibility rays cast. */
     cl_mem counter = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint), NULL, &err);
     if ((e = lvcl_cl_check(err, "allocating the ray counters", st))) return e;
-    cl_kernel k;
-    if ((e = lvcl_kernel_create(prog, "lv_particle_trace", &k, st))) {
+    size_t seen_bytes = vol->buf.info.subcells ? ((size_t)vol->buf.info.slot_count + 1) * 2 * sizeof(cl_uint) : 8;
+    cl_mem seen = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, seen_bytes, NULL, &err);
+    if ((e = lvcl_cl_check(err, "allocating the copy of the subcell masks", st))) {
         clReleaseMemObject(counter);
         return e;
     }
-    lvcl_particle_trace_args args = {
-        .scene = &ds->buffers, .volume = &vol->buf, .store_emitted = s->store_emitted ? 1u : 0u, .ray_counts = counter};
-    if ((e = lvcl_bind_lv_particle_trace(k, &args, st))) {
-        clReleaseKernel(k);
+    cl_kernel k = NULL;
+    lvcl_particle_trace_args args = {.scene = &ds->buffers,
+                                     .volume = &vol->buf,
+                                     .store_emitted = s->store_emitted ? 1u : 0u,
+                                     .subcells_seen = seen,
+                                     .ray_counts = counter};
+    if ((e = lvcl_kernel_create(prog, "lv_particle_trace", &k, st)) ||
+        (e = lvcl_bind_lv_particle_trace(k, &args, st))) {
+        if (k) clReleaseKernel(k);
+        clReleaseMemObject(seen);
         clReleaseMemObject(counter);
         return e;
     }
@@ -156,6 +176,7 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
             (e = lvcl_cl_check(
                  clEnqueueWriteBuffer(dev->queue, counter, CL_FALSE, 0, sizeof counts, counts, 0, NULL, NULL),
                  "clearing the ray counters", st)) ||
+            (e = snapshot_masks(vol, seen, st)) ||
             (e = lvcl_kernel_enqueue(dev, k, count, "launching the particle trace", st)) ||
             (e = lvcl_cl_check(
                  clEnqueueReadBuffer(dev->queue, counter, CL_TRUE, 0, sizeof counts, counts, 0, NULL, NULL),
@@ -169,6 +190,7 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
     }
     lvcl_progress_finish(&bar);
     clReleaseKernel(k);
+    clReleaseMemObject(seen);
     clReleaseMemObject(counter);
     vol->trace_seconds += lvcl_seconds() - start;
     return e;

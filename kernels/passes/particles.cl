@@ -13,6 +13,7 @@ __kernel void lv_particle_trace(LV_KERNEL_PARAMS(LV_PARTICLE_TRACE_ARGS))
     if (id >= count) return;
     lv_grid grid;
     LV_VOLUME_OPEN(grid); /* its lit volumes are not known yet: the trace does not read them */
+    grid.subcells_seen = subcells_seen;
     lv_rng rng = lv_rng_make(sc.info.seed ^ LV_PARTICLE_STREAM, first + id, 0u);
     lv_particle_rays n = lv_trace_particle(&sc, &grid, &rng, store_emitted);
     atomic_add(&ray_counts[0], n.segments);

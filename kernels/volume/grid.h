@@ -19,6 +19,7 @@ typedef struct {
     __global const float *region_shares;    /* per slot of a cut cell: its exact shares (shared_types.h) */
     __global const uint *tally_slot;        /* per slot: its tally set (shared by a merged block) */
     __global uint *subcells;                /* LV_SUBCELL_STRIDE words per slot (shared_types.h) */
+    __global const uint *subcells_seen;     /* the trace's copy of each slot's two mask words from before its batch */
     __global const float *lit_volume;       /* per slot, lv_cell_lit_volume after the trace (lookups only) */
     __global long *tallies[LV_TALLY_PARTS];
 } lv_grid;

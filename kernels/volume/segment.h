@@ -14,10 +14,15 @@ inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float
 {
     uint k = grid->g.subcells;
     __global uint *mask = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
-    /* Most cells fill up after a few particles; a plain read of a stale
-     * value only costs the walk below, never a lost bit. */
+    /* Most cells fill up after a few particles, so the walk and the atomics
+     * are skipped for bits already set. They are read from the copy made
+     * before the batch: OpenCL 1.2 has no atomic load, a plain load of a word
+     * that other work-items update atomically is a data race, and reading the
+     * live masks with atomic_or(.., 0) made the trace 38% slower. */
+    __global const uint *seen = grid->subcells_seen + (size_t)slot * 2;
     uint full = k == 4u ? 0xffffffffu : (1u << (k * k * k)) - 1u;
-    if (mask[0] == full && (k < 4u || mask[1] == full)) return;
+    uint was[2] = {seen[0], k == 4u ? seen[1] : full};
+    if (was[0] == full && was[1] == full) return;
     uint m = 2u * k;
     uint bits[2] = {0u, 0u};
     for (uint j = 0; j < m; j++) {
@@ -27,7 +32,7 @@ inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float
         bits[bit >> 5] |= 1u << (bit & 31u);
     }
     for (int w = 0; w < 2; w++)
-        if (bits[w] && (mask[w] & bits[w]) != bits[w]) atomic_or(&mask[w], bits[w]);
+        if ((was[w] & bits[w]) != bits[w]) atomic_or(&mask[w], bits[w]);
 }
 
 /* Pieces shorter than this (in cell units) switch no subcell on. */

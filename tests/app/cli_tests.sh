@@ -192,3 +192,62 @@ done
 "$build/lvcl-bench" wavefront --spp 0 cornell >/dev/null 2>"$tmp/err"
 if [ $? -eq 2 ] && grep -q '^usage: lvcl-bench wavefront' "$tmp/err"; then pass "lvcl-bench wavefront refuses --spp 0"
 else fail "lvcl-bench wavefront refuses --spp 0" "$(cat "$tmp/err")"; fi
+
+# A signal during the render stops sampling at the next launch and writes
+# the image so far: status 128 + the signal's number, the samples taken in
+# the stats, a line on stderr. $1: the signal; $2: the progress bar to
+# wait for (render, particles); $3...: lvcl's arguments.
+interrupt_render() {
+    sig=$1 bar=$2
+    shift 2
+    rm -f "$tmp/int.exr" "$tmp/int.json"
+    "$lvcl" --spp 1000000 --width 48 -o "$tmp/int.exr" --stats "$tmp/int.json" "$@" 2>"$tmp/int.err" &
+    pid=$!
+    i=0 # until that part has begun (kernels built), at most 120 s
+    while [ $i -lt 1200 ] && ! grep -q "$bar " "$tmp/int.err" 2>/dev/null; do sleep 0.1; i=$((i + 1)); done
+    sleep 0.5
+    kill -s "$sig" $pid
+    start=$(date +%s)
+    wait $pid
+    status=$?
+    took=$(($(date +%s) - start))
+}
+for mode in pt lv; do
+    interrupt_render INT render --mode $mode cornell
+    spp=$(sed -n 's/^ *"spp": \([0-9]*\),/\1/p' "$tmp/int.json" 2>/dev/null)
+    if [ "$status" -eq 130 ] && [ "$took" -le 10 ] && [ -s "$tmp/int.exr" ] && [ -n "$spp" ] && [ "$spp" -ge 1 ] &&
+        [ "$spp" -lt 1000000 ] && grep -q '"interrupted": true' "$tmp/int.json" &&
+        grep -q "^lvcl: interrupted (SIGINT): sampling stopped after $spp of 1000000" "$tmp/int.err"; then
+        pass "SIGINT during a $mode render writes the image so far ($spp spp, exit in ${took} s)"
+    else
+        fail "SIGINT during a $mode render writes the image so far" \
+            "status $status, ${took} s, spp ${spp:-none}; $(tail -2 "$tmp/int.err" | tr '\r' '\n' | tail -2)"
+    fi
+done
+interrupt_render TERM render --adaptive on cornell
+if [ "$status" -eq 143 ] && [ -s "$tmp/int.exr" ] && grep -q '^lvcl: terminated (SIGTERM)' "$tmp/int.err"; then
+    pass "SIGTERM during an adaptive render writes the image so far"
+else fail "SIGTERM during an adaptive render writes the image so far" "status $status; $(tail -c 300 "$tmp/int.err")"; fi
+# During the particle trace: the trace stops, one sample per pixel gathers
+# what it has.
+interrupt_render INT particles --mode lv --particles 4e9 cornell
+traced=$(sed -n 's/^ *"particles": \([0-9]*\),/\1/p' "$tmp/int.json" 2>/dev/null)
+if [ "$status" -eq 130 ] && [ "$took" -le 10 ] && [ -s "$tmp/int.exr" ] && [ -n "$traced" ] &&
+    [ "$traced" -lt 4000000000 ] && grep -q '"spp": 1,' "$tmp/int.json"; then
+    pass "SIGINT during the particle trace gathers the particles so far ($traced, exit in ${took} s)"
+else
+    fail "SIGINT during the particle trace gathers the particles so far" \
+        "status $status, ${took} s, particles ${traced:-none}; $(tail -c 300 "$tmp/int.err")"
+fi
+# A second signal ends lvcl at once, by the signal's default action.
+"$lvcl" --spp 1000000 --width 48 -o "$tmp/int2.exr" cornell 2>"$tmp/int.err" &
+pid=$!
+i=0
+while [ $i -lt 1200 ] && ! grep -q 'render ' "$tmp/int.err" 2>/dev/null; do sleep 0.1; i=$((i + 1)); done
+kill -s INT $pid && kill -s INT $pid
+start=$(date +%s)
+wait $pid
+status=$?
+took=$(($(date +%s) - start))
+if [ "$status" -eq 130 ] && [ "$took" -le 5 ]; then pass "a second SIGINT ends lvcl at once"
+else fail "a second SIGINT ends lvcl at once" "status $status after ${took} s"; fi

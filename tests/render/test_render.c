@@ -192,7 +192,7 @@ static void test_scale_invariance(void)
     free(base.rgb);
 }
 
-/* One light-volume render (lv or lv-all) of the Cornell box. */
+/* One render that uses the light volume (lv, lv-all or guided) of the Cornell box. */
 static int render_lv(const char *what, lvcl_mode mode, const char *device, unsigned seed, image *im)
 {
     lvcl_scene scene;
@@ -202,7 +202,7 @@ static int render_lv(const char *what, lvcl_mode mode, const char *device, unsig
 }
 
 /* Every device renders what device 0 renders, for the same seed, with the
- * path tracer and with the light volume (lv and lv-all). The random numbers
+ * path tracer and with the light volume (lv, lv-all and guided). The random numbers
  * depend only on the seed and the tallies are integers, so the devices can
  * differ only where float rounding differs (fast-math builds may contract or
  * reorder differently per device): relMSE 1e-6 is far below the noise
@@ -210,7 +210,7 @@ static int render_lv(const char *what, lvcl_mode mode, const char *device, unsig
  * two CPU devices). */
 static void test_cross_device(void)
 {
-    int n = lvcl_device_count();
+    int n = lvcl_device_count(0);
     if (n < 2) {
         SKIP("cross-device render", "only one OpenCL device present");
         return;
@@ -218,10 +218,11 @@ static void test_cross_device(void)
     image first;
     lvcl_scene scene;
     if (!load("cornell", &scene) || !render("device 0", &scene, "0", 5, 64, 64, 16, &first)) return;
-    image lv_first[2];
-    const lvcl_mode modes[2] = {LVCL_MODE_LV, LVCL_MODE_LV_ALL};
-    const char *mode_names[2] = {"lv", "lv-all"};
-    for (int m = 0; m < 2; m++) render_lv("device 0 (light volume)", modes[m], "0", 5, &lv_first[m]);
+    enum { MODES = 3 };
+    image lv_first[MODES];
+    const lvcl_mode modes[MODES] = {LVCL_MODE_LV, LVCL_MODE_LV_ALL, LVCL_MODE_GUIDED};
+    const char *mode_names[MODES] = {"lv", "lv-all", "guided"};
+    for (int m = 0; m < MODES; m++) render_lv("device 0 (light volume)", modes[m], "0", 5, &lv_first[m]);
     for (int d = 1; d < n; d++) {
         char spec[16], name[96];
         snprintf(spec, sizeof spec, "%d", d);
@@ -231,7 +232,7 @@ static void test_cross_device(void)
         double e = lvcl_relmse(im.rgb, first.rgb, (size_t)64 * 64 * 3);
         CHECK(name, e < 1e-6, "relMSE %.3g between the devices", e);
         free(im.rgb);
-        for (int m = 0; m < 2; m++) {
+        for (int m = 0; m < MODES; m++) {
             snprintf(name, sizeof name, "device %d renders what device 0 renders (%s)", d, mode_names[m]);
             if (!lv_first[m].rgb || !render_lv(name, modes[m], spec, 5, &im)) continue;
             e = lvcl_relmse(im.rgb, lv_first[m].rgb, (size_t)48 * 48 * 3);
@@ -241,7 +242,7 @@ static void test_cross_device(void)
     }
     /* All devices at once: particles split between them, bands of the
      * image handed out as they finish; the same image as device 0 alone. */
-    for (int m = 0; m < 2; m++) {
+    for (int m = 0; m < MODES; m++) {
         char name[96];
         snprintf(name, sizeof name, "--device all renders what device 0 renders (%s)", mode_names[m]);
         image im;
@@ -257,7 +258,7 @@ static void test_cross_device(void)
         free(all.rgb);
     }
     free(first.rgb);
-    for (int m = 0; m < 2; m++) free(lv_first[m].rgb);
+    for (int m = 0; m < MODES; m++) free(lv_first[m].rgb);
 }
 
 int main(int argc, char **argv)

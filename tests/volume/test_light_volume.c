@@ -335,9 +335,10 @@ static void test_determinism(void)
     lvcl_scene scene;
     lvcl_status st = {0};
     if (lvcl_scene_load("cornell", &scene, &st) || !trace(&scene, "0", 9, &vs, &first)) return;
-    int n = lvcl_device_count();
-    for (int run = 0; run < 1 + (n > 1); run++) {
-        const char *device = run == 0 ? "0" : "1";
+    int n = lvcl_device_count(0);
+    for (int d = 0; d < n; d++) {
+        char device[16], name[128];
+        snprintf(device, sizeof device, "%d", d);
         traced_volume again;
         if (lvcl_scene_load("cornell", &scene, &st) || !trace(&scene, device, 9, &vs, &again)) break;
         int same = lvcl_volume_stats_of(first.volume).tally_bytes == lvcl_volume_stats_of(again.volume).tally_bytes &&
@@ -346,9 +347,37 @@ static void test_determinism(void)
         size_t record_bytes =
             ((size_t)lvcl_volume_grid(first.volume)->slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(uint32_t);
         int same_records = same && memcmp(first.masks, again.masks, record_bytes) == 0;
-        CHECK(run == 0 ? "light volume: same seed, same tallies and subcell records bit for bit"
-                       : "light volume: device 1 gives device 0's tallies and subcell records bit for bit",
-              same_records, "the %s differ", same ? "subcell records" : "tallies");
+        const char *platform = lvcl_session_device(again.session, 0)->platform_name;
+        if (d == 0) {
+            CHECK("light volume: same seed, same tallies and subcell records bit for bit", same_records,
+                  "the %s differ", same ? "subcell records" : "tallies");
+        } else if (!strcmp(platform, lvcl_session_device(first.session, 0)->platform_name)) {
+            snprintf(name, sizeof name,
+                     "light volume: device %d (%s) gives device 0's tallies and subcell records bit for bit", d,
+                     platform);
+            CHECK(name, same_records, "the %s differ", same ? "subcell records" : "tallies");
+        } else {
+            /* Another compiler rounds the segments' lengths in other last
+             * bits, and now and then a float test flips and a particle goes
+             * another way: the tallies differ by a few units in most bins and
+             * by whole paths in a few. Measured on Intel's CPU runtime: 1.6e-4
+             * of their sum, no mask word; the bound, 1e-3, is still a tenth
+             * of the noise of one bin at these particles (about 1e-2). */
+            size_t n64 = lvcl_volume_stats_of(first.volume).tally_bytes / sizeof(int64_t), masks = 0, masks_differ = 0;
+            double sum = 0, diff = 0;
+            for (size_t i = 0; i < n64; i++) {
+                sum += fabs((double)first.tallies[i]);
+                diff += fabs((double)first.tallies[i] - (double)again.tallies[i]);
+            }
+            for (size_t i = 0; i < record_bytes / sizeof(uint32_t); i += LV_SUBCELL_STRIDE, masks += 2)
+                masks_differ += (first.masks[i] != again.masks[i]) + (first.masks[i + 1] != again.masks[i + 1]);
+            snprintf(name, sizeof name, "light volume: device %d (%s) gives device 0's tallies and subcell masks", d,
+                     platform);
+            CHECK(name, diff <= 1e-3 * sum && masks_differ <= masks / 1000,
+                  "tallies differ by %.3g of their sum, %zu of %zu mask words", diff / sum, masks_differ, masks);
+            printf("  %s: tallies differ by %.3g of their sum; %zu of %zu mask words differ\n", platform, diff / sum,
+                   masks_differ, masks);
+        }
         release(&again);
     }
     /* Passes of particles traced one after another into one volume (as under
