@@ -7,6 +7,8 @@ CXX ?= c++
 BUILD := build
 # The ICD folder of the OpenCL implementations lvcl checks its kernels on.
 VENDORS := $(BUILD)/opencl-vendors
+# libFuzzer harnesses (tests/fuzz/fuzz_<name>.c).
+FUZZERS := $(BUILD)/fuzz/fuzz_gltf $(BUILD)/fuzz/fuzz_options
 CFLAGS ?= -O2 -g
 CXXFLAGS ?= -O2 -g
 WARN := -Wall -Wextra -Wno-missing-field-initializers -Wno-format-truncation
@@ -20,7 +22,7 @@ LIBS := -lOpenCL -lOpenImageIO -lOpenImageIO_Util -ltinygltf -lstdc++ -lm -lpthr
 
 # Debian packages lvcl needs to build and run.
 DEBIAN_PACKAGES := build-essential pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers \
-	libopenimageio-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libglm-dev oclgrind python3-venv
+	libopenimageio-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libglm-dev oclgrind python3-venv clang
 
 # host/<layer>/ and host/<layer>/<part>/; host/tools/ and host/embed/ build programs of their own.
 HOST_DIRS := $(filter-out host/tools/ host/embed/,$(wildcard host/*/))
@@ -46,7 +48,7 @@ TEST_BINS := $(addprefix $(BUILD)/tests/,$(basename $(notdir $(TEST_SOURCES))))
 .PHONY: all run test test-asan deps references clean format
 # Keep generated sources (kernel and scene arrays) between builds.
 .SECONDARY:
-all: $(BUILD)/lvcl $(BUILD)/lvcl-compare $(BUILD)/lvcl-bench $(TEST_BINS) $(VENDORS)/.stamp
+all: $(BUILD)/lvcl $(BUILD)/lvcl-compare $(BUILD)/lvcl-bench $(TEST_BINS) $(VENDORS)/.stamp $(FUZZERS)
 	@# A test program whose source has gone or moved would still run.
 	@rm -f $(filter-out $(TEST_BINS),$(wildcard $(BUILD)/tests/test_*))
 
@@ -158,6 +160,37 @@ test-asan: $(BUILD)/.deps-ok
 	  $(BUILD)/asan/tests/test_adaptive_sampling
 	@ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=tests/asan/lsan.supp:print_suppressions=0 \
 	  tests/run.sh $(BUILD)/asan --asan
+
+# ---- fuzzing: libFuzzer harnesses built by Debian's clang with ASan and UBSan ----
+# make fuzz runs each for FUZZ_SECONDS on a corpus in the build tree seeded
+# with the embedded and test scenes; a crash is saved there as crash-*,
+# to be added to tests/data/fuzz/<fuzzer>/ as a regression file. make test
+# runs each briefly (tests/app/fuzz_tests.sh).
+FUZZ_FLAGS := -O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer
+FUZZ_LINK := -O1 -g -fsanitize=fuzzer,address,undefined -fno-omit-frame-pointer
+FUZZ_SECONDS ?= 60
+FUZZ_GLTF_OBJS := $(patsubst host/%,$(BUILD)/fuzz/obj/%.o,$(basename host/scene/scene.c host/scene/materials.c \
+	host/scene/camera.c host/util/status.c $(wildcard host/scene/gltf/*.cpp)))
+$(BUILD)/fuzz/obj/%.o: host/%.c $(HOST_H) kernels/shared_types.h | $(BUILD)/.deps-ok
+	@mkdir -p $(@D)
+	clang -std=c11 -D_POSIX_C_SOURCE=200809L $(FUZZ_FLAGS) -c -o $@ $<
+$(BUILD)/fuzz/obj/%.o: host/%.cpp $(HOST_H) kernels/shared_types.h | $(BUILD)/.deps-ok
+	@mkdir -p $(@D)
+	clang++ -std=c++17 $(FUZZ_FLAGS) -c -o $@ $<
+$(BUILD)/fuzz/fuzz_gltf: tests/fuzz/fuzz_gltf.c $(FUZZ_GLTF_OBJS)
+	clang -std=c11 $(FUZZ_LINK) -o $@ $^ -ltinygltf -lstdc++ -lm
+$(BUILD)/fuzz/fuzz_options: tests/fuzz/fuzz_options.c $(BUILD)/fuzz/obj/app/options.o $(BUILD)/fuzz/obj/util/status.o
+	clang -std=c11 $(FUZZ_LINK) -o $@ $^ -lm
+
+.PHONY: fuzz
+fuzz: $(FUZZERS)
+	@for f in $(FUZZERS); do n=$$(basename $$f); c=$(BUILD)/fuzz/corpus-$$n; mkdir -p $$c; \
+	  [ $$n = fuzz_gltf ] && cp scenes/*.gltf tests/data/gltf/*.gltf tests/data/gltf/*.glb $$c/; \
+	  [ ! -d tests/data/fuzz/$$n ] || cp tests/data/fuzz/$$n/* $$c/; \
+	  echo "== $$n, $(FUZZ_SECONDS) s"; \
+	  $$f -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1 \
+	    -artifact_prefix=$(BUILD)/fuzz/ $$c 2>&1 | grep -E '^(#[0-9]+.*DONE|stat::number_of_executed_units|stat::peak|==[0-9]+==ERROR|SUMMARY)' ; \
+	done
 
 # ---- references (Mitsuba 3 from PyPI, in a venv inside the build tree) ----
 VENV := $(BUILD)/venv
