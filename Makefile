@@ -184,13 +184,7 @@ $(BUILD)/fuzz/fuzz_options: tests/fuzz/fuzz_options.c $(BUILD)/fuzz/obj/app/opti
 
 .PHONY: fuzz
 fuzz: $(FUZZERS)
-	@for f in $(FUZZERS); do n=$$(basename $$f); c=$(BUILD)/fuzz/corpus-$$n; mkdir -p $$c; \
-	  [ $$n = fuzz_gltf ] && cp scenes/*.gltf tests/data/gltf/*.gltf tests/data/gltf/*.glb $$c/; \
-	  [ ! -d tests/data/fuzz/$$n ] || cp tests/data/fuzz/$$n/* $$c/; \
-	  echo "== $$n, $(FUZZ_SECONDS) s"; \
-	  $$f -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -print_final_stats=1 \
-	    -artifact_prefix=$(BUILD)/fuzz/ $$c 2>&1 | grep -E '^(#[0-9]+.*DONE|stat::number_of_executed_units|stat::peak|==[0-9]+==ERROR|SUMMARY)' ; \
-	done
+	@FUZZ_TEST_SECONDS=$(FUZZ_SECONDS) FUZZ_WORK_DIR=$(BUILD)/fuzz tests/app/fuzz_tests.sh $(BUILD)
 
 # ---- references (Mitsuba 3 from PyPI, in a venv inside the build tree) ----
 VENV := $(BUILD)/venv

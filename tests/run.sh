@@ -6,8 +6,8 @@
 #   tests/run.sh BUILD [--asan] [NAME...]
 #   --asan: only the tests that matter under sanitizers
 #   NAME:   only these tests: a program's name with or without "test_"
-#           (golden, test_render, ...), or "cli" or "oclgrind" for the
-#           shell tests in tests/app/
+#           (golden, test_render, ...), or NAME for the shell test
+#           tests/app/NAME_tests.sh (cli, oclgrind, fuzz)
 #   make test T=NAME runs the same.
 build=${1:-build}
 [ $# -gt 0 ] && shift
@@ -61,7 +61,7 @@ for t in $programs; do
     count "$name" "$status"
 done
 
-# The shell tests: tests/app/NAME_tests.sh (cli, oclgrind).
+# The shell tests: tests/app/NAME_tests.sh.
 for script in "$tests_dir"/app/*_tests.sh; do
     name=$(basename "$script" .sh)
     wanted "${name%_tests}" || wanted "$name" || continue
@@ -73,7 +73,7 @@ done
 
 rm -f "$log" "$log.err"
 if [ "$ran" -eq 0 ]; then
-    echo "FAIL tests/run.sh: no test is named$names (tests: $(cd "$build/tests" 2>/dev/null && ls -d test_* | sed 's/^test_//' | tr '\n' ' ')cli oclgrind)"
+    echo "FAIL tests/run.sh: no test is named$names (tests: $(cd "$build/tests" 2>/dev/null && ls -d test_* | sed 's/^test_//' | tr '\n' ' ')$(cd "$tests_dir/app" && ls *_tests.sh | sed 's/_tests.sh$//' | tr '\n' ' '))"
     failed=1
 fi
 echo "$passed passed, $failed failed"

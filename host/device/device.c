@@ -101,12 +101,13 @@ static int enumerate(device_ref *refs, int max)
     cl_uint np = 0;
     cl_platform_id platforms[16];
     if (clGetPlatformIDs(16, platforms, &np) != CL_SUCCESS) return 0;
-    int count = 0;
+    int count = 0, ranks[16];
+    for (cl_uint p = 0; p < np && p < 16; p++) ranks[p] = platform_rank(platforms[p]);
     for (int rank = RANK_OWN; rank <= RANK_SIMULATOR; rank++)
         for (cl_uint p = 0; p < np && p < 16; p++) {
             cl_uint nd = 0;
             cl_device_id ids[MAX_DEVICES];
-            if (platform_rank(platforms[p]) != rank ||
+            if (ranks[p] != rank ||
                 clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, MAX_DEVICES, ids, &nd) != CL_SUCCESS)
                 continue;
             for (cl_uint d = 0; d < nd && d < MAX_DEVICES && count < max; d++)

@@ -3,12 +3,19 @@
 # fuzz runs longer): each libFuzzer harness replays its regression files in
 # tests/data/fuzz/<harness>/, then mutates a corpus seeded with the
 # embedded and test scenes for FUZZ_TEST_SECONDS (default 15). A crash, a
-# sanitizer report or a message that is not one line fails.
+# sanitizer report or a message that is not one line fails. The corpus and
+# any crashing input are kept in FUZZ_WORK_DIR if set (make fuzz: the
+# build tree), else in a temporary folder.
 build=${1:-build}
 here=$(dirname "$0")
 seconds=${FUZZ_TEST_SECONDS:-15}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+if [ -n "$FUZZ_WORK_DIR" ]; then
+    tmp=$FUZZ_WORK_DIR
+    mkdir -p "$tmp"
+else
+    tmp=$(mktemp -d)
+    trap 'rm -rf "$tmp"' EXIT
+fi
 
 for name in fuzz_gltf fuzz_options; do
     fuzzer="$build/fuzz/$name"
@@ -16,7 +23,7 @@ for name in fuzz_gltf fuzz_options; do
         echo "FAIL $name: $fuzzer is not built (make builds it with Debian's clang)"
         continue
     fi
-    corpus="$tmp/$name"
+    corpus="$tmp/corpus-$name"
     mkdir -p "$corpus"
     [ "$name" = fuzz_gltf ] && cp "$here"/../../scenes/*.gltf "$here"/../data/gltf/*.gltf "$here"/../data/gltf/*.glb "$corpus"/
     regressions="$here/../data/fuzz/$name"
