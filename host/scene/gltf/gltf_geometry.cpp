@@ -6,65 +6,104 @@ namespace lvcl_gltf
 
 /* ---- geometry ---- */
 
+/* Whether an attribute's storage is one glTF allows: floats, or the
+ * integer types of the core specification and, when the file declares it,
+ * of KHR_mesh_quantization. */
+static bool attribute_type_ok(const char *name, const AccessorSpan &s, bool quantized)
+{
+    int t = s.comp_type;
+    bool is_float = t == TINYGLTF_COMPONENT_TYPE_FLOAT && !s.normalized;
+    bool small_int = t == TINYGLTF_COMPONENT_TYPE_BYTE || t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+        t == TINYGLTF_COMPONENT_TYPE_SHORT || t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+    bool signed_norm = s.normalized && (t == TINYGLTF_COMPONENT_TYPE_BYTE || t == TINYGLTF_COMPONENT_TYPE_SHORT);
+    bool unsigned_norm =
+        s.normalized && (t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+    if (strcmp(name, "POSITION") == 0) return s.comps == 3 && (is_float || (quantized && small_int));
+    if (strcmp(name, "NORMAL") == 0) return s.comps == 3 && (is_float || (quantized && signed_norm));
+    return s.comps == 2 && (is_float || unsigned_norm || (quantized && small_int)); /* TEXCOORD_n */
+}
+
+/* The storage glTF allows for `name`, for the error message. */
+static const char *attribute_types(const char *name, bool quantized)
+{
+    if (strcmp(name, "POSITION") == 0)
+        return quantized ? "VEC3 float or (normalized) byte or short"
+                         : "VEC3 float (integers need extension KHR_mesh_quantization)";
+    if (strcmp(name, "NORMAL") == 0)
+        return quantized ? "VEC3 float or normalized signed byte or short"
+                         : "VEC3 float (integers need extension KHR_mesh_quantization)";
+    return quantized ? "VEC2 float or (normalized) byte or short"
+                     : "VEC2 float or normalized unsigned byte or short (others need extension KHR_mesh_quantization)";
+}
+
+/* The TEXCOORD_n set the primitive's base colour texture reads (0 if none). */
+int Importer::texcoord_set(const tinygltf::Primitive &p)
+{
+    if (p.material < 0 || (size_t)p.material >= m.materials.size()) return 0;
+    const tinygltf::TextureInfo &info = m.materials[(size_t)p.material].pbrMetallicRoughness.baseColorTexture;
+    return info.index == -1 ? 0 : info.texCoord;
+}
+
 VertexData Importer::read_vertices(const tinygltf::Primitive &p, const char *what)
 {
-    auto attr = [&](const char *name) {
-        auto it = p.attributes.find(name);
-        return it == p.attributes.end() ? -2 : it->second;
-    };
-    int pos_acc = attr("POSITION"), nrm_acc = attr("NORMAL"), uv_acc = attr("TEXCOORD_0");
-    if (pos_acc == -2) fail(LVCL_ERR_PARSE, "%s has no POSITION attribute", what);
-
+    bool quantized =
+        std::find(m.extensionsUsed.begin(), m.extensionsUsed.end(), "KHR_mesh_quantization") != m.extensionsUsed.end();
+    std::string uv_name = "TEXCOORD_" + std::to_string(texcoord_set(p));
     VertexData d;
-    AccessorSpan ps, ns, us;
-    d.pos = read_accessor(pos_acc, what, &ps);
-    if (ps.comps != 3 || ps.comp_type != TINYGLTF_COMPONENT_TYPE_FLOAT || ps.normalized)
-        fail(LVCL_ERR_PARSE, "%s: POSITION accessor %d must be VEC3 float", what, pos_acc);
-    d.count = ps.count;
-
-    if (nrm_acc != -2) {
-        d.nrm = read_accessor(nrm_acc, what, &ns);
-        if (ns.comps != 3 || ns.comp_type != TINYGLTF_COMPONENT_TYPE_FLOAT || ns.normalized)
-            fail(LVCL_ERR_PARSE, "%s: NORMAL accessor %d must be VEC3 float", what, nrm_acc);
-        if (ns.count != d.count)
-            fail(LVCL_ERR_PARSE, "%s: NORMAL count %zu differs from POSITION count %zu", what, ns.count, d.count);
-    }
-    if (uv_acc != -2) {
-        d.uv = read_accessor(uv_acc, what, &us);
-        bool float_ok = us.comp_type == TINYGLTF_COMPONENT_TYPE_FLOAT && !us.normalized;
-        bool unorm_ok = us.normalized &&
-            (us.comp_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-             us.comp_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
-        if (us.comps != 2 || !(float_ok || unorm_ok))
-            fail(LVCL_ERR_PARSE, "%s: TEXCOORD_0 accessor %d must be VEC2 float or normalized unsigned byte/short",
-                 what, uv_acc);
-        if (us.count != d.count)
-            fail(LVCL_ERR_PARSE, "%s: TEXCOORD_0 count %zu differs from POSITION count %zu", what, us.count, d.count);
-    }
+    /* Reads attribute `name` into `out` (left empty when absent); checks
+     * its storage and that it has one element per vertex. */
+    auto read = [&](const char *name, std::vector<double> &out) {
+        auto it = p.attributes.find(name);
+        if (it == p.attributes.end()) return false;
+        AccessorSpan s;
+        out = read_accessor(it->second, what, &s);
+        if (!attribute_type_ok(name, s, quantized))
+            fail(LVCL_ERR_PARSE, "%s: %s accessor %d must be %s", what, name, it->second,
+                 attribute_types(name, quantized));
+        if (strcmp(name, "POSITION") == 0) d.count = s.count;
+        else if (s.count != d.count)
+            fail(LVCL_ERR_PARSE, "%s: %s count %zu differs from POSITION count %zu", what, name, s.count, d.count);
+        return true;
+    };
+    if (!read("POSITION", d.pos)) fail(LVCL_ERR_PARSE, "%s has no POSITION attribute", what);
+    read("NORMAL", d.nrm);
+    if (!read(uv_name.c_str(), d.uv) && uv_name != "TEXCOORD_0")
+        warn_once("uv:" + uv_name, "%s: the base colour texture reads %s, which it lacks (texture not mapped)", what,
+                  uv_name.c_str());
     return d;
 }
 
-/* Triangle corners as vertex indices local to the primitive, each checked. */
+/* Triangle corners as vertex indices local to the primitive, each checked;
+ * strips and fans become lists, keeping the winding glTF gives them. */
 std::vector<uint32_t> Importer::read_corners(const tinygltf::Primitive &p, size_t nverts, const char *what)
 {
-    std::vector<uint32_t> corners;
+    std::vector<uint32_t> v;
     if (p.indices == -1) { /* non-indexed: consecutive vertices */
-        corners.resize(nverts);
-        for (size_t i = 0; i < nverts; i++) corners[i] = (uint32_t)i;
+        v.resize(nverts);
+        for (size_t i = 0; i < nverts; i++) v[i] = (uint32_t)i;
     } else {
         AccessorSpan is;
         std::vector<double> idx = read_accessor(p.indices, what, &is);
-        if (is.comps != 1 || !is_unsigned_int_type(is.comp_type))
+        if (is.comps != 1 || !is_unsigned_int_type(is.comp_type) || is.normalized)
             fail(LVCL_ERR_PARSE, "%s: indices accessor %d must be scalar unsigned integers", what, p.indices);
-        corners.reserve(idx.size());
-        for (double v : idx) {
-            if (v >= (double)nverts)
-                fail(LVCL_ERR_PARSE, "%s: index value %.0f out of range (vertex count %zu)", what, v, nverts);
-            corners.push_back((uint32_t)v);
+        v.reserve(idx.size());
+        for (double x : idx) {
+            if (x >= (double)nverts)
+                fail(LVCL_ERR_PARSE, "%s: index value %.0f out of range (vertex count %zu)", what, x, nverts);
+            v.push_back((uint32_t)x);
         }
     }
-    if (corners.size() % 3 != 0)
-        warn_once("partial", "%s: index count %zu is not a multiple of 3 (extra ignored)", what, corners.size());
+    if (p.mode == TINYGLTF_MODE_TRIANGLES) {
+        if (v.size() % 3 != 0)
+            warn_once("partial", "%s: index count %zu is not a multiple of 3 (extra ignored)", what, v.size());
+        return v;
+    }
+    std::vector<uint32_t> corners;
+    for (size_t i = 0; i + 2 < v.size(); i++) {
+        if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP) /* every other triangle swaps two corners */
+            corners.insert(corners.end(), {v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]});
+        else /* fan */ corners.insert(corners.end(), {v[i + 1], v[i + 2], v[0]});
+    }
     return corners;
 }
 
@@ -109,9 +148,10 @@ void Importer::add_primitive(int mesh, int prim, const glm::dmat4 &world)
     char what[64];
     snprintf(what, sizeof what, "mesh %d primitive %d", mesh, prim);
 
-    if (p.mode != TINYGLTF_MODE_TRIANGLES) {
-        warn_once("mode:" + std::to_string(p.mode), "primitive mode %d is not supported, only triangles (skipped)",
-                  p.mode);
+    if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        p.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+        warn_once("mode:" + std::to_string(p.mode),
+                  "%s: primitive mode %d is points or lines, which have no surface (skipped)", what, p.mode);
         return;
     }
     if (!p.targets.empty()) warn_once("morph", "morph targets are not supported (ignored)");

@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdarg>
@@ -198,15 +199,15 @@ inline const tinygltf::Value *find_ext(const tinygltf::ExtensionMap &exts, const
 
 /* Extensions this importer honours (fully or in the parts lvcl uses). */
 inline const char *const kSupportedExtensions[] = {
-    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_transmission",
-    "KHR_materials_ior",   "KHR_materials_specular",          "KHR_materials_volume",
+    "KHR_lights_punctual",   "KHR_materials_emissive_strength", "KHR_materials_transmission",
+    "KHR_materials_ior",     "KHR_materials_specular",          "KHR_materials_volume",
+    "KHR_mesh_quantization",
 };
 
 /* Required extensions that change how geometry is stored: without them the
  * triangles cannot be read, so the file is refused. */
 inline const char *const kGeometryExtensions[] = {
     "KHR_draco_mesh_compression",
-    "KHR_mesh_quantization",
     "EXT_meshopt_compression",
     "EXT_mesh_gpu_instancing",
 };
@@ -307,6 +308,7 @@ class Importer
     void add_primitive(int mesh, int prim, const glm::dmat4 &world);
     void count_mesh_uses();
     void build_instances();
+    int texcoord_set(const tinygltf::Primitive &p);
     VertexData read_vertices(const tinygltf::Primitive &p, const char *what);
     std::vector<uint32_t> read_corners(const tinygltf::Primitive &p, size_t nverts, const char *what);
     int material_index(int mesh, int prim, int material);

@@ -83,8 +83,7 @@ int Importer::base_color_texture(int material, const tinygltf::TextureInfo &info
     if (info.index < 0 || (size_t)info.index >= m.textures.size())
         fail(LVCL_ERR_PARSE, "material %d: texture %d out of range (file has %zu)", material, info.index,
              m.textures.size());
-    if (info.texCoord != 0)
-        warn_once("texcoord", "material %d: texCoord %d is not supported (TEXCOORD_0 used)", material, info.texCoord);
+    if (info.texCoord < 0) fail(LVCL_ERR_PARSE, "material %d: texCoord %d is negative", material, info.texCoord);
     if (find_ext(info.extensions, "KHR_texture_transform"))
         warn_once("ext:KHR_texture_transform", "extension KHR_texture_transform is not supported (ignored)");
     int source = m.textures[(size_t)info.index].source;
