@@ -1,5 +1,6 @@
 #include "options.h"
 
+#include "../render/image_pass.h"
 #include "../render/light_volume.h"
 
 #include <errno.h>
@@ -36,24 +37,51 @@ static lvcl_error parse_switch(const char *flag, const char *s, double on, doubl
     return LVCL_OK;
 }
 
-static lvcl_error parse_int(const char *flag, const char *s, long lo, long hi, long *out, lvcl_status *st)
+/* For a number above a flag's limit, why the limit is there (with the
+ * memory the value would need where memory is the reason), as the end of
+ * the error message; "" for other flags and values. */
+static const char *limit_reason(const char *flag, const char *s, double hi, char *out, size_t n)
 {
     char *end;
+    double v = strtod(s, &end);
+    out[0] = '\0';
+    if (*s == 0 || *end != 0 || !(v > hi)) return out;
+    char size[32];
+    if (!strcmp(flag, "--width") || !strcmp(flag, "--height"))
+        snprintf(out, n, ": a %.0f x %.0f image would need %s of device memory (%zu bytes a pixel)", v, v,
+                 lvcl_bytes_text(v * v * (double)LVCL_PIXEL_DEVICE_BYTES, size), (size_t)LVCL_PIXEL_DEVICE_BYTES);
+    else if (!strcmp(flag, "--cells"))
+        snprintf(out, n, ": a grid of %.3g cells would need %s for its cell index alone (4 bytes a cell)", v * v * v,
+                 lvcl_bytes_text(v * v * v * 4.0, size));
+    else if (!strcmp(flag, "--spp"))
+        snprintf(out, n,
+                 ": beyond 2^24 a pixel's float sample count stops counting exactly (average images "
+                 "of different --seed instead)");
+    else if (!strcmp(flag, "--particles"))
+        snprintf(out, n, ": particles are numbered in 32 bits (average volumes of different --seed instead)");
+    return out;
+}
+
+static lvcl_error parse_int(const char *flag, const char *s, long lo, long hi, long *out, lvcl_status *st)
+{
+    char *end, why[256];
     errno = 0;
     long v = strtol(s, &end, 10);
     if (*s == 0 || *end != 0 || errno || v < lo || v > hi)
-        return lvcl_fail(st, LVCL_ERR_USAGE, "%s expects an integer from %ld to %ld, not '%s'", flag, lo, hi, s);
+        return lvcl_fail(st, LVCL_ERR_USAGE, "%s expects an integer from %ld to %ld, not '%s'%s", flag, lo, hi, s,
+                         limit_reason(flag, s, (double)hi, why, sizeof why));
     *out = v;
     return LVCL_OK;
 }
 
 static lvcl_error parse_real(const char *flag, const char *s, double lo, double hi, double *out, lvcl_status *st)
 {
-    char *end;
+    char *end, why[256];
     errno = 0;
     double v = strtod(s, &end);
     if (*s == 0 || *end != 0 || errno || !isfinite(v) || v < lo || v > hi)
-        return lvcl_fail(st, LVCL_ERR_USAGE, "%s expects a number from %g to %g, not '%s'", flag, lo, hi, s);
+        return lvcl_fail(st, LVCL_ERR_USAGE, "%s expects a number from %g to %g, not '%s'%s", flag, lo, hi, s,
+                         limit_reason(flag, s, hi, why, sizeof why));
     *out = v;
     return LVCL_OK;
 }

@@ -248,9 +248,24 @@ void lvcl_device_close(lvcl_device *dev)
 lvcl_error lvcl_cl_check(cl_int err, const char *what, lvcl_status *st)
 {
     if (err == CL_SUCCESS) return LVCL_OK;
+    if (err == CL_OUT_OF_HOST_MEMORY)
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "%s failed: out of host memory (CL_OUT_OF_HOST_MEMORY)", what);
     lvcl_error code =
         err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ? LVCL_ERR_TOO_LARGE : LVCL_ERR_DEVICE;
     return lvcl_fail(st, code, "%s failed: %s", what, lvcl_cl_error_name(err));
+}
+
+cl_mem lvcl_buffer_create(const lvcl_device *dev, cl_mem_flags flags, size_t bytes, void *host, cl_int *err)
+{
+    if (dev->type & CL_DEVICE_TYPE_CPU) {
+        void *probe = malloc(bytes ? bytes : 1);
+        if (!probe) {
+            *err = CL_OUT_OF_HOST_MEMORY;
+            return NULL;
+        }
+        free(probe);
+    }
+    return clCreateBuffer(dev->context, flags, bytes, host, err);
 }
 
 const char *lvcl_cl_error_name(cl_int err)

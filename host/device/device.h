@@ -57,6 +57,12 @@ void lvcl_device_close(lvcl_device *dev);
 /* A short name for an OpenCL error code, for messages. */
 const char *lvcl_cl_error_name(cl_int err);
 
+/* clCreateBuffer on dev. A CPU device's memory is the host's, and PoCL
+ * aborts (an assertion) when it cannot allocate a buffer's memory on
+ * first use, so there a host allocation of the same size is tried first:
+ * if it fails, *err is CL_OUT_OF_HOST_MEMORY and no buffer is made. */
+cl_mem lvcl_buffer_create(const lvcl_device *dev, cl_mem_flags flags, size_t bytes, void *host, cl_int *err);
+
 /* The one check of OpenCL results: LVCL_OK if err is CL_SUCCESS; else
  * records "<what> failed: <error>" in st (LVCL_ERR_TOO_LARGE for an
  * allocation failure, else LVCL_ERR_DEVICE). */

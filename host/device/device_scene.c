@@ -41,7 +41,7 @@ static lvcl_error upload_table(const lvcl_device *dev, const table *t, lvcl_stat
         cl_int err;
         cl_mem_flags flags = CL_MEM_READ_ONLY | (t->data ? CL_MEM_COPY_HOST_PTR : 0);
         void *host = t->data ? (char *)t->data + first * t->size : NULL;
-        t->parts[k] = clCreateBuffer(dev->context, flags, n * t->size, host, &err);
+        t->parts[k] = lvcl_buffer_create(dev, flags, n * t->size, host, &err);
         if (err != CL_SUCCESS) {
             char what[200];
             snprintf(what, sizeof what, "allocating %.1f MiB for %s on %s", n * t->size / 1048576.0, t->what,

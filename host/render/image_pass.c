@@ -206,6 +206,19 @@ done:
     return NULL;
 }
 
+lvcl_error lvcl_image_pass_check_size(const lvcl_device *dev, int width, int height, lvcl_status *st)
+{
+    double pixels = (double)width * (double)height;
+    double largest = pixels * 4 * sizeof(float), total = pixels * LVCL_PIXEL_DEVICE_BYTES;
+    if (largest <= (double)dev->max_alloc && total <= (double)dev->global_mem) return LVCL_OK;
+    char need[32], one[32], all[32];
+    return lvcl_fail(st, LVCL_ERR_TOO_LARGE,
+                     "a %d x %d image needs %s of device memory (%zu bytes a pixel, %s in its largest buffer), but "
+                     "%s allows %s in one buffer; render a smaller image",
+                     width, height, lvcl_bytes_text(total, need), (size_t)LVCL_PIXEL_DEVICE_BYTES,
+                     lvcl_bytes_text(largest, one), dev->name, lvcl_bytes_text((double)dev->max_alloc, all));
+}
+
 /* The worker's image sums (cleared) and its pixel list, every pixel in
  * order (bands launch ranges of it; adaptive epochs overwrite it). */
 static lvcl_error create_buffers(worker *w, size_t pixels, lvcl_status *st)
@@ -217,12 +230,11 @@ static lvcl_error create_buffers(worker *w, size_t pixels, lvcl_status *st)
     if (!order) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the pixel list");
     for (size_t i = 0; i < pixels; i++) order[i] = (uint32_t)i;
     lvcl_error e = LVCL_OK;
-    w->sum = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, pixels * 4 * sizeof(float), NULL, &err);
+    w->sum = lvcl_buffer_create(dev, CL_MEM_READ_WRITE, pixels * 4 * sizeof(float), NULL, &err);
     if (!(e = lvcl_cl_check(err, "allocating the image", st)))
-        w->sum_sq = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, pixels * sizeof(float), NULL, &err);
+        w->sum_sq = lvcl_buffer_create(dev, CL_MEM_READ_WRITE, pixels * sizeof(float), NULL, &err);
     if (!e && !(e = lvcl_cl_check(err, "allocating the image", st)))
-        w->list =
-            clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, pixels * sizeof *order, order, &err);
+        w->list = lvcl_buffer_create(dev, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, pixels * sizeof *order, order, &err);
     if (!e) e = lvcl_cl_check(err, "allocating the pixel list", st);
     if (!e)
         e = lvcl_cl_check(
@@ -237,14 +249,9 @@ static lvcl_error create_buffers(worker *w, size_t pixels, lvcl_status *st)
 }
 
 /* Reads each device's sums and takes from each the bands it rendered. */
-static lvcl_error gather_image(worker *workers, int n, const pass_state *ps, lvcl_render_result *out, lvcl_status *st)
+static lvcl_error gather_image(worker *workers, int n, const pass_state *ps, float *acc, lvcl_render_result *out,
+                               lvcl_status *st)
 {
-    float *acc = malloc(ps->pixels * 4 * sizeof(float));
-    out->rgb = malloc(ps->pixels * 3 * sizeof(float));
-    if (!acc || !out->rgb) {
-        free(acc);
-        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the image");
-    }
     lvcl_error e = LVCL_OK;
     for (int d = 0; d < n && !e; d++) {
         e = lvcl_cl_check(clEnqueueReadBuffer(workers[d].pd->device->queue, workers[d].sum, CL_TRUE, 0,
@@ -259,7 +266,6 @@ static lvcl_error gather_image(worker *workers, int n, const pass_state *ps, lvc
             }
         }
     }
-    free(acc);
     return e;
 }
 
@@ -285,7 +291,14 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
     }
     pthread_mutex_init(&ps.lock, NULL);
 
-    lvcl_error e = LVCL_OK;
+    /* The host's copy of the sums and the image, taken before any work so
+     * that a shortage cannot lose the render. */
+    float *acc = malloc(ps.pixels * 4 * sizeof(float));
+    out->rgb = malloc(ps.pixels * 3 * sizeof(float));
+    char need[32];
+    lvcl_error e = acc && out->rgb ? LVCL_OK
+                                   : lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the image (%s)",
+                                               lvcl_bytes_text((double)ps.pixels * 7 * sizeof(float), need));
     for (int d = 0; d < n && !e; d++) {
         workers[d] = (worker){.ps = &ps, .pd = &devices[d], .index = d};
         devices[d].bands = 0;
@@ -315,7 +328,7 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
             *st = thread_st;
             e = threads_failed;
         }
-        if (!e) e = gather_image(workers, n, &ps, out, st);
+        if (!e) e = gather_image(workers, n, &ps, acc, out, st);
     }
     if (!e) {
         out->width = (int)camera->width;
@@ -330,6 +343,7 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
         if (workers[d].list) clReleaseMemObject(workers[d].list);
     }
     pthread_mutex_destroy(&ps.lock);
+    free(acc);
     free(ps.owner);
     free(workers);
     return e;

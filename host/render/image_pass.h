@@ -38,6 +38,15 @@ typedef struct {
     double busy_seconds; /* time spent rendering them */
 } lvcl_pass_device;
 
+/* Device memory a pass holds per pixel: the RGBA sums, the squared sums
+ * (adaptive sampling's variance) and the pixel list. */
+#define LVCL_PIXEL_DEVICE_BYTES (4 * sizeof(float) + sizeof(float) + sizeof(uint32_t))
+
+/* Whether a width x height pass fits `dev` (its largest buffer and all of
+ * its memory); else LVCL_ERR_TOO_LARGE naming what it would need. Checked
+ * before any work, so a long particle trace is not lost to it. */
+lvcl_error lvcl_image_pass_check_size(const lvcl_device *dev, int width, int height, lvcl_status *st);
+
 lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int device_count, const lv_camera *camera,
                            const lvcl_pass_settings *settings, lvcl_render_result *out, lvcl_status *st);
 

@@ -81,30 +81,30 @@ lvcl_error lvcl_volume_allocate(lvcl_light_volume *vol, lvcl_status *st)
     size_t region_bytes = ((size_t)g->slot_count + 1) * sizeof(lv_slot_region);
     size_t share_bytes = (vol->region_share_count ? vol->region_share_count : 1) * sizeof(float);
     cl_int err;
-    vol->buf.cell_slot = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                        vol->cell_count * sizeof(uint32_t), vol->cell_slot, &err);
+    vol->buf.cell_slot = lvcl_buffer_create(dev, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                            vol->cell_count * sizeof(uint32_t), vol->cell_slot, &err);
     if (err == CL_SUCCESS)
         vol->buf.regions =
-            clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, region_bytes, vol->regions, &err);
+            lvcl_buffer_create(dev, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, region_bytes, vol->regions, &err);
     if (err == CL_SUCCESS)
-        vol->buf.region_shares = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, share_bytes,
-                                                vol->region_shares, &err);
+        vol->buf.region_shares =
+            lvcl_buffer_create(dev, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, share_bytes, vol->region_shares, &err);
     if (err == CL_SUCCESS)
-        vol->buf.tally_slot = clCreateBuffer(dev->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                             ((size_t)g->slot_count + 1) * sizeof(uint32_t), vol->tally_slot, &err);
+        vol->buf.tally_slot = lvcl_buffer_create(dev, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                                 ((size_t)g->slot_count + 1) * sizeof(uint32_t), vol->tally_slot, &err);
     if (err == CL_SUCCESS) err = lvcl_volume_allocate_tallies(vol);
     if (err == CL_SUCCESS)
-        vol->buf.subcells = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, lvcl_volume_record_bytes(vol), NULL, &err);
+        vol->buf.subcells = lvcl_buffer_create(dev, CL_MEM_READ_WRITE, lvcl_volume_record_bytes(vol), NULL, &err);
     if (err == CL_SUCCESS)
         vol->buf.lit_volume =
-            clCreateBuffer(dev->context, CL_MEM_READ_WRITE, ((size_t)g->slot_count + 1) * sizeof(float), NULL, &err);
+            lvcl_buffer_create(dev, CL_MEM_READ_WRITE, ((size_t)g->slot_count + 1) * sizeof(float), NULL, &err);
     if (err == CL_SUCCESS && !vol->bin_table_buf)
-        vol->bin_table_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
-                                            (size_t)LV_BIN_TABLE_FLOATS(g->bins) * sizeof(float), NULL, &err);
-    if (err != CL_SUCCESS)
-        return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "allocating the light volume on %s failed: %s", dev->name,
-                         lvcl_cl_error_name(err));
-    return LVCL_OK;
+        vol->bin_table_buf = lvcl_buffer_create(dev, CL_MEM_READ_WRITE,
+                                                (size_t)LV_BIN_TABLE_FLOATS(g->bins) * sizeof(float), NULL, &err);
+    char what[300];
+    snprintf(what, sizeof what, "allocating the light volume (%.1f MiB) on %s", vol->device_bytes / 1048576.0,
+             dev->name);
+    return lvcl_cl_check(err, what, st);
 }
 
 int lvcl_volume_layout_tallies(lvcl_light_volume *vol)
@@ -128,7 +128,7 @@ cl_int lvcl_volume_allocate_tallies(lvcl_light_volume *vol)
     cl_int err = CL_SUCCESS;
     for (int i = 0; i < vol->tally_parts && err == CL_SUCCESS; i++)
         vol->buf.tallies[i] =
-            clCreateBuffer(vol->dev->context, CL_MEM_READ_WRITE, lvcl_volume_part_bytes(vol, i), NULL, &err);
+            lvcl_buffer_create(vol->dev, CL_MEM_READ_WRITE, lvcl_volume_part_bytes(vol, i), NULL, &err);
     return err;
 }
 

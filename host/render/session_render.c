@@ -86,6 +86,8 @@ lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, 
     s->budget = (lvcl_budget_report){0};
     if (req->pass.time_limit > 0 && s->device_count > 1)
         return lvcl_fail(st, LVCL_ERR_USAGE, "--time-limit works on one device only, not on %d", s->device_count);
+    for (int d = 0; d < s->device_count; d++)
+        if ((e = lvcl_image_pass_check_size(&s->devices[d].device, req->width, req->height, st))) return e;
     if (req->mode == LVCL_MODE_PT)
         return lvcl_session_camera_pass(s, req, req->width, req->height, &req->pass, out, st);
     if (req->mode == LVCL_MODE_GUIDED) return lvcl_session_render_guided(s, req, out, st);

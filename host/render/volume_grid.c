@@ -120,9 +120,14 @@ lvcl_error lvcl_volume_grid_choose(const lvcl_packed_scene *p, const lvcl_volume
         g->origin[k] = p->bounds_min[k] - g->cell_size * (1.0f + (float)s->offset);
         cells *= d;
     }
-    if (cells > 1 << 28)
-        return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "a %ux%ux%u light-volume grid is too large (cell size %g m)",
-                         g->dims[0], g->dims[1], g->dims[2], g->cell_size);
+    if (cells > 1 << 28) {
+        char size[32];
+        return lvcl_fail(st, LVCL_ERR_TOO_LARGE,
+                         "a %ux%ux%u light-volume grid (cell size %g m) has %.3g cells, more than the 2^28 lvcl "
+                         "indexes; its cell index alone would need %s; use fewer --cells or a larger --cell-size",
+                         g->dims[0], g->dims[1], g->dims[2], g->cell_size, cells,
+                         lvcl_bytes_text(cells * sizeof(uint32_t), size));
+    }
     g->dirs = (lv_u32)s->dirs;
     g->bins = 2 * g->dirs * g->dirs;
     g->total_power = p->info.total_light_power;

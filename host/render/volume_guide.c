@@ -19,7 +19,7 @@ lvcl_error lvcl_volume_fill_guide(lvcl_light_volume *vol, const lvcl_program *pr
     lvcl_error e;
     cl_int err;
     if (vol->guide_table_buf) clReleaseMemObject(vol->guide_table_buf);
-    vol->guide_table_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
+    vol->guide_table_buf = lvcl_buffer_create(dev, CL_MEM_READ_WRITE, bytes, NULL, &err);
     if ((e = lvcl_cl_check(err, "allocating the guide table", st))) return e;
     cl_kernel k;
     if ((e = lvcl_kernel_create(prog, "lv_guide_table", &k, st))) return e;

@@ -37,8 +37,8 @@ lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, 
     if (vol->fine_slots && !vol->fine_bin_table_buf) {
         uint32_t n = 2 * vol->buf.info.dirs;
         cl_int err;
-        vol->fine_bin_table_buf = clCreateBuffer(dev->context, CL_MEM_READ_WRITE,
-                                                 (size_t)LV_BIN_TABLE_FLOATS(2 * n * n) * sizeof(float), NULL, &err);
+        vol->fine_bin_table_buf = lvcl_buffer_create(
+            dev, CL_MEM_READ_WRITE, (size_t)LV_BIN_TABLE_FLOATS(2 * n * n) * sizeof(float), NULL, &err);
         if ((e = lvcl_cl_check(err, "allocating the fine bins' table", st)) ||
             (e = fill_bin_table(vol, prog, n, vol->fine_bin_table_buf, st)))
             return e;
@@ -140,10 +140,10 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
     if (s->first_particle == 0 && (e = clear_volume(vol, prog, st))) return e;
     cl_int err;
     /* Per batch: segments traced, visibility rays cast. */
-    cl_mem counter = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint), NULL, &err);
+    cl_mem counter = lvcl_buffer_create(dev, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint), NULL, &err);
     if ((e = lvcl_cl_check(err, "allocating the ray counters", st))) return e;
     size_t seen_bytes = vol->buf.info.subcells ? ((size_t)vol->buf.info.slot_count + 1) * 2 * sizeof(cl_uint) : 8;
-    cl_mem seen = clCreateBuffer(dev->context, CL_MEM_READ_WRITE, seen_bytes, NULL, &err);
+    cl_mem seen = lvcl_buffer_create(dev, CL_MEM_READ_WRITE, seen_bytes, NULL, &err);
     if ((e = lvcl_cl_check(err, "allocating the copy of the subcell masks", st))) {
         clReleaseMemObject(counter);
         return e;

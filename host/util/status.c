@@ -27,3 +27,12 @@ void lvcl_warn(const char *fmt, ...)
     fputc('\n', stderr);
     va_end(ap);
 }
+
+const char *lvcl_bytes_text(double bytes, char buf[32])
+{
+    static const char *const units[] = {"B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+    int u = 0;
+    while (bytes >= 1024.0 && u < 6) bytes /= 1024.0, u++;
+    snprintf(buf, 32, u ? "%.1f %s" : "%.0f %s", bytes, units[u]);
+    return buf;
+}

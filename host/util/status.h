@@ -37,6 +37,10 @@ void lvcl_warn(const char *fmt, ...)
 #endif
     ;
 
+/* A size for messages ("512 B", "3.2 MiB", "21.8 TiB") written into `buf`;
+ * returns `buf`. */
+const char *lvcl_bytes_text(double bytes, char buf[32]);
+
 #ifdef __cplusplus
 }
 #endif

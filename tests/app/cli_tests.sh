@@ -71,6 +71,45 @@ expect_error "refine with merged cells" 2 --mode lv --refine on --merge-toleranc
 expect_error "refine-dirs not on, off or a peak" 2 --mode lv --refine-dirs sharp cornell
 expect_error "refine-dirs with merged cells" 2 --mode lv --refine-dirs on --merge-tolerance 0.25 cornell
 
+# expect_message NAME PATTERN: the last expect_error's line matches PATTERN.
+expect_message() {
+    if grep -Eq "$2" "$tmp/err"; then pass "$1"; else fail "$1" "no /$2/ in: $(cat "$tmp/err")"; fi
+}
+
+# Absurd values name the limit, and the memory they would need where memory
+# is what limits them.
+expect_error "absurd particle count" 2 --mode lv --particles 1e15 cornell
+expect_message "particle limit named" "from 1 to 4.29497e\+09.*32 bits"
+expect_error "absurd spp" 2 --spp 1e12 cornell
+expect_message "spp limit named" "from 1 to 16777216.*2\^24"
+expect_error "absurd width" 2 --width 1000000 cornell
+expect_message "width limit and memory named" "from 1 to 16384.*1000000 x 1000000 image would need 21.8 TiB"
+expect_error "absurd cell count" 2 --mode lv --cells 100000 cornell
+expect_message "cell limit and memory named" "from 1 to 1024.*1e\+15 cells would need 3.6 PiB"
+expect_error "grid over 2^28 cells" 1 --mode lv --cells 1000 --particles 1000 --spp 1 --width 8 cornell
+expect_message "grid limit and memory named" "more than the 2\^28.*would need [0-9.]+ GiB"
+# An image too large for the device is refused before the particle trace
+# (a 4096 x 4096 image needs 384 MiB; the device is made 256 MiB).
+expect_error "image over the device memory" 1 --device-memory 256 --mode lv --spp 1 --width 4096 --height 4096 cornell
+expect_message "image memory named" "4096 x 4096 image needs 384.0 MiB of device memory"
+if grep -q particles "$tmp/stdout" "$tmp/err"; then fail "image size checked before the trace" "$(cat "$tmp/err")"
+else pass "image size checked before the trace"; fi
+
+# Host allocation failures are errors, not signals, under a limited address
+# space: the 8192 x 8192 image needs 1.8 GiB of host memory, the 1.5 GB
+# limit leaves the light volume of 128 cells no room either. (Below about
+# 700 MB PoCL's own threads, and below 600 MB libraries' static
+# constructors, abort before lvcl can report anything.)
+for run in "--spp 1 --width 8192 --height 8192" "--mode lv --cells 128 --particles 1e5 --spp 1 --width 64"; do
+    # shellcheck disable=SC2086 # $run is a list of flags
+    (ulimit -v 1500000 && exec "$lvcl" -q $run -o "$tmp/ulimit.exr" kitchen) >"$tmp/stdout" 2>"$tmp/err"
+    status=$?
+    name="ulimit -v 1500000, $run: reported"
+    if [ "$status" -eq 1 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -Eqi 'out of host memory' "$tmp/err"; then
+        pass "$name"
+    else fail "$name" "status $status: $(head -3 "$tmp/err")"; fi
+done
+
 if "$lvcl" --help | grep -q -- '--device'; then pass "--help lists the flags"; else fail "--help" "no --device in the text"; fi
 if "$lvcl" --list-devices | grep -q '^0 '; then pass "--list-devices"; else fail "--list-devices" "no device 0"; fi
 

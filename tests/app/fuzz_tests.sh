@@ -25,7 +25,7 @@ for name in fuzz_gltf fuzz_options; do
     fi
     corpus="$tmp/corpus-$name"
     mkdir -p "$corpus"
-    [ "$name" = fuzz_gltf ] && cp "$here"/../../scenes/*.gltf "$here"/../data/gltf/*.gltf "$here"/../data/gltf/*.glb "$corpus"/
+    [ "$name" = fuzz_gltf ] && cp "$here"/../../scenes/*.gltf "$here"/../data/gltf/*.gltf "$here"/../data/gltf/*.glb "$here"/../data/gltf/corners/*.gltf "$here"/../data/gltf/corners/*.glb "$corpus"/
     regressions="$here/../data/fuzz/$name"
     if [ -d "$regressions" ]; then
         if "$fuzzer" "$regressions"/* >"$tmp/log" 2>&1; then echo "PASS $name: $(ls "$regressions" | wc -l) regression files"
