@@ -78,7 +78,14 @@ class Doc:
 
     def finish(self, uri="base64"):
         """The JSON with its buffer as a data URI ("base64"), as the URI given,
-        or without one (None: a GLB's BIN chunk)."""
+        or without one (None: a GLB's BIN chunk). Without materials of its
+        own, every primitive glows white, so renders of the encodings can
+        be compared."""
+        if "materials" not in self.json:
+            self.json["materials"] = [{"emissiveFactor": [1, 1, 1]}]
+            for mesh in self.json["meshes"]:
+                for prim in mesh["primitives"]:
+                    prim["material"] = 0
         buf = {"byteLength": len(self.data)}
         if uri == "base64":
             buf["uri"] = "data:application/octet-stream;base64," + base64.b64encode(bytes(self.data)).decode()
