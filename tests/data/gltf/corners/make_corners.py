@@ -208,12 +208,13 @@ def quad_hierarchy():
 
 
 def quad_instanced():
-    """One triangle mesh placed twice: as is, and by a matrix mapping it onto
-    the square's other half (no UVs: they would not follow x, y there)."""
+    """One triangle mesh placed twice: as is, and turned 180 degrees about
+    the square's centre by a matrix, onto its other half (no UVs: they
+    would not follow x, y there)."""
     d = Doc()
     tri = [SQUARE[0], SQUARE[1], SQUARE[2]]
     mesh = d.mesh({"attributes": {"POSITION": d.accessor(tri, 3), "NORMAL": d.accessor([(0, 0, 1)] * 3, 3)}})
-    d.scene([d.node(mesh=mesh), d.node(mesh=mesh, matrix=[1, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1])])
+    d.scene([d.node(mesh=mesh), d.node(mesh=mesh, matrix=[-1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1, 0, 1, 1, 0, 1])])
     return d.finish()
 
 
