@@ -251,7 +251,9 @@ lvcl_error lvcl_cl_check(cl_int err, const char *what, lvcl_status *st)
     if (err == CL_OUT_OF_HOST_MEMORY)
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "%s failed: out of host memory (CL_OUT_OF_HOST_MEMORY)", what);
     lvcl_error code =
-        err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ? LVCL_ERR_TOO_LARGE : LVCL_ERR_DEVICE;
+        err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES || err == CL_INVALID_BUFFER_SIZE
+        ? LVCL_ERR_TOO_LARGE
+        : LVCL_ERR_DEVICE;
     return lvcl_fail(st, code, "%s failed: %s", what, lvcl_cl_error_name(err));
 }
 

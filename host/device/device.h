@@ -64,8 +64,9 @@ const char *lvcl_cl_error_name(cl_int err);
 cl_mem lvcl_buffer_create(const lvcl_device *dev, cl_mem_flags flags, size_t bytes, void *host, cl_int *err);
 
 /* The one check of OpenCL results: LVCL_OK if err is CL_SUCCESS; else
- * records "<what> failed: <error>" in st (LVCL_ERR_TOO_LARGE for an
- * allocation failure, else LVCL_ERR_DEVICE). */
+ * records "<what> failed: <error>" in st (LVCL_ERR_OUT_OF_MEMORY when the
+ * host ran out, LVCL_ERR_TOO_LARGE for a buffer the device cannot hold,
+ * else LVCL_ERR_DEVICE). */
 lvcl_error lvcl_cl_check(cl_int err, const char *what, lvcl_status *st);
 
 #endif
