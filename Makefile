@@ -22,10 +22,12 @@ LIBS := -lOpenCL -lOpenImageIO -lOpenImageIO_Util -ltinygltf -lstdc++ -lm -lpthr
 
 # Debian packages lvcl needs to build and run.
 DEBIAN_PACKAGES := build-essential pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers \
-	libopenimageio-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libglm-dev oclgrind python3-venv clang
+	libopenimageio-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libglm-dev oclgrind python3-venv clang \
+	libopenmpi-dev openmpi-bin
 
-# host/<layer>/ and host/<layer>/<part>/; host/tools/ and host/embed/ build programs of their own.
-HOST_DIRS := $(filter-out host/tools/ host/embed/,$(wildcard host/*/))
+# host/<layer>/ and host/<layer>/<part>/; host/tools/ and host/embed/ build programs of their own,
+# and host/mpi/ is lvcl-mpi's alone (build/lvcl keeps no MPI dependency).
+HOST_DIRS := $(filter-out host/tools/ host/embed/ host/mpi/,$(wildcard host/*/))
 HOST_C := $(filter-out host/app/main.c,$(wildcard $(addsuffix *.c,$(HOST_DIRS)) $(addsuffix */*.c,$(HOST_DIRS))))
 HOST_CXX := $(wildcard $(addsuffix *.cpp,$(HOST_DIRS)) $(addsuffix */*.cpp,$(HOST_DIRS)))
 HOST_H := $(wildcard $(addsuffix *.h,$(HOST_DIRS)) $(addsuffix */*.h,$(HOST_DIRS)))
@@ -48,7 +50,7 @@ TEST_BINS := $(addprefix $(BUILD)/tests/,$(basename $(notdir $(TEST_SOURCES))))
 .PHONY: all run test test-asan deps references clean format
 # Keep generated sources (kernel and scene arrays) between builds.
 .SECONDARY:
-all: $(BUILD)/lvcl $(BUILD)/lvcl-compare $(BUILD)/lvcl-bench $(TEST_BINS) $(VENDORS)/.stamp $(FUZZERS)
+all: $(BUILD)/lvcl $(BUILD)/lvcl-mpi $(BUILD)/lvcl-compare $(BUILD)/lvcl-bench $(TEST_BINS) $(VENDORS)/.stamp $(FUZZERS)
 	@# A test program whose source has gone or moved would still run.
 	@rm -f $(filter-out $(TEST_BINS),$(wildcard $(BUILD)/tests/test_*))
 
@@ -122,6 +124,13 @@ $(BUILD)/liblvcl.a: $(LIB_OBJS)
 
 $(BUILD)/lvcl: host/app/main.c $(BUILD)/liblvcl.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LIBS)
+
+# lvcl over MPI ranks (docs/distributed.md); Open MPI's flags from pkg-config,
+# read when the rule runs (the package may have been installed by this make).
+MPI_SOURCES := $(wildcard host/mpi/*.c)
+$(BUILD)/lvcl-mpi: $(MPI_SOURCES) $(wildcard host/mpi/*.h) $(HOST_H) $(BUILD)/liblvcl.a
+	$(CC) $(ALL_CFLAGS) $$(pkg-config --cflags mpi-c) -o $@ $(MPI_SOURCES) $(BUILD)/liblvcl.a $(LIBS) \
+	  $$(pkg-config --libs mpi-c)
 
 $(BUILD)/lvcl-%: host/tools/%.c $(BUILD)/liblvcl.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LIBS)

@@ -54,7 +54,8 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
             "  \"samples_per_second\": %.1f,\n  \"seed\": %u,\n  \"max_depth\": %d",
             r->width, r->height, r->samples, s->interrupted_by ? "true" : "false", r->adaptive ? "true" : "false",
             r->render_seconds > 0 ? pixel_samples / r->render_seconds : 0.0, s->options->seed, s->options->max_depth);
-    /* The light volume: the grid is every device's; the work adds up. */
+    /* The light volume: the grid is every device's; the work adds up,
+     * over every rank's devices where several shared it. */
     int devices = lvcl_session_device_count(ss);
     uint64_t particles = 0, segments = 0, visibility_rays = 0;
     double trace_seconds = lvcl_session_volume_seconds(ss);
@@ -66,8 +67,21 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
         segments += w.segments;
         visibility_rays += w.visibility_rays;
     }
+    if (s->ranks && particles) {
+        particles = segments = 0;
+        for (int r = 0; r < s->rank_count; r++) {
+            particles += s->ranks[r].particles;
+            segments += s->ranks[r].segments;
+        }
+    }
     if (particles) {
         const lvcl_light_volume *v = lvcl_session_volume(ss, 0);
+        uint64_t checksum;
+        lvcl_error e = lvcl_volume_checksum(v, &checksum, st);
+        if (e) {
+            fclose(f);
+            return e;
+        }
         const lv_grid_info *g = lvcl_volume_grid(v);
         lvcl_volume_stats vw = lvcl_volume_stats_of(v);
         fprintf(f,
@@ -77,12 +91,13 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
                 "%zu,\n  \"particles\": "
                 "%llu,\n  \"particle_trace_seconds\": %.4f,\n"
                 "  \"particles_per_second\": %.1f,\n  \"segments\": %llu,\n  \"segments_per_second\": %.1f,\n"
-                "  \"subcells\": %u,\n  \"visibility_rays\": %llu,\n  \"light_volume_buffers\": %d",
+                "  \"subcells\": %u,\n  \"visibility_rays\": %llu,\n  \"light_volume_buffers\": %d,\n"
+                "  \"light_volume_checksum\": \"%016llx\"",
                 g->dims[0], g->dims[1], g->dims[2], g->cell_size, g->dirs, g->slot_count, g->tally_sets,
                 vw.merged_cells, vw.split_cells, vw.fine_slots, vw.device_bytes, (unsigned long long)particles,
                 trace_seconds, trace_seconds > 0 ? (double)particles / trace_seconds : 0.0,
                 (unsigned long long)segments, trace_seconds > 0 ? (double)segments / trace_seconds : 0.0, g->subcells,
-                (unsigned long long)visibility_rays, vw.tally_buffers);
+                (unsigned long long)visibility_rays, vw.tally_buffers, (unsigned long long)checksum);
     }
     const lvcl_budget_report *b = lvcl_session_budget(ss);
     if (b->used)
@@ -108,6 +123,27 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
                 pass.pixels, pass.busy_seconds);
     }
     fprintf(f, "\n  ]");
+    /* Each rank's share and its communication, per phase. */
+    if (s->ranks) {
+        fprintf(f, ",\n  \"ranks\": [");
+        for (int r = 0; r < s->rank_count; r++) {
+            const lvcl_rank_share *k = &s->ranks[r];
+            fprintf(f, "%s\n    {\"rank\": %d, \"host\": ", r ? "," : "", r);
+            json_string(f, k->host);
+            fprintf(f,
+                    ", \"devices\": %d, \"particles\": %llu, \"particle_trace_seconds\": %.4f, \"bands\": %d, "
+                    "\"pixels\": %llu, \"render_busy_seconds\": %.4f, \"comm_seconds\": {\"setup\": %.4f, "
+                    "\"particles\": %.4f, \"image\": %.4f}, \"comm_bytes\": {\"setup\": %llu, \"particles\": %llu, "
+                    "\"image\": %llu}}",
+                    k->devices, (unsigned long long)k->particles, k->particle_trace_seconds, k->bands,
+                    (unsigned long long)k->pixels, k->render_busy_seconds, k->comm_seconds[LVCL_PHASE_SETUP],
+                    k->comm_seconds[LVCL_PHASE_PARTICLES], k->comm_seconds[LVCL_PHASE_IMAGE],
+                    (unsigned long long)k->comm_bytes[LVCL_PHASE_SETUP],
+                    (unsigned long long)k->comm_bytes[LVCL_PHASE_PARTICLES],
+                    (unsigned long long)k->comm_bytes[LVCL_PHASE_IMAGE]);
+        }
+        fprintf(f, "\n  ]");
+    }
     fprintf(f, "\n}\n");
     if (fclose(f) != 0) return lvcl_fail(st, LVCL_ERR_IO, "cannot write stats to %s", path);
     return LVCL_OK;

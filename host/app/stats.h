@@ -5,8 +5,23 @@
 #include "options.h"
 #include "../render/session.h"
 
+/* One process's share of a distributed render (lvcl-mpi), gathered to rank 0. */
+typedef struct {
+    char host[64];
+    int devices;
+    uint64_t particles, segments;
+    double particle_trace_seconds;
+    int bands;
+    uint64_t pixels;
+    double render_busy_seconds;
+    double comm_seconds[LVCL_PHASE_COUNT]; /* setup, particles, image */
+    uint64_t comm_bytes[LVCL_PHASE_COUNT];
+} lvcl_rank_share;
+
 typedef struct {
     const lvcl_options *options;
+    const lvcl_rank_share *ranks; /* every rank's share, in rank order; NULL when alone */
+    int rank_count;
     const lvcl_session *session;
     const lvcl_render_result *result;
     double process_start;

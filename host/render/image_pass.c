@@ -23,7 +23,8 @@ typedef struct {
     const lvcl_pass_settings *settings;
     size_t pixels, band_pixels;
     int bands, next_band;
-    int *owner; /* device that rendered each band */
+    int *owner; /* device that rendered each band, -1 for another process's or none */
+    lvcl_cluster *cluster; /* shared: bands come from the cluster's counter; else NULL */
     int failed; /* a device failed: the others stop */
     lvcl_progress bar;
     long launches_done, launches_total;
@@ -105,8 +106,14 @@ static void *render_bands(void *arg)
         pthread_mutex_lock(&ps->lock);
         /* Bands not started when a signal asks to stop stay black. */
         int band = ps->failed ? ps->bands : ps->next_band++;
+        if (ps->cluster && band < ps->bands) {
+            uint64_t taken = 0;
+            w->e = ps->cluster->take(ps->cluster, 1, &taken, &w->st);
+            band = w->e || taken > (uint64_t)ps->bands ? ps->bands : (int)taken;
+        }
         if (band < ps->bands && lvcl_interrupted()) ps->samples = 0;
         pthread_mutex_unlock(&ps->lock);
+        if (w->e) return fail_pass(ps);
         if (band >= ps->bands || lvcl_interrupted()) break;
         double band_start = lvcl_seconds();
         cl_uint first = (cl_uint)((size_t)band * ps->band_pixels);
@@ -118,7 +125,10 @@ static void *render_bands(void *arg)
             pthread_mutex_lock(&ps->lock);
             long done = ++ps->launches_done;
             pthread_mutex_unlock(&ps->lock);
-            double elapsed = launched(ps, (double)done, (double)ps->launches_total);
+            /* With other processes, the band's place in the shared counter
+             * stands for their launches too. */
+            double shown = ps->cluster ? (double)band * ps->settings->spp + s : (double)done;
+            double elapsed = launched(ps, shown, (double)ps->launches_total);
             /* The time limit applies to one device, whose one band is the whole image. */
             if ((ps->settings->time_limit > 0 && elapsed >= ps->settings->time_limit) || lvcl_interrupted()) break;
         }
@@ -269,19 +279,44 @@ static lvcl_error gather_image(worker *workers, int n, const pass_state *ps, flo
     return e;
 }
 
-lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *camera,
+/* With a cluster: the shared band counter restarted, and the devices of
+ * every process counted (so every process cuts the same bands). */
+static lvcl_error share_bands(lvcl_cluster *cluster, int n, uint32_t *devices, lvcl_status *st)
+{
+    *devices = (uint32_t)n;
+    if (!cluster) return LVCL_OK;
+    lvcl_error e = cluster->restart(cluster, LVCL_PHASE_IMAGE, st);
+    return e ? e : cluster->reduce(cluster, devices, 1, LVCL_REDUCE_SUM_U32, st);
+}
+
+/* With a cluster: each process's pixels (+0 where another rendered them)
+ * and its fewest samples made every process's. */
+static lvcl_error share_image(lvcl_cluster *cluster, size_t pixels, lvcl_render_result *out, lvcl_status *st)
+{
+    int32_t samples = out->samples;
+    lvcl_error e = cluster->reduce(cluster, out->rgb, pixels * 3, LVCL_REDUCE_SUM_F32, st);
+    if (!e) e = cluster->reduce(cluster, &samples, 1, LVCL_REDUCE_MIN_I32, st);
+    out->samples = samples;
+    return e;
+}
+
+lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *camera, lvcl_cluster *cluster,
                            const lvcl_pass_settings *settings, lvcl_render_result *out, lvcl_status *st)
 {
     memset(out, 0, sizeof *out);
     pass_state ps = {.camera = camera, .settings = settings, .samples = settings->spp};
+    ps.cluster = lvcl_cluster_shared(cluster) ? cluster : NULL;
+    uint32_t all_devices;
+    lvcl_error e = share_bands(ps.cluster, n, &all_devices, st);
+    if (e) return e;
     ps.pixels = (size_t)camera->width * camera->height;
-    ps.bands = n == 1 ? 1 : n * BANDS_PER_DEVICE;
+    ps.bands = all_devices == 1 ? 1 : (int)all_devices * BANDS_PER_DEVICE;
     if ((size_t)ps.bands > camera->height) ps.bands = (int)camera->height;
     size_t rows = (camera->height + (size_t)ps.bands - 1) / (size_t)ps.bands;
     ps.band_pixels = rows * camera->width;
     ps.bands = (int)((ps.pixels + ps.band_pixels - 1) / ps.band_pixels);
     ps.launches_total = (long)ps.bands * settings->spp;
-    ps.unit = n == 1 ? "spp" : "band samples";
+    ps.unit = all_devices == 1 ? "spp" : "band samples";
     ps.owner = calloc((size_t)ps.bands, sizeof *ps.owner);
     worker *workers = calloc((size_t)n, sizeof *workers);
     if (!ps.owner || !workers) {
@@ -291,14 +326,16 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
     }
     pthread_mutex_init(&ps.lock, NULL);
 
+    for (int b = 0; b < ps.bands; b++) ps.owner[b] = -1;
     /* The host's copy of the sums and the image, taken before any work so
-     * that a shortage cannot lose the render. */
+     * that a shortage cannot lose the render; pixels no band of this
+     * process reached stay +0 (black). */
     float *acc = malloc(ps.pixels * 4 * sizeof(float));
-    out->rgb = malloc(ps.pixels * 3 * sizeof(float));
+    out->rgb = calloc(ps.pixels * 3, sizeof(float));
     char need[32];
-    lvcl_error e = acc && out->rgb ? LVCL_OK
-                                   : lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the image (%s)",
-                                               lvcl_bytes_text((double)ps.pixels * 7 * sizeof(float), need));
+    if (!acc || !out->rgb)
+        e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the image (%s)",
+                      lvcl_bytes_text((double)ps.pixels * 7 * sizeof(float), need));
     for (int d = 0; d < n && !e; d++) {
         workers[d] = (worker){.ps = &ps, .pd = &devices[d], .index = d};
         devices[d].bands = 0;
@@ -307,7 +344,8 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
         e = create_buffers(&workers[d], ps.pixels, st);
     }
     /* Adaptive sampling needs the whole image on one device, and epochs to share. */
-    int adaptive = n == 1 && settings->adaptive && (settings->spp > LVCL_EPOCH_SPP || settings->time_limit > 0);
+    int adaptive =
+        all_devices == 1 && settings->adaptive && (settings->spp > LVCL_EPOCH_SPP || settings->time_limit > 0);
     if (!e) {
         lvcl_progress_start(&ps.bar, "render", settings->progress);
         ps.start = lvcl_seconds();
@@ -330,6 +368,8 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
         }
         if (!e) e = gather_image(workers, n, &ps, acc, out, st);
     }
+    /* A process whose pass failed still meets the others here. */
+    if (ps.cluster && !(e = lvcl_cluster_agree(ps.cluster, e, st))) e = share_image(ps.cluster, ps.pixels, out, st);
     if (!e) {
         out->width = (int)camera->width;
         out->height = (int)camera->height;

@@ -6,6 +6,7 @@
 #define LVCL_IMAGE_PASS_H
 
 #include "../device/kernel_args.h"
+#include "cluster.h"
 #include "../../kernels/shared_types.h"
 
 typedef struct {
@@ -13,7 +14,7 @@ typedef struct {
     int first_sample;  /* sample indices first_sample .. first_sample + spp - 1 (0 for an image) */
     double time_limit; /* seconds, 0 = none; one device only (lvcl_session_render refuses it on more) */
     int progress;      /* draw a progress bar on stderr */
-    int adaptive;      /* adaptive sampling (adaptive_sampling.h); one device only, uniform on several */
+    int adaptive;      /* adaptive sampling (adaptive_sampling.h); one device only, uniform on several or over a cluster */
 } lvcl_pass_settings;
 
 typedef struct {
@@ -47,7 +48,10 @@ typedef struct {
  * before any work, so a long particle trace is not lost to it. */
 lvcl_error lvcl_image_pass_check_size(const lvcl_device *dev, int width, int height, lvcl_status *st);
 
-lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int device_count, const lv_camera *camera,
+/* Renders the image over the devices and, with a cluster, the devices of
+ * every process (bands handed out by the cluster's counter; each process
+ * ends with the whole image). */
+lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int device_count, const lv_camera *camera, lvcl_cluster *cluster,
                            const lvcl_pass_settings *settings, lvcl_render_result *out, lvcl_status *st);
 
 #endif

@@ -11,18 +11,24 @@
 
 #include "../device/device_scene.h"
 #include "../device/program.h"
+#include "cluster.h"
 
 typedef struct lvcl_light_volume lvcl_light_volume;
 
 /* Hands out batches of particle indices to the devices tracing one volume
- * together, so that a faster device traces more (lvcl_particle_source_init). */
+ * together, so that a faster device traces more (lvcl_particle_source_init);
+ * with a cluster, to the devices of every process. */
 typedef struct {
     pthread_mutex_t lock;
     uint64_t next, end;
+    lvcl_cluster *cluster; /* shared: batches come from the cluster's counter, from `next` on */
+    lvcl_error e;          /* the cluster failed to hand out a batch */
+    lvcl_status st;
 } lvcl_particle_source;
 
-/* Hands out the particle indices [first, end). */
-void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t first, uint64_t end);
+/* Hands out the particle indices [first, end), here or (cluster shared, its
+ * counter restarted) over every process. */
+void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t first, uint64_t end, lvcl_cluster *cluster);
 void lvcl_particle_source_destroy(lvcl_particle_source *src);
 
 /* The default share of surface hits that cast a subcell visibility ray
@@ -134,6 +140,16 @@ lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, 
  * particles of all, in each.
  * Integer tallies and counters make the sum exact and order-free. */
 lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_status *st);
+
+/* Collective over the cluster: adds every process's volume (each the sum
+ * of its devices', in vols[0]) as lvcl_volume_merge adds devices', and
+ * stores the sum, and the particles of all, in each of the count volumes. */
+lvcl_error lvcl_volume_reduce(lvcl_light_volume *const *vols, int count, lvcl_cluster *cluster, lvcl_status *st);
+
+/* A 64-bit FNV-1a hash of the volume as the lookups read it: tallies,
+ * subcell records and lit volumes (valid after lvcl_volume_finish), to
+ * compare volumes built apart bit for bit. */
+lvcl_error lvcl_volume_checksum(const lvcl_light_volume *vol, uint64_t *hash, lvcl_status *st);
 
 /* Reads the tallies back (tally_sets x bins x 3 int64, malloc'ed) and, if
  * masks is not NULL, the subcell records (LV_SUBCELL_STRIDE words per slot). */

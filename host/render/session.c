@@ -52,6 +52,7 @@ lvcl_error lvcl_session_open(lvcl_scene *scene, const lvcl_session_config *cfg, 
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for a session");
     }
     s->scene = *scene;
+    s->cluster = cfg->cluster;
     memset(scene, 0, sizeof *scene);
     lvcl_error e = open_devices(s, cfg, st);
     if (e) {

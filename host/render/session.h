@@ -13,6 +13,7 @@
 #include "../scene/camera.h"
 #include "../scene/scene.h"
 #include "../scene/scene_load.h"
+#include "cluster.h"
 #include "image_pass.h"
 #include "light_volume.h"
 
@@ -25,6 +26,7 @@ typedef struct {
     int fast_math;
     uint64_t device_memory; /* act as a device of this many bytes (a quarter in one buffer); 0 = the device's own */
     unsigned build_flags;   /* LVCL_BUILD_* switches for the kernels, besides the scene's features */
+    lvcl_cluster *cluster;  /* other processes sharing every render (lvcl-mpi); NULL: alone */
 } lvcl_session_config;
 
 /* pt: path tracing; lv, lv-all: the light volume answers for indirect or
@@ -66,7 +68,7 @@ lvcl_error lvcl_session_open(lvcl_scene *scene, const lvcl_session_config *cfg, 
 
 /* Renders an image: path tracing, or particle trace then final gather.
  * With req->pass.time_limit the whole render keeps to it (one device
- * only); in lv modes with req->volume.particles 0 the particle count is
+ * and one process only); in lv modes with req->volume.particles 0 the particle count is
  * chosen by measurement (session_budget.c). */
 lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
                                lvcl_status *st);
@@ -77,7 +79,8 @@ lvcl_error lvcl_session_render_pt(lvcl_session *s, int width, int height, const 
 
 /* Builds the light volume on every device as lv modes do (each takes
  * batches of particles, the tallies are added, the lit volumes computed),
- * with settings->store_emitted as given. */
+ * with settings->store_emitted as given. With a cluster, over every
+ * device of every process: each ends with the same volume. */
 lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings *settings, lvcl_status *st);
 
 /* Releases everything; NULL is allowed. */

@@ -31,7 +31,7 @@ lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request
     lvcl_error e = lvcl_session_trace_volume(s, &vs, st);
     for (int d = 0; d < s->device_count && !e; d++)
         e = lvcl_volume_fill_guide(s->devices[d].volume, &s->devices[d].program, st);
-    if (e) return e;
+    if (e == LVCL_ERR_CLUSTER || (e = lvcl_cluster_agree(s->cluster, e, st))) return e;
     /* At least one sample is taken, however long the trace took. */
     if (pass.time_limit > 0) pass.time_limit = fmax(pass.time_limit - (lvcl_seconds() - start), 1e-3);
     return lvcl_session_camera_pass(s, req, req->width, req->height, &pass, out, st);

@@ -22,6 +22,7 @@ struct lvcl_session {
     lvcl_packed_scene packed;
     session_device devices[LVCL_MAX_DEVICES];
     int device_count;
+    lvcl_cluster *cluster; /* NULL: alone */
     double merge_seconds;
     unsigned features;
     double bvh_build_seconds;

@@ -69,7 +69,7 @@ lvcl_error lvcl_session_camera_pass(lvcl_session *s, const lvcl_render_request *
         if ((e = lvcl_kernel_create(&sd->program, pass_kernel_name(req->mode), &passes[d].kernel, st))) break;
         e = bind_pass_args(sd, &passes[d], req, &cam, st);
     }
-    if (!e) e = lvcl_image_pass(passes, s->device_count, &cam, pass, out, st);
+    if (!e) e = lvcl_image_pass(passes, s->device_count, &cam, s->cluster, pass, out, st);
     for (int d = 0; d < s->device_count; d++) {
         if (passes[d].kernel) clReleaseKernel(passes[d].kernel);
         passes[d].kernel = NULL;
@@ -82,12 +82,17 @@ lvcl_error lvcl_session_camera_pass(lvcl_session *s, const lvcl_render_request *
 lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
                                lvcl_status *st)
 {
-    lvcl_error e;
+    lvcl_error e = LVCL_OK;
     s->budget = (lvcl_budget_report){0};
-    if (req->pass.time_limit > 0 && s->device_count > 1)
-        return lvcl_fail(st, LVCL_ERR_USAGE, "--time-limit works on one device only, not on %d", s->device_count);
-    for (int d = 0; d < s->device_count; d++)
-        if ((e = lvcl_image_pass_check_size(&s->devices[d].device, req->width, req->height, st))) return e;
+    if (req->pass.time_limit > 0 && lvcl_cluster_shared(s->cluster))
+        e = lvcl_fail(st, LVCL_ERR_USAGE, "--time-limit works in one process only, not over %d ranks",
+                      s->cluster->size);
+    else if (req->pass.time_limit > 0 && s->device_count > 1)
+        e = lvcl_fail(st, LVCL_ERR_USAGE, "--time-limit works on one device only, not on %d", s->device_count);
+    for (int d = 0; d < s->device_count && !e; d++)
+        e = lvcl_image_pass_check_size(&s->devices[d].device, req->width, req->height, st);
+    /* Refusals every process meets are reported once, as themselves. */
+    if ((e = lvcl_cluster_agree(s->cluster, e, st))) return e;
     if (req->mode == LVCL_MODE_PT)
         return lvcl_session_camera_pass(s, req, req->width, req->height, &req->pass, out, st);
     if (req->mode == LVCL_MODE_GUIDED) return lvcl_session_render_guided(s, req, out, st);

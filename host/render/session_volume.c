@@ -1,7 +1,8 @@
 /* The light volume of a session over every device: each device takes
  * batches of particles until none is left (a faster device takes more),
  * then the tallies are added and stored on each, and each computes its lit
- * volumes. */
+ * volumes. With a cluster the batches come from a counter every process
+ * shares, and each process's sum is added to the others'. */
 #include <string.h>
 
 #include "session_internal.h"
@@ -32,37 +33,43 @@ lvcl_error lvcl_session_new_volume(lvcl_session *s, int d, const lvcl_volume_set
 }
 
 /* Traces the particles [first, end) over every device (a faster device
- * takes more batches) and, on several, adds their volumes. */
+ * takes more batches) and, on several, adds their volumes; with a
+ * cluster, over every process's devices, adding every process's volume. */
 static lvcl_error trace_devices(lvcl_session *s, const lvcl_volume_settings *settings, uint64_t first, uint64_t end,
                                 lvcl_status *st)
 {
-    int n = s->device_count;
+    int n = s->device_count, shared = lvcl_cluster_shared(s->cluster);
+    lvcl_error e = shared ? s->cluster->restart(s->cluster, LVCL_PHASE_PARTICLES, st) : LVCL_OK;
+    if (e) return e;
     trace_job jobs[LVCL_MAX_DEVICES];
     lvcl_particle_source source;
-    lvcl_particle_source_init(&source, first, end);
+    lvcl_particle_source_init(&source, first, end, s->cluster);
     for (int d = 0; d < n; d++) {
         jobs[d] = (trace_job){.sd = &s->devices[d], .vs = *settings};
         jobs[d].vs.first_particle = first;
         jobs[d].vs.particles = end;
-        jobs[d].vs.source = n > 1 ? &source : NULL;
+        jobs[d].vs.source = n > 1 || shared ? &source : NULL;
         jobs[d].vs.progress = settings->progress && d == 0;
     }
-    lvcl_error e = lvcl_run_parallel(trace_part, jobs, sizeof jobs[0], n, st);
-    lvcl_particle_source_destroy(&source);
-    if (e) return e;
-    for (int d = 0; d < n; d++)
+    e = lvcl_run_parallel(trace_part, jobs, sizeof jobs[0], n, st);
+    for (int d = 0; d < n && !e; d++)
         if (jobs[d].e) {
             *st = jobs[d].st;
-            return jobs[d].e;
+            e = jobs[d].e;
         }
-    if (n > 1) {
-        lvcl_light_volume *vols[LVCL_MAX_DEVICES];
-        for (int d = 0; d < n; d++) vols[d] = s->devices[d].volume;
-        double t = lvcl_seconds();
-        if ((e = lvcl_volume_merge(vols, n, st))) return e;
-        s->merge_seconds += lvcl_seconds() - t;
+    if (!e && source.e) {
+        *st = source.st;
+        e = source.e;
     }
-    return LVCL_OK;
+    lvcl_particle_source_destroy(&source);
+    lvcl_light_volume *vols[LVCL_MAX_DEVICES];
+    for (int d = 0; d < n; d++) vols[d] = s->devices[d].volume;
+    double t = lvcl_seconds();
+    if (!e && n > 1) e = lvcl_volume_merge(vols, n, st);
+    /* A process whose trace failed still meets the others here. */
+    if (shared && !(e = lvcl_cluster_agree(s->cluster, e, st))) e = lvcl_volume_reduce(vols, n, s->cluster, st);
+    s->merge_seconds += lvcl_seconds() - t;
+    return e;
 }
 
 lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings *settings, lvcl_status *st)
@@ -70,22 +77,25 @@ lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings
     lvcl_error e = LVCL_OK;
     int n = s->device_count;
     for (int d = 0; d < n && !e; d++) e = lvcl_session_new_volume(s, d, settings, st);
-    if (e) return e;
+    if ((e = lvcl_cluster_agree(s->cluster, e, st))) return e;
     s->merge_seconds = 0;
     uint64_t split_at = lvcl_volume_split_point(settings);
     if (split_at > 0) {
         /* Refined cells: every device holds the same tallies after the
-         * merge, so each splits the same cells; all but the first then
-         * empty theirs, so that the next merge counts them once. */
+         * merge, so each splits the same cells; all but the first (of
+         * rank 0) then empty theirs, so that the next merge counts them once. */
         if ((e = trace_devices(s, settings, 0, split_at, st))) return e;
         for (int d = 0; d < n && !e; d++)
             e = lvcl_volume_refine(s->devices[d].volume, (double)settings->particles, settings, st);
-        for (int d = 1; d < n && !e; d++) e = lvcl_volume_empty(s->devices[d].volume, st);
+        int keeper = s->cluster && s->cluster->rank > 0 ? -1 : 0;
+        for (int d = 0; d < n && !e; d++)
+            if (d != keeper) e = lvcl_volume_empty(s->devices[d].volume, st);
+        if ((e = lvcl_cluster_agree(s->cluster, e, st))) return e;
     }
     if (!e) e = trace_devices(s, settings, split_at, settings->particles, st);
     /* Every device holds the same tallies now, so each merges the same blocks. */
     for (int d = 0; d < n && !e; d++)
         e = lvcl_volume_adapt(s->devices[d].volume, (double)settings->particles, settings->merge_tolerance, st);
     for (int d = 0; d < n && !e; d++) e = lvcl_volume_finish(s->devices[d].volume, &s->devices[d].program, st);
-    return e;
+    return e == LVCL_ERR_CLUSTER ? e : lvcl_cluster_agree(s->cluster, e, st);
 }

@@ -74,6 +74,32 @@ lvcl_error lvcl_volume_write_lit(lvcl_light_volume *vol, const float *lit, const
                          what, st);
 }
 
+/* How a subcell record's words add up (LV_SUBCELL_STRIDE words a slot):
+ * the masks OR, the ray counters add, and the lit point is the largest, as
+ * on one device. */
+#define RECORD_MASK_WORDS 2
+#define RECORD_COUNTER_WORDS (LV_SUBCELL_LIT_POINT - RECORD_MASK_WORDS)
+#define RECORD_LIT_WORDS (LV_SUBCELL_STRIDE - LV_SUBCELL_LIT_POINT)
+
+/* The particles of every volume, stored in each as the lookups' normalisation. */
+static uint64_t local_particles(lvcl_light_volume *const *vols, int count)
+{
+    uint64_t particles = 0;
+    for (int d = 0; d < count; d++) particles += vols[d]->particles;
+    return particles;
+}
+
+static lvcl_error store_sum(lvcl_light_volume *const *vols, int count, uint64_t particles, const int64_t *tallies,
+                            const uint32_t *records, lvcl_status *st)
+{
+    lvcl_error e = LVCL_OK;
+    for (int d = 0; d < count && !e; d++) {
+        vols[d]->buf.info.particles = (float)particles;
+        e = lvcl_volume_write(vols[d], tallies, records, "storing the merged light volume", st);
+    }
+    return e;
+}
+
 lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_status *st)
 {
     int64_t *sum = NULL, *t = NULL;
@@ -86,11 +112,10 @@ lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_sta
         for (size_t i = 0; i < tally_count; i++) sum[i] += t[i];
         for (size_t s = 0; s <= g->slot_count; s++) {
             uint32_t *a = &rec_sum[s * LV_SUBCELL_STRIDE], *b = &rec[s * LV_SUBCELL_STRIDE];
-            a[0] |= b[0]; /* the masks */
-            a[1] |= b[1];
-            for (size_t w = 2; w < LV_SUBCELL_LIT_POINT; w++) a[w] += b[w]; /* the ray counters */
-            for (size_t w = LV_SUBCELL_LIT_POINT; w < LV_SUBCELL_STRIDE;
-                 w++) /* the largest lit point, as on one device */
+            size_t w = 0;
+            for (; w < RECORD_MASK_WORDS; w++) a[w] |= b[w];
+            for (; w < LV_SUBCELL_LIT_POINT; w++) a[w] += b[w];
+            for (; w < LV_SUBCELL_STRIDE; w++)
                 if (b[w] > a[w]) a[w] = b[w];
         }
         free(t);
@@ -98,13 +123,65 @@ lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_sta
         t = NULL;
         rec = NULL;
     }
-    uint64_t particles = 0;
-    for (int d = 0; d < count; d++) particles += vols[d]->particles;
-    for (int d = 0; d < count && !e; d++) {
-        vols[d]->buf.info.particles = (float)particles; /* the lookups' normalisation */
-        e = lvcl_volume_write(vols[d], sum, rec_sum, "storing the merged light volume", st);
-    }
+    if (!e) e = store_sum(vols, count, local_particles(vols, count), sum, rec_sum, st);
     free(sum);
     free(rec_sum);
+    return e;
+}
+
+lvcl_error lvcl_volume_reduce(lvcl_light_volume *const *vols, int count, lvcl_cluster *cluster, lvcl_status *st)
+{
+    int64_t *tallies = NULL;
+    uint32_t *records = NULL;
+    size_t slots = (size_t)vols[0]->buf.info.slot_count + 1;
+    uint64_t particles = local_particles(vols, count);
+    lvcl_error e = lvcl_volume_read(vols[0], &tallies, &records, st);
+    /* Each kind of record word is reduced as one array. */
+    uint32_t *parts[3] = {NULL, NULL, NULL};
+    const size_t offsets[3] = {0, RECORD_MASK_WORDS, LV_SUBCELL_LIT_POINT};
+    const size_t widths[3] = {RECORD_MASK_WORDS, RECORD_COUNTER_WORDS, RECORD_LIT_WORDS};
+    const lvcl_reduce_op ops[3] = {LVCL_REDUCE_OR_U32, LVCL_REDUCE_SUM_U32, LVCL_REDUCE_MAX_U32};
+    for (int p = 0; p < 3 && !e; p++)
+        if (!(parts[p] = malloc(slots * widths[p] * sizeof(uint32_t))))
+            e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory adding the processes' light volumes");
+    for (int p = 0; p < 3 && !e; p++)
+        for (size_t s = 0; s < slots; s++)
+            memcpy(&parts[p][s * widths[p]], &records[s * LV_SUBCELL_STRIDE + offsets[p]], widths[p] * sizeof(uint32_t));
+    if (!e) e = cluster->reduce(cluster, tallies, vols[0]->tally_bytes / sizeof(int64_t), LVCL_REDUCE_SUM_I64, st);
+    for (int p = 0; p < 3 && !e; p++) e = cluster->reduce(cluster, parts[p], slots * widths[p], ops[p], st);
+    if (!e) e = cluster->reduce(cluster, &particles, 1, LVCL_REDUCE_SUM_U64, st);
+    for (int p = 0; p < 3 && !e; p++)
+        for (size_t s = 0; s < slots; s++)
+            memcpy(&records[s * LV_SUBCELL_STRIDE + offsets[p]], &parts[p][s * widths[p]], widths[p] * sizeof(uint32_t));
+    if (!e) e = store_sum(vols, count, particles, tallies, records, st);
+    for (int p = 0; p < 3; p++) free(parts[p]);
+    free(tallies);
+    free(records);
+    return e;
+}
+
+/* FNV-1a over `bytes` bytes, continuing from h. */
+static uint64_t fnv1a(uint64_t h, const void *data, size_t bytes)
+{
+    const unsigned char *b = data;
+    for (size_t i = 0; i < bytes; i++) h = (h ^ b[i]) * 0x100000001b3ull;
+    return h;
+}
+
+lvcl_error lvcl_volume_checksum(const lvcl_light_volume *vol, uint64_t *hash, lvcl_status *st)
+{
+    int64_t *tallies = NULL;
+    uint32_t *records = NULL;
+    float *lit = NULL;
+    lvcl_error e = lvcl_volume_read(vol, &tallies, &records, st);
+    if (!e) e = lvcl_volume_read_lit(vol, &lit, st);
+    if (!e) {
+        uint64_t h = fnv1a(0xcbf29ce484222325ull, tallies, vol->tally_bytes);
+        h = fnv1a(h, records, lvcl_volume_record_bytes(vol));
+        *hash = fnv1a(h, lit, ((size_t)vol->buf.info.slot_count + 1) * sizeof(float));
+    }
+    free(tallies);
+    free(records);
+    free(lit);
     return e;
 }

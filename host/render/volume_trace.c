@@ -54,11 +54,13 @@ lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, 
     return e ? e : lvcl_volume_scale_split(vol, st);
 }
 
-void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t first, uint64_t end)
+void lvcl_particle_source_init(lvcl_particle_source *src, uint64_t first, uint64_t end, lvcl_cluster *cluster)
 {
     pthread_mutex_init(&src->lock, NULL);
     src->next = first;
     src->end = end;
+    src->cluster = lvcl_cluster_shared(cluster) ? cluster : NULL;
+    src->e = LVCL_OK;
 }
 
 void lvcl_particle_source_destroy(lvcl_particle_source *src)
@@ -66,22 +68,32 @@ void lvcl_particle_source_destroy(lvcl_particle_source *src)
     pthread_mutex_destroy(&src->lock);
 }
 
-/* The next batch of particle indices: from the shared source, or else the
- * next slice of the settings' range (cursor). Returns 0 when none is left
- * or the deadline has passed, or a signal asked lvcl to stop. */
+/* The next batch of particle indices: from the cluster's counter or the
+ * shared source, or else the next slice of the settings' range (cursor).
+ * Returns 0 when none is left or the deadline has passed, or a signal asked
+ * lvcl to stop, or the cluster failed (src->e says so). */
 static int next_batch(const lvcl_volume_settings *s, uint64_t *cursor, uint64_t *first, cl_uint *count)
 {
     if ((s->deadline > 0 && lvcl_seconds() >= s->deadline) || lvcl_interrupted()) return 0;
     uint64_t end = s->particles;
-    if (s->source) {
-        pthread_mutex_lock(&s->source->lock);
-        cursor = &s->source->next;
-        end = s->source->end;
+    lvcl_particle_source *src = s->source;
+    if (src) {
+        pthread_mutex_lock(&src->lock);
+        cursor = &src->next;
+        end = src->end;
     }
-    *first = *cursor;
-    *count = (cl_uint)(end - *cursor < BATCH ? end - *cursor : BATCH);
-    *cursor += *count;
-    if (s->source) pthread_mutex_unlock(&s->source->lock);
+    if (src && src->cluster) {
+        /* The counter numbers batches from the source's first particle on. */
+        uint64_t taken = 0;
+        if (!src->e) src->e = src->cluster->take(src->cluster, BATCH, &taken, &src->st);
+        *first = src->e ? end : src->next + taken;
+        *count = (cl_uint)(*first >= end ? 0 : end - *first < BATCH ? end - *first : BATCH);
+    } else {
+        *first = *cursor;
+        *count = (cl_uint)(end - *cursor < BATCH ? end - *cursor : BATCH);
+        *cursor += *count;
+    }
+    if (src) pthread_mutex_unlock(&src->lock);
     return *count > 0;
 }
 

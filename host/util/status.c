@@ -18,8 +18,16 @@ lvcl_error lvcl_fail(lvcl_status *st, lvcl_error code, const char *fmt, ...)
     return code;
 }
 
+static int warnings_muted;
+
+void lvcl_warn_mute(int mute)
+{
+    warnings_muted = mute;
+}
+
 void lvcl_warn(const char *fmt, ...)
 {
+    if (warnings_muted) return;
     va_list ap;
     va_start(ap, fmt);
     fputs("lvcl: warning: ", stderr);

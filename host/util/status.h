@@ -15,7 +15,8 @@ typedef enum {
     LVCL_ERR_UNSUPPORTED,  /* valid input using a feature lvcl does not have */
     LVCL_ERR_DEVICE,       /* no OpenCL device, or an OpenCL call failed */
     LVCL_ERR_TOO_LARGE,    /* the scene does not fit the device's memory budget */
-    LVCL_ERR_OUT_OF_MEMORY /* a host allocation failed */
+    LVCL_ERR_OUT_OF_MEMORY, /* a host allocation failed */
+    LVCL_ERR_CLUSTER        /* the processes of a distributed render could not talk (lvcl-mpi) */
 } lvcl_error;
 
 typedef struct {
@@ -30,12 +31,15 @@ lvcl_error lvcl_fail(lvcl_status *st, lvcl_error code, const char *fmt, ...)
 #endif
     ;
 
-/* Prints "lvcl: warning: ..." on stderr. */
+/* Prints "lvcl: warning: ..." on stderr, unless muted. */
 void lvcl_warn(const char *fmt, ...)
 #ifdef __GNUC__
     __attribute__((format(printf, 1, 2)))
 #endif
     ;
+
+/* Mutes warnings (1) or lets them through (0): lvcl-mpi's ranks but 0 keep quiet. */
+void lvcl_warn_mute(int mute);
 
 /* A size for messages ("512 B", "3.2 MiB", "21.8 TiB") written into `buf`;
  * returns `buf`. */
