@@ -143,6 +143,20 @@ static void *render_bands(void *arg)
     return NULL;
 }
 
+/* Reads (write 0) or writes (write 1) the worker's image sums and squares. */
+static lvcl_error move_sums(worker *w, int write, float *sum, float *sum_sq)
+{
+    cl_command_queue q = w->pd->device->queue;
+    size_t n = w->ps->pixels;
+    const char *what = write ? "storing the ranks' image for adaptive sampling" : "reading the image for adaptive sampling";
+    cl_int err = write ? clEnqueueWriteBuffer(q, w->sum, CL_TRUE, 0, n * 4 * sizeof *sum, sum, 0, NULL, NULL)
+                       : clEnqueueReadBuffer(q, w->sum, CL_TRUE, 0, n * 4 * sizeof *sum, sum, 0, NULL, NULL);
+    if (err == CL_SUCCESS)
+        err = write ? clEnqueueWriteBuffer(q, w->sum_sq, CL_TRUE, 0, n * sizeof *sum_sq, sum_sq, 0, NULL, NULL)
+                    : clEnqueueReadBuffer(q, w->sum_sq, CL_TRUE, 0, n * sizeof *sum_sq, sum_sq, 0, NULL, NULL);
+    return w->e = lvcl_cl_check(err, what, &w->st);
+}
+
 /* One device, adaptive sampling: a first epoch of uniform samples (as a
  * band), then epochs of LVCL_EPOCH_SPP samples per pixel on average that
  * lvcl_adaptive_plan shares out. Under a time limit an epoch runs only as
@@ -180,12 +194,7 @@ static void *render_adaptive(void *arg)
             if (spp <= 0) break;
         }
         cl_command_queue q = w->pd->device->queue;
-        if ((w->e = lvcl_cl_check(clEnqueueReadBuffer(q, w->sum, CL_TRUE, 0, n * 4 * sizeof *sum, sum, 0, NULL, NULL),
-                                  "reading the image for adaptive sampling", &w->st)) ||
-            (w->e =
-                 lvcl_cl_check(clEnqueueReadBuffer(q, w->sum_sq, CL_TRUE, 0, n * sizeof *sum_sq, sum_sq, 0, NULL, NULL),
-                               "reading the image for adaptive sampling", &w->st)))
-            goto done;
+        if (move_sums(w, 0, sum, sum_sq)) goto done;
         int count = lvcl_adaptive_plan(sum, sum_sq, ps->camera->width, ps->camera->height, (size_t)spp * n, epoch, list,
                                        rounds);
         if (count < 0) {
@@ -212,6 +221,120 @@ done:
     free(sum);
     free(sum_sq);
     free(list);
+    if (w->e) fail_pass(ps);
+    return NULL;
+}
+
+/* The pixels of `list` that lie in [lo, hi), in list order, into sub, and
+ * how many of them each of the `count` rounds takes (round j takes
+ * list[0, rounds[j]); rounds do not grow). */
+static void band_rounds(const uint32_t *list, const uint32_t *rounds, int count, uint32_t lo, uint32_t hi,
+                        uint32_t *sub, uint32_t *sub_rounds)
+{
+    uint32_t taken = 0, i = 0;
+    for (int j = count - 1; j >= 0; j--) {
+        for (; i < rounds[j]; i++)
+            if (list[i] >= lo && list[i] < hi) sub[taken++] = list[i];
+        sub_rounds[j] = taken;
+    }
+}
+
+/* One epoch's bands on this process: the plan's samples of each band it
+ * takes from the cluster's counter, after storing the epoch's starting
+ * sums on the device (not for the first); then this process's sums back,
+ * +0 in the bands it did not render. */
+static lvcl_error epoch_bands(worker *w, uint32_t epoch, const uint32_t *list, const uint32_t *rounds, int count,
+                              double done_spp, int spp, float *sum, float *sum_sq, uint32_t *sub, uint8_t *mine)
+{
+    pass_state *ps = w->ps;
+    lvcl_cluster *c = ps->cluster;
+    size_t n = ps->pixels;
+    uint32_t sub_rounds[LVCL_EPOCH_MAX_SHARE * LVCL_EPOCH_SPP];
+    if (epoch > 0 && move_sums(w, 1, sum, sum_sq)) return w->e;
+    memset(mine, 0, (size_t)ps->bands);
+    for (;;) {
+        uint64_t band;
+        if ((w->e = c->take(c, 1, &band, &w->st))) return w->e;
+        if (band >= (uint64_t)ps->bands) break;
+        uint32_t lo = (uint32_t)(band * ps->band_pixels);
+        uint32_t hi = (uint32_t)(lo + ps->band_pixels < n ? lo + ps->band_pixels : n);
+        band_rounds(list, rounds, count, lo, hi, sub, sub_rounds);
+        if (count > 0 && sub_rounds[0] > 0 &&
+            (w->e = lvcl_cl_check(clEnqueueWriteBuffer(w->pd->device->queue, w->list, CL_TRUE, 0,
+                                                       sub_rounds[0] * sizeof *sub, sub, 0, NULL, NULL),
+                                  "uploading the pixel list", &w->st)))
+            return w->e;
+        for (int j = 0; j < count && sub_rounds[j] > 0; j++)
+            if (launch(w, 0, sub_rounds[j])) return w->e;
+        mine[band] = 1;
+        w->pd->bands++;
+        launched(ps, done_spp + spp * (band + 1.0) / ps->bands, ps->settings->spp);
+    }
+    if (move_sums(w, 0, sum, sum_sq)) return w->e;
+    for (int b = 0; b < ps->bands; b++) {
+        if (mine[b]) continue;
+        size_t lo = (size_t)b * ps->band_pixels, hi = lo + ps->band_pixels < n ? lo + ps->band_pixels : n;
+        memset(&sum[4 * lo], 0, (hi - lo) * 4 * sizeof *sum);
+        memset(&sum_sq[lo], 0, (hi - lo) * sizeof *sum_sq);
+    }
+    return LVCL_OK;
+}
+
+/* Adaptive sampling over a cluster, one device a process: each epoch's
+ * plan is made by every process from the same sums, the bands are handed
+ * out by the cluster's counter, each band's pixels take their samples of
+ * the plan in the plan's order, and the sums of the bands each process
+ * rendered (+0 elsewhere) are added into every process's. A pixel thus
+ * takes the same samples, added in the same order, as on one device: the
+ * image is the one-device image bit for bit. A fixed sample count only
+ * (lvcl_session_render refuses time limits over a cluster). Every process
+ * meets the others at each epoch's end, failed or not, so that a failure
+ * ends all of them there. */
+static void *render_adaptive_shared(void *arg)
+{
+    worker *w = arg;
+    pass_state *ps = w->ps;
+    lvcl_cluster *c = ps->cluster;
+    const lvcl_pass_settings *set = ps->settings;
+    size_t n = ps->pixels;
+    double start = lvcl_seconds();
+    float *sum = calloc(n * 4, sizeof *sum), *sum_sq = calloc(n, sizeof *sum_sq);
+    uint32_t *list = malloc(n * sizeof *list), *sub = malloc(n * sizeof *sub);
+    uint8_t *mine = malloc((size_t)ps->bands);
+    uint32_t rounds[LVCL_EPOCH_MAX_SHARE * LVCL_EPOCH_SPP];
+    if (!sum || !sum_sq || !list || !sub || !mine)
+        w->e = lvcl_fail(&w->st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for adaptive sampling");
+    else bind_shared(w);
+    int taken = 0;
+    if ((w->e = lvcl_cluster_agree(c, w->e, &w->st))) goto done;
+    for (uint32_t epoch = 0; taken < set->spp; epoch++) {
+        int spp = set->spp - taken < LVCL_EPOCH_SPP ? set->spp - taken : LVCL_EPOCH_SPP, count;
+        if ((w->e = c->restart(c, LVCL_PHASE_IMAGE, &w->st))) goto done;
+        if (epoch == 0) { /* uniform: every pixel, once a round */
+            for (size_t i = 0; i < n; i++) list[i] = (uint32_t)i;
+            for (count = 0; count < spp; count++) rounds[count] = (uint32_t)n;
+        } else count = lvcl_adaptive_plan(sum, sum_sq, ps->camera->width, ps->camera->height, (size_t)spp * n,
+                                          epoch, list, rounds);
+        lvcl_error e = count < 0 ? lvcl_fail(&w->st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for adaptive sampling")
+                                 : epoch_bands(w, epoch, list, rounds, count, taken, spp, sum, sum_sq, sub, mine);
+        if ((w->e = lvcl_cluster_agree(c, e, &w->st)) ||
+            (w->e = c->reduce(c, sum, n * 4, LVCL_REDUCE_SUM_F32, &w->st)) ||
+            (w->e = c->reduce(c, sum_sq, n, LVCL_REDUCE_SUM_F32, &w->st)))
+            goto done;
+        taken += spp;
+    }
+    /* Every process holds the whole image now; the pass reads it from the device. */
+    if (move_sums(w, 1, sum, sum_sq)) goto done;
+    for (int b = 0; b < ps->bands; b++) ps->owner[b] = w->index;
+    ps->samples = taken;
+    w->pd->pixels = n;
+    w->pd->busy_seconds = lvcl_seconds() - start;
+done:
+    free(sum);
+    free(sum_sq);
+    free(list);
+    free(sub);
+    free(mine);
     if (w->e) fail_pass(ps);
     return NULL;
 }
@@ -343,15 +466,16 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
         devices[d].busy_seconds = 0;
         e = create_buffers(&workers[d], ps.pixels, st);
     }
-    /* Adaptive sampling needs the whole image on one device, and epochs to share. */
-    int adaptive =
-        all_devices == 1 && settings->adaptive && (settings->spp > LVCL_EPOCH_SPP || settings->time_limit > 0);
+    /* Adaptive sampling needs the whole image on one device (of each
+     * process, over a cluster), and epochs to share. */
+    int one_each = all_devices == 1 || (ps.cluster && all_devices == (uint32_t)ps.cluster->size);
+    int adaptive = one_each && settings->adaptive && (settings->spp > LVCL_EPOCH_SPP || settings->time_limit > 0);
     if (!e) {
         lvcl_progress_start(&ps.bar, "render", settings->progress);
         ps.start = lvcl_seconds();
         lvcl_status thread_st = {0};
-        lvcl_error threads_failed =
-            lvcl_run_parallel(adaptive ? render_adaptive : render_bands, workers, sizeof workers[0], n, &thread_st);
+        void *(*render)(void *) = !adaptive ? render_bands : ps.cluster ? render_adaptive_shared : render_adaptive;
+        lvcl_error threads_failed = lvcl_run_parallel(render, workers, sizeof workers[0], n, &thread_st);
         lvcl_progress_finish(&ps.bar);
         out->render_seconds = lvcl_seconds() - ps.start;
         out->first_launch_seconds = ps.first_launch_seconds;
@@ -368,8 +492,10 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
         }
         if (!e) e = gather_image(workers, n, &ps, acc, out, st);
     }
-    /* A process whose pass failed still meets the others here. */
-    if (ps.cluster && !(e = lvcl_cluster_agree(ps.cluster, e, st))) e = share_image(ps.cluster, ps.pixels, out, st);
+    /* A process whose pass failed still meets the others here; after
+     * adaptive sampling each holds the whole image already. */
+    if (ps.cluster && !(e = lvcl_cluster_agree(ps.cluster, e, st)) && !adaptive)
+        e = share_image(ps.cluster, ps.pixels, out, st);
     if (!e) {
         out->width = (int)camera->width;
         out->height = (int)camera->height;

@@ -178,7 +178,8 @@ lvcl_error lvcl_volume_checksum(const lvcl_light_volume *vol, uint64_t *hash, lv
     if (!e) {
         uint64_t h = fnv1a(0xcbf29ce484222325ull, tallies, vol->tally_bytes);
         h = fnv1a(h, records, lvcl_volume_record_bytes(vol));
-        *hash = fnv1a(h, lit, ((size_t)vol->buf.info.slot_count + 1) * sizeof(float));
+        /* The lit volumes lv_lit_volumes computes (the last entry is never written). */
+        *hash = fnv1a(h, lit, (size_t)vol->buf.info.slot_count * sizeof(float));
     }
     free(tallies);
     free(records);
