@@ -65,6 +65,7 @@ static lvcl_error gather_shares(lvcl_cluster *c, const lvcl_session *s, lvcl_sta
         if (pass.busy_seconds > mine.render_busy_seconds) mine.render_busy_seconds = pass.busy_seconds;
     }
     memcpy(mine.comm_seconds, c->comm_seconds, sizeof mine.comm_seconds);
+    memcpy(mine.reduce_seconds, c->reduce_seconds, sizeof mine.reduce_seconds);
     memcpy(mine.comm_bytes, c->comm_bytes, sizeof mine.comm_bytes);
     lvcl_rank_share *all = calloc((size_t)c->size, sizeof *all);
     if (!all) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the ranks' shares");

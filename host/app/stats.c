@@ -133,11 +133,12 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
             fprintf(f,
                     ", \"devices\": %d, \"particles\": %llu, \"particle_trace_seconds\": %.4f, \"bands\": %d, "
                     "\"pixels\": %llu, \"render_busy_seconds\": %.4f, \"comm_seconds\": {\"setup\": %.4f, "
-                    "\"particles\": %.4f, \"image\": %.4f}, \"comm_bytes\": {\"setup\": %llu, \"particles\": %llu, "
-                    "\"image\": %llu}}",
+                    "\"particles\": %.4f, \"image\": %.4f}, \"reduce_seconds\": {\"particles\": %.4f, \"image\": "
+                    "%.4f}, \"comm_bytes\": {\"setup\": %llu, \"particles\": %llu, \"image\": %llu}}",
                     k->devices, (unsigned long long)k->particles, k->particle_trace_seconds, k->bands,
                     (unsigned long long)k->pixels, k->render_busy_seconds, k->comm_seconds[LVCL_PHASE_SETUP],
                     k->comm_seconds[LVCL_PHASE_PARTICLES], k->comm_seconds[LVCL_PHASE_IMAGE],
+                    k->reduce_seconds[LVCL_PHASE_PARTICLES], k->reduce_seconds[LVCL_PHASE_IMAGE],
                     (unsigned long long)k->comm_bytes[LVCL_PHASE_SETUP],
                     (unsigned long long)k->comm_bytes[LVCL_PHASE_PARTICLES],
                     (unsigned long long)k->comm_bytes[LVCL_PHASE_IMAGE]);

@@ -14,7 +14,8 @@ typedef struct {
     int bands;
     uint64_t pixels;
     double render_busy_seconds;
-    double comm_seconds[LVCL_PHASE_COUNT]; /* setup, particles, image */
+    double comm_seconds[LVCL_PHASE_COUNT]; /* setup, particles, image: time in MPI calls, waits included */
+    double reduce_seconds[LVCL_PHASE_COUNT]; /* of which adding volumes or images */
     uint64_t comm_bytes[LVCL_PHASE_COUNT];
 } lvcl_rank_share;
 

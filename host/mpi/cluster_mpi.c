@@ -79,6 +79,7 @@ static lvcl_error mpi_reduce(lvcl_cluster *c, void *data, size_t n, lvcl_reduce_
         size_t piece = n - done < REDUCE_PIECE ? n - done : REDUCE_PIECE;
         rc = MPI_Allreduce(MPI_IN_PLACE, (char *)data + done * size, (int)piece, type, mop, m->comm);
     }
+    c->reduce_seconds[c->phase] += lvcl_seconds() - t;
     count(c, t, n * size);
     return mpi_check(rc, "adding the ranks' results (MPI_Allreduce)", st);
 }

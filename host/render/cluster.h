@@ -35,8 +35,9 @@ struct lvcl_cluster {
     int rank, size;
     void *impl;                /* the implementation's own state */
     lvcl_cluster_phase phase;  /* where communication is counted now (restart sets it) */
-    double comm_seconds[LVCL_PHASE_COUNT];  /* time in this process's calls below, per phase */
-    uint64_t comm_bytes[LVCL_PHASE_COUNT];  /* bytes it sent in them, per phase */
+    double comm_seconds[LVCL_PHASE_COUNT];   /* time in this process's calls below, per phase (waits included) */
+    double reduce_seconds[LVCL_PHASE_COUNT]; /* of which in reduce */
+    uint64_t comm_bytes[LVCL_PHASE_COUNT];   /* bytes it sent in them, per phase */
     int agreed_failure;        /* the last lvcl_cluster_agree returned an error every process has */
     /* Collective: the shared work counter back to 0, its takes counted in `phase`. */
     lvcl_error (*restart)(lvcl_cluster *c, lvcl_cluster_phase phase, lvcl_status *st);

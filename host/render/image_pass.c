@@ -439,7 +439,6 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
     ps.band_pixels = rows * camera->width;
     ps.bands = (int)((ps.pixels + ps.band_pixels - 1) / ps.band_pixels);
     ps.launches_total = (long)ps.bands * settings->spp;
-    ps.unit = all_devices == 1 ? "spp" : "band samples";
     ps.owner = calloc((size_t)ps.bands, sizeof *ps.owner);
     worker *workers = calloc((size_t)n, sizeof *workers);
     if (!ps.owner || !workers) {
@@ -470,6 +469,7 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
      * process, over a cluster), and epochs to share. */
     int one_each = all_devices == 1 || (ps.cluster && all_devices == (uint32_t)ps.cluster->size);
     int adaptive = one_each && settings->adaptive && (settings->spp > LVCL_EPOCH_SPP || settings->time_limit > 0);
+    ps.unit = all_devices == 1 || adaptive ? "spp" : "band samples";
     if (!e) {
         lvcl_progress_start(&ps.bar, "render", settings->progress);
         ps.start = lvcl_seconds();
