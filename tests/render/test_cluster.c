@@ -15,6 +15,17 @@
 
 #define MAX_RANKS 4
 
+/* Under ASan: the rank threads build kernels, and LLVM (inside PoCL's
+ * compiler) installs an alternate signal stack of its own, from malloc, on
+ * the thread that compiles; ASan then fails a CHECK unmapping "its" stack
+ * when such a thread exits. ASan's own alternate stack is only for
+ * reporting stack overflows, so it is left out here. */
+const char *__asan_default_options(void);
+const char *__asan_default_options(void)
+{
+    return "use_sigaltstack=0";
+}
+
 /* ---- the cluster over threads ---- */
 typedef struct {
     pthread_barrier_t barrier;
