@@ -12,6 +12,9 @@
 /* Particles per launch: big enough to keep a device busy, small enough for
  * progress and for --time-limit to be checked often. */
 #define BATCH (1u << 18)
+/* Over a cluster, smaller: ranks share the particles evenly at 10^6 (at
+ * 2^18, four batches left one rank of three with twice the others' work). */
+#define CLUSTER_BATCH (1u << 16)
 
 /* Runs lv_bin_table: the directions of n x n bins per hemisphere, for the
  * integrating gather. */
@@ -85,9 +88,9 @@ static int next_batch(const lvcl_volume_settings *s, uint64_t *cursor, uint64_t 
     if (src && src->cluster) {
         /* The counter numbers batches from the source's first particle on. */
         uint64_t taken = 0;
-        if (!src->e) src->e = src->cluster->take(src->cluster, BATCH, &taken, &src->st);
+        if (!src->e) src->e = src->cluster->take(src->cluster, CLUSTER_BATCH, &taken, &src->st);
         *first = src->e ? end : src->next + taken;
-        *count = (cl_uint)(*first >= end ? 0 : end - *first < BATCH ? end - *first : BATCH);
+        *count = (cl_uint)(*first >= end ? 0 : end - *first < CLUSTER_BATCH ? end - *first : CLUSTER_BATCH);
     } else {
         *first = *cursor;
         *count = (cl_uint)(end - *cursor < BATCH ? end - *cursor : BATCH);
