@@ -51,7 +51,7 @@ static lvcl_error write_outputs(const lvcl_options *o, const lvcl_render_result 
  * stats->ranks (collective; lvcl-mpi only). */
 static lvcl_error gather_shares(lvcl_cluster *c, const lvcl_session *s, lvcl_stats *stats, lvcl_status *st)
 {
-    lvcl_rank_share mine = {.devices = lvcl_session_device_count(s)};
+    lvcl_rank_share mine = {.devices = lvcl_session_device_count(s), .interrupted_by = stats->interrupted_by};
     if (gethostname(mine.host, sizeof mine.host - 1)) snprintf(mine.host, sizeof mine.host, "?");
     for (int d = 0; d < mine.devices; d++) {
         const lvcl_light_volume *v = lvcl_session_volume(s, d);
@@ -76,6 +76,9 @@ static lvcl_error gather_shares(lvcl_cluster *c, const lvcl_session *s, lvcl_sta
     }
     stats->ranks = all;
     stats->rank_count = c->size;
+    /* A signal to any rank stopped the render for all: every rank says so. */
+    for (int r = 0; r < c->size; r++)
+        if (all[r].interrupted_by && !stats->interrupted_by) stats->interrupted_by = all[r].interrupted_by;
     return LVCL_OK;
 }
 
@@ -140,9 +143,12 @@ static lvcl_error render(const lvcl_options *o, lvcl_cluster *cluster, lvcl_sess
     stats->interrupted_by = lvcl_interrupted();
     if (lvcl_cluster_shared(cluster) && (e = gather_shares(cluster, *s, stats, st))) return e;
     *talked_out = 1;
-    if (stats->interrupted_by)
+    if (stats->interrupted_by && (!cluster || cluster->rank == 0))
         fprintf(stderr, "lvcl: %s: sampling stopped after %d of %d samples per pixel; writing the image so far\n",
-                stats->interrupted_by == SIGINT ? "interrupted (SIGINT)" : "terminated (SIGTERM)", res->samples,
+                stats->interrupted_by == SIGINT    ? "interrupted (SIGINT)"
+                : stats->interrupted_by == SIGTERM ? "terminated (SIGTERM)"
+                                                   : "stopped (SIGUSR2)",
+                res->samples,
                 o->spp);
     int devices = lvcl_session_device_count(*s);
     if (req.pass.adaptive && !res->adaptive && res->samples > LVCL_EPOCH_SPP && !o->quiet &&

@@ -17,6 +17,7 @@ typedef struct {
     double comm_seconds[LVCL_PHASE_COUNT]; /* setup, particles, image: time in MPI calls, waits included */
     double reduce_seconds[LVCL_PHASE_COUNT]; /* of which adding volumes or images */
     uint64_t comm_bytes[LVCL_PHASE_COUNT];
+    int interrupted_by; /* the signal that stopped its sampling early, or 0 */
 } lvcl_rank_share;
 
 typedef struct {

@@ -104,14 +104,15 @@ static void *render_bands(void *arg)
     if (bind_shared(w)) return fail_pass(ps);
     for (;;) {
         pthread_mutex_lock(&ps->lock);
-        /* Bands not started when a signal asks to stop stay black. */
-        int band = ps->failed ? ps->bands : ps->next_band++;
+        /* Bands not started when a signal asks to stop stay black (over a
+         * cluster, unless another rank takes them: share_image counts them). */
+        int band = ps->failed || (ps->cluster && lvcl_interrupted()) ? ps->bands : ps->next_band++;
         if (ps->cluster && band < ps->bands) {
             uint64_t taken = 0;
             w->e = ps->cluster->take(ps->cluster, 1, &taken, &w->st);
             band = w->e || taken > (uint64_t)ps->bands ? ps->bands : (int)taken;
         }
-        if (band < ps->bands && lvcl_interrupted()) ps->samples = 0;
+        if (!ps->cluster && band < ps->bands && lvcl_interrupted()) ps->samples = 0;
         pthread_mutex_unlock(&ps->lock);
         if (w->e) return fail_pass(ps);
         if (band >= ps->bands || lvcl_interrupted()) break;
@@ -317,11 +318,15 @@ static void *render_adaptive_shared(void *arg)
                                           epoch, list, rounds);
         lvcl_error e = count < 0 ? lvcl_fail(&w->st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for adaptive sampling")
                                  : epoch_bands(w, epoch, list, rounds, count, taken, spp, sum, sum_sq, sub, mine);
+        /* A signal on any rank stops every rank after the epoch it came in. */
+        uint32_t stop = lvcl_interrupted() != 0;
         if ((w->e = lvcl_cluster_agree(c, e, &w->st)) ||
             (w->e = c->reduce(c, sum, n * 4, LVCL_REDUCE_SUM_F32, &w->st)) ||
-            (w->e = c->reduce(c, sum_sq, n, LVCL_REDUCE_SUM_F32, &w->st)))
+            (w->e = c->reduce(c, sum_sq, n, LVCL_REDUCE_SUM_F32, &w->st)) ||
+            (w->e = c->reduce(c, &stop, 1, LVCL_REDUCE_MAX_U32, &w->st)))
             goto done;
         taken += spp;
+        if (stop) break;
     }
     /* Every process holds the whole image now; the pass reads it from the device. */
     if (move_sums(w, 1, sum, sum_sq)) goto done;
@@ -413,13 +418,17 @@ static lvcl_error share_bands(lvcl_cluster *cluster, int n, uint32_t *devices, l
 }
 
 /* With a cluster: each process's pixels (+0 where another rendered them)
- * and its fewest samples made every process's. */
-static lvcl_error share_image(lvcl_cluster *cluster, size_t pixels, lvcl_render_result *out, lvcl_status *st)
+ * and its fewest samples made every process's; 0 samples where a signal
+ * left bands that no process rendered. */
+static lvcl_error share_image(lvcl_cluster *cluster, const pass_state *ps, lvcl_render_result *out, lvcl_status *st)
 {
     int32_t samples = out->samples;
-    lvcl_error e = cluster->reduce(cluster, out->rgb, pixels * 3, LVCL_REDUCE_SUM_F32, st);
+    uint32_t rendered = 0;
+    for (int b = 0; b < ps->bands; b++) rendered += ps->owner[b] >= 0;
+    lvcl_error e = cluster->reduce(cluster, out->rgb, ps->pixels * 3, LVCL_REDUCE_SUM_F32, st);
     if (!e) e = cluster->reduce(cluster, &samples, 1, LVCL_REDUCE_MIN_I32, st);
-    out->samples = samples;
+    if (!e) e = cluster->reduce(cluster, &rendered, 1, LVCL_REDUCE_SUM_U32, st);
+    out->samples = rendered < (uint32_t)ps->bands ? 0 : samples;
     return e;
 }
 
@@ -495,7 +504,7 @@ lvcl_error lvcl_image_pass(lvcl_pass_device *devices, int n, const lv_camera *ca
     /* A process whose pass failed still meets the others here; after
      * adaptive sampling each holds the whole image already. */
     if (ps.cluster && !(e = lvcl_cluster_agree(ps.cluster, e, st)) && !adaptive)
-        e = share_image(ps.cluster, ps.pixels, out, st);
+        e = share_image(ps.cluster, &ps, out, st);
     if (!e) {
         out->width = (int)camera->width;
         out->height = (int)camera->height;

@@ -24,6 +24,8 @@ void lvcl_interrupt_catch(void)
     sa.sa_flags = SA_RESTART; /* driver threads' waits carry on; the passes poll the flag */
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
+    /* mpirun forwards SIGUSR2 to every rank, but ends the job on SIGINT or SIGTERM. */
+    sigaction(SIGUSR2, &sa, NULL);
 }
 
 int lvcl_interrupted(void)

@@ -157,6 +157,38 @@ elif [ "$status" -eq 0 ] || [ "$took" -ge 30 ]; then fail "a killed rank ends th
 elif ! grep -q "rank 1" "$tmp/err"; then fail "a killed rank ends the job" "no rank named: $(head -8 "$tmp/err")"
 else pass "a killed rank ends the job (status $status in $took s, rank named)"; fi
 
+# SIGUSR2 to mpirun, which forwards it to every rank, stops sampling and
+# keeps the image so far (mpirun ends the job on SIGINT or SIGTERM): after
+# the adaptive epoch it came in, or, during the particle trace, at the next
+# batch and then after one epoch. Status 128 + 12.
+stop_with_usr2() { # NAME SECONDS LVCL-MPI-ARGS...
+    name=$1 wait_s=$2
+    shift 2
+    rm -f "$tmp/usr2.exr" "$tmp/usr2.json"
+    mpirun --oversubscribe --bind-to none -np 2 "$mpi" -q "$@" -o "$tmp/usr2.exr" --stats "$tmp/usr2.json" \
+        >"$tmp/out" 2>"$tmp/err" &
+    job=$!
+    sleep "$wait_s"
+    kill -USR2 "$job"
+    ( sleep 30; kill -9 "$job" 2>/dev/null ) &
+    watchdog=$!
+    wait "$job"
+    status=$?
+    kill "$watchdog" 2>/dev/null
+    if [ "$status" -ne 140 ] || [ ! -s "$tmp/usr2.exr" ] ||
+        ! python3 - "$tmp/usr2.json" <<'EOF'; then
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert s["interrupted"] and 0 < s["spp"] < 100000 and s["spp"] % 8 == 0, s
+assert s.get("particles", 0) < 4e9, s
+EOF
+        fail "$name" "status $status: $(tail -3 "$tmp/err"; head -c 300 "$tmp/usr2.json" 2>/dev/null)"
+    else pass "$name"; fi
+}
+stop_with_usr2 "SIGUSR2 during adaptive sampling keeps the image" 5 --spp 100000 --width 48 cornell
+stop_with_usr2 "SIGUSR2 during the particle trace keeps the image" 5 --mode lv --particles 4e9 --spp 100000 \
+    --width 48 cornell
+
 # build/lvcl itself does not need MPI.
 if ldd "$lvcl" | grep -q libmpi; then fail "lvcl without MPI" "$(ldd "$lvcl" | grep libmpi)"
 else pass "lvcl without MPI"; fi
