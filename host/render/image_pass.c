@@ -158,6 +158,16 @@ static lvcl_error move_sums(worker *w, int write, float *sum, float *sum_sq)
     return w->e = lvcl_cl_check(err, what, &w->st);
 }
 
+/* An adaptive pass is done: the worker's device holds the whole image, of
+ * `taken` samples per pixel. */
+static void adaptive_finished(worker *w, int taken, double start)
+{
+    for (int b = 0; b < w->ps->bands; b++) w->ps->owner[b] = w->index;
+    w->ps->samples = taken;
+    w->pd->pixels = w->ps->pixels;
+    w->pd->busy_seconds = lvcl_seconds() - start;
+}
+
 /* One device, adaptive sampling: a first epoch of uniform samples (as a
  * band), then epochs of LVCL_EPOCH_SPP samples per pixel on average that
  * lvcl_adaptive_plan shares out. Under a time limit an epoch runs only as
@@ -213,11 +223,8 @@ static void *render_adaptive(void *arg)
         }
         taken += spp;
     }
-    ps->samples = taken;
-    ps->owner[0] = w->index;
     w->pd->bands = 1;
-    w->pd->pixels = n;
-    w->pd->busy_seconds = lvcl_seconds() - start;
+    adaptive_finished(w, taken, start);
 done:
     free(sum);
     free(sum_sq);
@@ -330,10 +337,7 @@ static void *render_adaptive_shared(void *arg)
     }
     /* Every process holds the whole image now; the pass reads it from the device. */
     if (move_sums(w, 1, sum, sum_sq)) goto done;
-    for (int b = 0; b < ps->bands; b++) ps->owner[b] = w->index;
-    ps->samples = taken;
-    w->pd->pixels = n;
-    w->pd->busy_seconds = lvcl_seconds() - start;
+    adaptive_finished(w, taken, start);
 done:
     free(sum);
     free(sum_sq);
