@@ -27,7 +27,7 @@ typedef enum {
     LVCL_REDUCE_SUM_F32 /* exact only where one process holds a value and the others +0 */
 } lvcl_reduce_op;
 
-/* The phases whose communication is counted apart (lvcl_cluster_phase_stats). */
+/* The phases whose communication is counted apart (the comm_* counters below). */
 typedef enum { LVCL_PHASE_SETUP, LVCL_PHASE_PARTICLES, LVCL_PHASE_IMAGE, LVCL_PHASE_COUNT } lvcl_cluster_phase;
 
 typedef struct lvcl_cluster lvcl_cluster;
