@@ -42,6 +42,13 @@ typedef struct {
     lvcl_status st;
 } worker;
 
+/* The pixels [*lo, *hi) of band b (the last band may be short). */
+static void band_span(const pass_state *ps, size_t b, size_t *lo, size_t *hi)
+{
+    *lo = b * ps->band_pixels;
+    *hi = *lo + ps->band_pixels < ps->pixels ? *lo + ps->band_pixels : ps->pixels;
+}
+
 /* A device failed: the others stop at their next band. */
 static void *fail_pass(pass_state *ps)
 {
@@ -117,8 +124,9 @@ static void *render_bands(void *arg)
         if (w->e) return fail_pass(ps);
         if (band >= ps->bands || lvcl_interrupted()) break;
         double band_start = lvcl_seconds();
-        cl_uint first = (cl_uint)((size_t)band * ps->band_pixels);
-        cl_uint count = (cl_uint)(ps->pixels - first < ps->band_pixels ? ps->pixels - first : ps->band_pixels);
+        size_t lo, hi;
+        band_span(ps, (size_t)band, &lo, &hi);
+        cl_uint first = (cl_uint)lo, count = (cl_uint)(hi - lo);
         int s = 0;
         while (s < ps->settings->spp) {
             if (launch(w, first, count)) return fail_pass(ps);
@@ -256,7 +264,6 @@ static lvcl_error epoch_bands(worker *w, uint32_t epoch, const uint32_t *list, c
 {
     pass_state *ps = w->ps;
     lvcl_cluster *c = ps->cluster;
-    size_t n = ps->pixels;
     uint32_t sub_rounds[LVCL_EPOCH_MAX_SHARE * LVCL_EPOCH_SPP];
     if (epoch > 0 && move_sums(w, 1, sum, sum_sq)) return w->e;
     memset(mine, 0, (size_t)ps->bands);
@@ -264,9 +271,9 @@ static lvcl_error epoch_bands(worker *w, uint32_t epoch, const uint32_t *list, c
         uint64_t band;
         if ((w->e = c->take(c, 1, &band, &w->st))) return w->e;
         if (band >= (uint64_t)ps->bands) break;
-        uint32_t lo = (uint32_t)(band * ps->band_pixels);
-        uint32_t hi = (uint32_t)(lo + ps->band_pixels < n ? lo + ps->band_pixels : n);
-        band_rounds(list, rounds, count, lo, hi, sub, sub_rounds);
+        size_t lo, hi;
+        band_span(ps, band, &lo, &hi);
+        band_rounds(list, rounds, count, (uint32_t)lo, (uint32_t)hi, sub, sub_rounds);
         if (count > 0 && sub_rounds[0] > 0 &&
             (w->e = lvcl_cl_check(clEnqueueWriteBuffer(w->pd->device->queue, w->list, CL_TRUE, 0,
                                                        sub_rounds[0] * sizeof *sub, sub, 0, NULL, NULL),
@@ -281,7 +288,8 @@ static lvcl_error epoch_bands(worker *w, uint32_t epoch, const uint32_t *list, c
     if (move_sums(w, 0, sum, sum_sq)) return w->e;
     for (int b = 0; b < ps->bands; b++) {
         if (mine[b]) continue;
-        size_t lo = (size_t)b * ps->band_pixels, hi = lo + ps->band_pixels < n ? lo + ps->band_pixels : n;
+        size_t lo, hi;
+        band_span(ps, (size_t)b, &lo, &hi);
         memset(&sum[4 * lo], 0, (hi - lo) * 4 * sizeof *sum);
         memset(&sum_sq[lo], 0, (hi - lo) * sizeof *sum_sq);
     }
@@ -401,8 +409,9 @@ static lvcl_error gather_image(worker *workers, int n, const pass_state *ps, flo
                           "reading the image", st);
         for (int b = 0; !e && b < ps->bands; b++) {
             if (ps->owner[b] != d) continue;
-            size_t end = (size_t)(b + 1) * ps->band_pixels;
-            for (size_t i = (size_t)b * ps->band_pixels; i < end && i < ps->pixels; i++) {
+            size_t lo, hi;
+            band_span(ps, (size_t)b, &lo, &hi);
+            for (size_t i = lo; i < hi; i++) {
                 float w = acc[4 * i + 3];
                 for (int c = 0; c < 3; c++) out->rgb[3 * i + c] = w > 0 ? acc[4 * i + c] / w : 0.0f;
             }
