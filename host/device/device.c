@@ -29,6 +29,11 @@ static int platform_rank(cl_platform_id p)
     return strcmp(name, "Intel(R) OpenCL") ? RANK_OWN : RANK_ADDED_CPU;
 }
 
+int lvcl_device_is_simulator(const lvcl_device *dev)
+{
+    return strstr(dev->platform_name, "Oclgrind") != NULL;
+}
+
 static int make_dirs(const char *path)
 {
     char buf[PATH_MAX];

@@ -35,6 +35,10 @@ void lvcl_device_prepare_environment(void);
  * beside the executable. Created on first use. */
 const char *lvcl_cache_dir(void);
 
+/* 1 if dev is the Oclgrind simulator (a strict checker, not a device to
+ * render on). */
+int lvcl_device_is_simulator(const lvcl_device *dev);
+
 /* Prints one line per device: index, type, name, platform. */
 lvcl_error lvcl_device_list(FILE *out, lvcl_status *st);
 

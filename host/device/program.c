@@ -93,11 +93,20 @@ void lvcl_program_feature_defines(unsigned features, char *defines, size_t size)
              features & LVCL_BUILD_EMULATED_INT64_ATOMICS ? " -DLV_EMULATE_INT64_ATOMICS" : "");
 }
 
+/* CPU devices read a segment's tally lines before their atomics
+ * (kernels/volume/tally.h); not the simulator, whose race check would
+ * report the read. */
+static int preloads_tallies(const lvcl_device *dev)
+{
+    return (dev->type & CL_DEVICE_TYPE_CPU) && !lvcl_device_is_simulator(dev);
+}
+
 lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math, lvcl_program *prog,
                               lvcl_status *st)
 {
-    char defines[160];
+    char defines[192];
     lvcl_program_feature_defines(features, defines, sizeof defines);
+    if (preloads_tallies(dev)) strncat(defines, " -DLV_PRELOAD_TALLIES", sizeof defines - strlen(defines) - 1);
     return lvcl_program_build_source(dev, lvcl_kernel_source, lvcl_kernel_source_size, defines, fast_math, prog, st);
 }
 

@@ -6,14 +6,14 @@
 #include "../bvh/traverse.h"
 #include "tally.h"
 
-/* Switches on the subcells that a piece of segment passes in one cell:
- * from `entry` (in cell units, relative to the cell's corner) along dir for
- * `length` cell units. Points every 1/(2k) of the piece stand in for an
- * exact walk: a piece that only clips a subcell's corner may miss it. */
-inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float3 dir, float length)
+/* The subcells that a piece of segment passes in one cell and that were
+ * not yet on, as the two words of its mask: from `entry` (in cell units,
+ * relative to the cell's corner) along dir for `length` cell units. Points
+ * every 1/(2k) of the piece stand in for an exact walk: a piece that only
+ * clips a subcell's corner may miss it. */
+inline uint2 lv_new_subcells(const lv_grid *grid, uint slot, float3 entry, float3 dir, float length)
 {
     uint k = grid->g.subcells;
-    __global uint *mask = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
     /* Most cells fill up after a few particles, so the walk and the atomics
      * are skipped for bits already set. They are read from the copy made
      * before the batch: OpenCL 1.2 has no atomic load, a plain load of a word
@@ -22,7 +22,7 @@ inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float
     __global const uint *seen = grid->subcells_seen + (size_t)slot * 2;
     uint full = k == 4u ? 0xffffffffu : (1u << (k * k * k)) - 1u;
     uint was[2] = {seen[0], k == 4u ? seen[1] : full};
-    if (was[0] == full && was[1] == full) return;
+    if (was[0] == full && was[1] == full) return (uint2)(0u);
     uint m = 2u * k;
     uint bits[2] = {0u, 0u};
     for (uint j = 0; j < m; j++) {
@@ -31,8 +31,7 @@ inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float
         uint bit = c.x + k * (c.y + k * c.z);
         bits[bit >> 5] |= 1u << (bit & 31u);
     }
-    for (int w = 0; w < 2; w++)
-        if ((was[w] & bits[w]) != bits[w]) atomic_or(&mask[w], bits[w]);
+    return (uint2)((was[0] & bits[0]) != bits[0] ? bits[0] : 0u, (was[1] & bits[1]) != bits[1] ? bits[1] : 0u);
 }
 
 /* Pieces shorter than this (in cell units) switch no subcell on. */
@@ -41,13 +40,15 @@ inline void lv_mark_subcells(const lv_grid *grid, uint slot, float3 entry, float
 /* Tallies the piece [a, b] (cell units along dir from `corner`, the
  * segment's origin relative to the cell's corner) into region slot `slot`
  * and marks the subcells it passes there. */
-inline void lv_tally_piece(const lv_grid *grid, uint slot, float3 corner, float3 dir, float a, float b, float h,
-                           float t0, uint2 bins, float3 weight, float3 sigma)
+inline void lv_tally_piece(const lv_grid *grid, lv_tally_batch *batch, uint slot, float3 corner, float3 dir, float a,
+                           float b, float h, float t0, uint2 bins, float3 weight, float3 sigma)
 {
     /* A segment ending on a wall that lies on a cell boundary pokes a
      * rounding error's length into the cell behind it; marking that would
      * call the space behind the wall lit. */
-    if (grid->g.subcells && b - a > LV_MARK_MIN_PIECE) lv_mark_subcells(grid, slot, corner + dir * a, dir, b - a);
+    uint2 marks = grid->g.subcells && b - a > LV_MARK_MIN_PIECE
+                      ? lv_new_subcells(grid, slot, corner + dir * a, dir, b - a)
+                      : (uint2)(0u);
     /* Track length in cell units, with the absorption integrated over it. */
     float3 amount;
     if (sigma.x > 0.0f || sigma.y > 0.0f || sigma.z > 0.0f) {
@@ -56,7 +57,8 @@ inline void lv_tally_piece(const lv_grid *grid, uint slot, float3 corner, float3
     } else {
         amount = (float3)(b - a);
     }
-    lv_tally_add(grid, slot, grid->tally_slot[slot] & LV_FINE_DIRS ? bins.y : bins.x, weight * amount);
+    lv_tally_queue(batch, lv_tally_bin(grid, slot, grid->tally_slot[slot] & LV_FINE_DIRS ? bins.y : bins.x),
+                   weight * amount, grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE, marks);
 }
 
 /* Adds the segment origin + t dir, t in [t0, t1] (dir unit, t in metres),
@@ -91,13 +93,15 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
     float3 s_delta = fabs(inv);
     float s = s0;
     int3 idims = convert_int3(dims);
+    lv_tally_batch batch;
+    batch.count = 0u;
     while (s < s1) {
         float s_exit = min(s1, min(s_next.x, min(s_next.y, s_next.z)));
         uint entry = grid->cell_slot[cell.x + idims.x * (cell.y + idims.y * cell.z)];
         if (entry != LV_EMPTY_CELL && s_exit > s && !(entry & LV_CUT_CELL)) {
             /* No planes: one piece, and no read of the region table. */
             float3 corner = o - convert_float3(cell);
-            lv_tally_piece(grid, entry, corner, dir, s, s_exit, h, t0, bins, weight, sigma);
+            lv_tally_piece(grid, &batch, entry, corner, dir, s, s_exit, h, t0, bins, weight, sigma);
         } else if (entry != LV_EMPTY_CELL && s_exit > s) {
             uint base = entry & ~LV_CUT_CELL;
             float3 corner = o - convert_float3(cell); /* the origin relative to the cell's corner */
@@ -124,7 +128,7 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
                 uint slot = planes
                     ? base + LV_REGION_OFFSET(layout, lv_region_of(r, planes, corner + dir * (0.5f * (a + b))))
                     : base;
-                lv_tally_piece(grid, slot, corner, dir, a, b, h, t0, bins, weight, sigma);
+                lv_tally_piece(grid, &batch, slot, corner, dir, a, b, h, t0, bins, weight, sigma);
                 a = b;
             }
         }
@@ -141,6 +145,7 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
         }
         if (any(cell < 0) || any(cell >= idims)) break;
     }
+    lv_tally_flush(&batch);
 }
 
 #endif
