@@ -42,8 +42,9 @@ inline uint2 lv_new_subcells(const lv_grid *grid, uint slot, float3 entry, float
  * and marks the subcells it passes there. Always inlined: called apart,
  * -cl-fast-relaxed-math rounded the amounts in glass differently on PoCL,
  * and the volumes changed against the recorded goldens. */
-__attribute__((always_inline)) inline void lv_tally_piece(const lv_grid *grid, lv_tally_batch *batch, uint slot, float3 corner, float3 dir, float a,
-                           float b, float h, float t0, uint2 bins, float3 weight, float3 sigma)
+__attribute__((always_inline)) inline void lv_tally_piece(const lv_grid *grid, lv_tally_batch *batch, uint slot,
+                                                         float3 corner, float3 dir, float a, float b, float h,
+                                                         float t0, uint2 bins, float3 weight, float3 sigma)
 {
     /* A segment ending on a wall that lies on a cell boundary pokes a
      * rounding error's length into the cell behind it; marking that would
