@@ -49,6 +49,7 @@ typedef struct {
     double gather_noise;         /* B: the gather's share, times samples per pixel */
     double seconds_per_particle; /* measured on the second pass */
     double seconds_per_sample;   /* one sample per pixel of the image, measured on the pilots */
+    double warm_up_seconds;      /* first launches before the clock started (not counted) */
     double measure_seconds;      /* the two first passes and the pilot images */
     uint64_t planned_particles;  /* what the split chose (or --particles) */
     double spent_seconds;        /* the whole render: trace, pilots and gather */
