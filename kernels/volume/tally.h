@@ -50,7 +50,8 @@ inline void lv_tally_add(__global long *t, float3 amount)
  * for the one before. Queued, their lines are first read in one burst, so
  * the misses overlap, and the atomics then find them in the cache (the
  * particle trace 15-20% faster on PoCL; docs/performance.md). A GPU does
- * its atomics in its caches, so there the batch is one add, done at once.
+ * its atomics in its caches, so there the batch is one add, done at once
+ * (not yet run on a GPU).
  * Integer adds and ors commute, so the order changes no tally and no mask. */
 #ifdef LV_PRELOAD_TALLIES
 #define LV_TALLY_BATCH 16
