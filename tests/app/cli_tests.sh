@@ -261,8 +261,9 @@ else fail "lvcl-bench wavefront refuses --spp 0" "$(cat "$tmp/err")"; fi
 
 # A signal during the render stops sampling at the next launch and writes
 # the image so far: status 128 + the signal's number, the samples taken in
-# the stats, a line on stderr. $1: the signal; $2: the progress bar to
-# wait for (render, particles); $3...: lvcl's arguments.
+# the stats, a line on stderr. $1: the signal (a list sends each in turn);
+# $2: the progress bar to wait for (render, particles); $3...: lvcl's
+# arguments.
 interrupt_render() {
     sig=$1 bar=$2
     shift 2
@@ -275,10 +276,10 @@ interrupt_render() {
     i=0 # until that part has begun (kernels built), at most 120 s
     while [ $i -lt 1200 ] && ! grep -q "$bar " "$tmp/int.err" 2>/dev/null; do sleep 0.1; i=$((i + 1)); done
     sleep 0.5
-    kill -s "$sig" $pid
+    for one in $sig; do kill -s "$one" $pid; done
     start=$(date +%s)
     # A signal lvcl does not act on fails the check, not the whole run.
-    (sleep 60; kill -9 $pid 2>/dev/null) &
+    (sleep 60; kill -9 $pid 2>/dev/null) >/dev/null 2>&1 &
     watchdog=$!
     wait $pid
     status=$?
@@ -313,18 +314,6 @@ else
         "status $status, ${took} s, particles ${traced:-none}; $(tail -c 300 "$tmp/int.err")"
 fi
 # A second signal ends lvcl at once, by the signal's default action.
-rm -f "$tmp/int.err"
-"$lvcl" --spp 1000000 --width 48 -o "$tmp/int2.exr" cornell 2>"$tmp/int.err" &
-pid=$!
-i=0
-while [ $i -lt 1200 ] && ! grep -q 'render ' "$tmp/int.err" 2>/dev/null; do sleep 0.1; i=$((i + 1)); done
-kill -s INT $pid && kill -s INT $pid
-start=$(date +%s)
-(sleep 60; kill -9 $pid 2>/dev/null) &
-watchdog=$!
-wait $pid
-status=$?
-took=$(($(date +%s) - start))
-kill $watchdog 2>/dev/null
+interrupt_render "INT INT" render cornell
 if [ "$status" -eq 130 ] && [ "$took" -le 5 ]; then pass "a second SIGINT ends lvcl at once"
 else fail "a second SIGINT ends lvcl at once" "status $status after ${took} s"; fi
