@@ -21,17 +21,22 @@ typedef struct {
  * runtime, then the Oclgrind simulator, which is never chosen by default
  * or by --device all (it checks every access, at a thousandth of the speed). */
 enum { RANK_OWN, RANK_ADDED_CPU, RANK_SIMULATOR };
+static int is_simulator_platform(const char *platform_name)
+{
+    return strstr(platform_name, "Oclgrind") != NULL;
+}
+
 static int platform_rank(cl_platform_id p)
 {
     char name[256] = {0};
     if (clGetPlatformInfo(p, CL_PLATFORM_NAME, sizeof name - 1, name, NULL) != CL_SUCCESS) return RANK_OWN;
-    if (strstr(name, "Oclgrind")) return RANK_SIMULATOR;
+    if (is_simulator_platform(name)) return RANK_SIMULATOR;
     return strcmp(name, "Intel(R) OpenCL") ? RANK_OWN : RANK_ADDED_CPU;
 }
 
 int lvcl_device_is_simulator(const lvcl_device *dev)
 {
-    return strstr(dev->platform_name, "Oclgrind") != NULL;
+    return is_simulator_platform(dev->platform_name);
 }
 
 static int make_dirs(const char *path)
