@@ -429,6 +429,7 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
     X(lv_gather_pass, VOLUME, , volume) SEP()                          \
     X(lv_gather_pass, BUFFER, const float, bin_table) SEP()       \
     X(lv_gather_pass, BUFFER, const float, fine_bin_table) SEP()  /* the bin table of 2n x 2n */ \
+    X(lv_gather_pass, BUFFER, const float, axis_sums) SEP()       /* lv_axis_sums's */ \
     X(lv_gather_pass, VALUE, lv_u32, flags) SEP()     /* LV_GATHER_* */ \
     X(lv_gather_pass, VALUE, float, threshold) SEP()  /* near-hit distance, metres */ \
     LV_PIXEL_ARGS(X, SEP, lv_gather_pass)
@@ -450,6 +451,18 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
 #define LV_GUIDE_TABLE_ARGS(X, SEP)              \
     X(lv_guide_table, VOLUME, , volume) SEP()    \
     X(lv_guide_table, BUFFER, float, guide_table)
+
+/* The axis sums of the integrating gather (integrator/gather.h): per slot
+ * and axis normal (+x, -x, +y, -y, +z, -z), the RGB sum of its set's
+ * tallies weighted by the bins' mean cosines, as a Lambertian surface facing
+ * that way gathers them. */
+#define LV_AXES 6
+#define LV_AXIS_SUM_FLOATS (3 * LV_AXES)
+#define LV_AXIS_SUMS_ARGS(X, SEP)                                 \
+    X(lv_axis_sums, VOLUME, , volume) SEP()                       \
+    X(lv_axis_sums, BUFFER, const float, bin_table) SEP()         \
+    X(lv_axis_sums, BUFFER, const float, fine_bin_table) SEP()    \
+    X(lv_axis_sums, BUFFER, float, axis_sums) /* LV_AXIS_SUM_FLOATS per slot */
 
 #define LV_PARTICLE_TRACE_ARGS(X, SEP)                                                       \
     X(lv_particle_trace, SCENE, , scene) SEP()                                               \
@@ -483,6 +496,7 @@ LV_ARG_INDICES(LV_PT_PASS_ARGS, lv_pt_pass);
 LV_ARG_INDICES(LV_GATHER_PASS_ARGS, lv_gather_pass);
 LV_ARG_INDICES(LV_GUIDED_PASS_ARGS, lv_guided_pass);
 LV_ARG_INDICES(LV_GUIDE_TABLE_ARGS, lv_guide_table);
+LV_ARG_INDICES(LV_AXIS_SUMS_ARGS, lv_axis_sums);
 LV_ARG_INDICES(LV_PARTICLE_TRACE_ARGS, lv_particle_trace);
 LV_ARG_INDICES(LV_LIT_VOLUMES_ARGS, lv_lit_volumes);
 LV_ARG_INDICES(LV_BIN_TABLE_ARGS, lv_bin_table);

@@ -55,6 +55,7 @@ typedef LVCL_KERNEL_ARGS(LV_PT_PASS_ARGS) lvcl_pt_pass_args;
 typedef LVCL_KERNEL_ARGS(LV_GATHER_PASS_ARGS) lvcl_gather_pass_args;
 typedef LVCL_KERNEL_ARGS(LV_GUIDED_PASS_ARGS) lvcl_guided_pass_args;
 typedef LVCL_KERNEL_ARGS(LV_GUIDE_TABLE_ARGS) lvcl_guide_table_args;
+typedef LVCL_KERNEL_ARGS(LV_AXIS_SUMS_ARGS) lvcl_axis_sums_args;
 typedef LVCL_KERNEL_ARGS(LV_PARTICLE_TRACE_ARGS) lvcl_particle_trace_args;
 typedef LVCL_KERNEL_ARGS(LV_LIT_VOLUMES_ARGS) lvcl_lit_volumes_args;
 typedef LVCL_KERNEL_ARGS(LV_BIN_TABLE_ARGS) lvcl_bin_table_args;
@@ -63,6 +64,7 @@ lvcl_error lvcl_bind_lv_pt_pass(cl_kernel k, const lvcl_pt_pass_args *a, lvcl_st
 lvcl_error lvcl_bind_lv_gather_pass(cl_kernel k, const lvcl_gather_pass_args *a, lvcl_status *st);
 lvcl_error lvcl_bind_lv_guided_pass(cl_kernel k, const lvcl_guided_pass_args *a, lvcl_status *st);
 lvcl_error lvcl_bind_lv_guide_table(cl_kernel k, const lvcl_guide_table_args *a, lvcl_status *st);
+lvcl_error lvcl_bind_lv_axis_sums(cl_kernel k, const lvcl_axis_sums_args *a, lvcl_status *st);
 lvcl_error lvcl_bind_lv_particle_trace(cl_kernel k, const lvcl_particle_trace_args *a, lvcl_status *st);
 lvcl_error lvcl_bind_lv_lit_volumes(cl_kernel k, const lvcl_lit_volumes_args *a, lvcl_status *st);
 lvcl_error lvcl_bind_lv_bin_table(cl_kernel k, const lvcl_bin_table_args *a, lvcl_status *st);

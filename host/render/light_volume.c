@@ -226,6 +226,7 @@ void lvcl_volume_release(lvcl_light_volume *vol)
     free(vol->restarted);
     if (vol->fine_bin_table_buf) clReleaseMemObject(vol->fine_bin_table_buf);
     if (vol->guide_table_buf) clReleaseMemObject(vol->guide_table_buf);
+    if (vol->axis_sums_buf) clReleaseMemObject(vol->axis_sums_buf);
     free(vol->region_shares);
     free(vol);
 }

@@ -187,6 +187,11 @@ cl_mem lvcl_volume_fine_bin_table(const lvcl_light_volume *vol);
 lvcl_error lvcl_volume_fill_guide(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st);
 cl_mem lvcl_volume_guide_table(const lvcl_light_volume *vol);
 
+/* The gather's axis sums (kernels/integrator/gather.h) of the volume as
+ * lvcl_volume_finish left it, computed on the first call after each
+ * finish: *out is the buffer the gather pass takes, owned by vol. */
+lvcl_error lvcl_volume_axis_sums(lvcl_light_volume *vol, const lvcl_program *prog, cl_mem *out, lvcl_status *st);
+
 /* Releases everything; NULL is allowed. */
 void lvcl_volume_release(lvcl_light_volume *vol);
 

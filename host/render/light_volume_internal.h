@@ -1,8 +1,9 @@
 /* The light volume's private parts, shared by the files of host/render/
  * that implement it: grid choice and cell marking (volume_grid.c), the
  * allocation within the device's budget (light_volume.c), the trace
- * (volume_trace.c), the read-back and merge (volume_readback.c) and the
- * guide table (volume_guide.c). */
+ * (volume_trace.c), the read-back and merge (volume_readback.c), the
+ * guide table (volume_guide.c) and the gather's axis sums
+ * (volume_axis_sums.c). */
 #ifndef LVCL_LIGHT_VOLUME_INTERNAL_H
 #define LVCL_LIGHT_VOLUME_INTERNAL_H
 
@@ -26,6 +27,9 @@ struct lvcl_light_volume {
     uint8_t *restarted;        /* per slot: 1 where its tallies hold the particles from split_from on */
     cl_mem fine_bin_table_buf; /* the bin table of 2n x 2n, once there are fine slots */
     cl_mem guide_table_buf;    /* guided mode: lvcl_volume_fill_guide's table, or NULL */
+    cl_mem axis_sums_buf;      /* lvcl_volume_axis_sums's, for axis_sums_slots slots, or NULL */
+    uint32_t axis_sums_slots;
+    int axis_sums_current;     /* they sum the volume lvcl_volume_finish last finished */
     float *region_shares;      /* host copy of the cut cells' region shares */
     size_t region_share_count;
     size_t cell_count; /* dims[0] * dims[1] * dims[2] */

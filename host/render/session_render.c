@@ -30,11 +30,15 @@ static lvcl_error bind_pass_args(session_device *sd, lvcl_pass_device *pd, const
         return lvcl_bind_lv_guided_pass(pd->kernel, &a, st);
     }
     pd->pixel_args = LVCL_PIXEL_ARG_INDICES(lv_gather_pass);
+    cl_mem axis_sums;
+    lvcl_error e = lvcl_volume_axis_sums(sd->volume, &sd->program, &axis_sums, st);
+    if (e) return e;
     lvcl_gather_pass_args a = {
         .scene = &sd->device_scene.buffers,
         .volume = lvcl_volume_kernel_buffers(v),
         .bin_table = lvcl_volume_bin_table(v),
         .fine_bin_table = lvcl_volume_fine_bin_table(v),
+        .axis_sums = axis_sums,
         .flags = (req->mode == LVCL_MODE_LV_ALL ? LV_GATHER_ALL : 0u) | (req->integrate ? LV_GATHER_INTEGRATE : 0u),
         .threshold = (float)(req->threshold > 0 ? req->threshold : 0.5 * sqrt(3.0) * lvcl_volume_grid(v)->cell_size),
         .camera = *camera,

@@ -46,6 +46,7 @@ lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, 
             (e = fill_bin_table(vol, prog, n, vol->fine_bin_table_buf, st)))
             return e;
     }
+    vol->axis_sums_current = 0;
     e = lvcl_kernel_create(prog, "lv_lit_volumes", &k, st);
     if (e) return e;
     lvcl_lit_volumes_args args = {.volume = &vol->buf};

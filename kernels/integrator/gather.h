@@ -20,9 +20,45 @@
 typedef struct {
     lv_grid grid;
     lv_bin_tables tables;
+    __global const float *axis_sums; /* lv_axis_sums's, per slot */
     uint flags;      /* LV_GATHER_* (shared_types.h) */
     float threshold; /* a BSDF ray hitting closer than this continues as a path */
 } lv_gather;
+
+/* The sum of a tally set's bins (RGB), each weighted by its exact mean
+ * cosine to the shading normal ns (lv_bin_mean_cosines): what a Lambertian
+ * surface gathers, before its albedo and the volume's scale. */
+inline float3 lv_cosine_weighted_tallies(__global const float *table, __global const long *tallies, uint bins,
+                                         float3 ns, float3 ng)
+{
+    float3 sum = (float3)(0.0f);
+    for (uint first = 0; first < bins; first += LV_BIN_GROUP) {
+        float w[LV_BIN_GROUP];
+        lv_bin_mean_cosines(table, bins, first, ns, ng, w);
+        for (uint l = 0; l < LV_BIN_GROUP && first + l < bins; l++)
+            if (w[l] > 0.0f) sum += w[l] * lv_bin_tally(tallies + 3 * (first + l));
+    }
+    return sum;
+}
+
+/* 0 to 5 where the shading and true normals are both exactly +x, -x, +y,
+ * -y, +z or -z, else -1: such a surface (walls, floors, tables) reads its
+ * cosine-weighted sum from the axis sums instead of visiting every bin. */
+inline int lv_axis_of(float3 ns, float3 ng)
+{
+    if (any(ns != ng)) return -1;
+    if (ns.y == 0.0f && ns.z == 0.0f && fabs(ns.x) == 1.0f) return ns.x > 0.0f ? 0 : 1;
+    if (ns.x == 0.0f && ns.z == 0.0f && fabs(ns.y) == 1.0f) return ns.y > 0.0f ? 2 : 3;
+    if (ns.x == 0.0f && ns.y == 0.0f && fabs(ns.z) == 1.0f) return ns.z > 0.0f ? 4 : 5;
+    return -1;
+}
+
+/* The unit normal of axis a (lv_axis_of's numbering). */
+inline float3 lv_axis_normal(uint a)
+{
+    float s = (a & 1u) ? -1.0f : 1.0f;
+    return (float3)(a / 2u == 0u ? s : 0.0f, a / 2u == 1u ? s : 0.0f, a / 2u == 2u ? s : 0.0f);
+}
 
 /* The BSDF-weighted sum of the volume's radiance over every bin of the cell
  * at p. */
@@ -38,12 +74,9 @@ inline float3 lv_gather_integrate(const lv_gather *g, const lv_shading *sh, floa
         /* f cos is base / pi times cos: weigh each bin by its exact mean
          * cosine and apply the rest once (most gathers). */
         if (sh->wo.z <= 0.0f) return (float3)(0.0f);
-        for (uint first = 0; first < bins; first += LV_BIN_GROUP) {
-            float w[LV_BIN_GROUP];
-            lv_bin_mean_cosines(table, bins, first, sh->f.n, sh->ng_out, w);
-            for (uint l = 0; l < LV_BIN_GROUP && first + l < bins; l++)
-                if (w[l] > 0.0f) sum += w[l] * lv_bin_tally(tallies + 3 * (first + l));
-        }
+        int axis = lv_axis_of(sh->f.n, sh->ng_out);
+        sum = axis >= 0 ? vload3((size_t)slot * LV_AXES + (uint)axis, g->axis_sums)
+                        : lv_cosine_weighted_tallies(table, tallies, bins, sh->f.n, sh->ng_out);
         sum *= sh->b.base * LV_INV_PI;
     } else {
         /* Other BSDFs are read at each bin's central direction. Light

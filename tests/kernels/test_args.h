@@ -94,8 +94,19 @@
     X(t_camera_streams, VALUE, lv_u32, dims) SEP()       \
     X(t_camera_streams, BUFFER, float, out)
 
+/* Per slot and axis: the gather's stored axis sum (then lv_axis_of of the
+ * axis's normal), and the sum computed afresh (then lv_axis_of of a normal
+ * tilted from it), a float4 each. */
+#define T_AXIS_SUMS_ARGS(X, SEP)                                \
+    X(t_axis_sums, VOLUME, , volume) SEP()                      \
+    X(t_axis_sums, BUFFER, const float, bin_table) SEP()        \
+    X(t_axis_sums, BUFFER, const float, fine_bin_table) SEP()   \
+    X(t_axis_sums, BUFFER, const float, axis_sums) SEP()        \
+    X(t_axis_sums, BUFFER, float4, out)
+
 /* clang-format on */
 
+LV_ARG_INDICES(T_AXIS_SUMS_ARGS, t_axis_sums);
 LV_ARG_INDICES(T_DIRECTION_HISTOGRAM_ARGS, t_direction_histogram);
 LV_ARG_INDICES(T_DIRECTION_ROUNDTRIP_ARGS, t_direction_roundtrip);
 LV_ARG_INDICES(T_BSDF_MOMENTS_ARGS, t_bsdf_moments);

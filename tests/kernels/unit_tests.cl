@@ -297,3 +297,24 @@ __kernel void t_bin_radiance(LV_KERNEL_PARAMS(T_BIN_RADIANCE_ARGS))
     float lit = grid.lit_volume[slot];
     radiance[bin] = (float4)(lv_bin_radiance(&grid, slot, bin, lit), lit);
 }
+
+/* The gather's axis sums against the sum over the slot's bins for each
+ * axis normal, spelled out here rather than from lv_axis_normal. */
+__kernel void t_axis_sums(LV_KERNEL_PARAMS(T_AXIS_SUMS_ARGS))
+{
+    uint id = get_global_id(0), slot = id / LV_AXES, a = id % LV_AXES;
+    if (slot >= grid_info.slot_count) return;
+    lv_grid grid;
+    LV_VOLUME_OPEN(grid);
+    const float3 normals[LV_AXES] = {(float3)(1.0f, 0.0f, 0.0f), (float3)(-1.0f, 0.0f, 0.0f),
+                                     (float3)(0.0f, 1.0f, 0.0f), (float3)(0.0f, -1.0f, 0.0f),
+                                     (float3)(0.0f, 0.0f, 1.0f), (float3)(0.0f, 0.0f, -1.0f)};
+    float3 n = normals[a];
+    lv_bin_tables tables = {bin_table, fine_bin_table};
+    uint dirs = lv_slot_dirs(&grid, slot);
+    float3 sum = lv_cosine_weighted_tallies(lv_bin_table_for(&tables, &grid, dirs), lv_tally_bin(&grid, slot, 0u),
+                                            2u * dirs * dirs, n, n);
+    float3 tilted = normalize(n + (float3)(1e-3f, 2e-3f, -1e-3f));
+    out[2 * id] = (float4)(vload3(id, axis_sums), (float)lv_axis_of(n, n));
+    out[2 * id + 1] = (float4)(sum, (float)lv_axis_of(tilted, tilted));
+}
