@@ -39,6 +39,8 @@
 /* Particles of the warm-up trace: one launch of at least 65,536 work-items,
  * the size class of the first pass's launches on PoCL. */
 #define WARM_UP_PARTICLES (1u << 16)
+/* and a short one, below that class, as a plan's last batch may be. */
+#define WARM_UP_SHORT_BATCH 64u
 
 /* The share of the budget the plan usually gives the trace (the Cornell box
  * in 30 s: 3 x 10^6 particles at 3.8 us), for the adaptive cells' decision
@@ -130,22 +132,23 @@ static uint64_t best_particles(const lvcl_budget_report *b, uint64_t traced, dou
     return n > (double)traced ? (uint64_t)n : traced;
 }
 
-/* Launches the trace and the pilots' gather once each, and throws the
- * work away (the next trace from particle 0 empties the volume). PoCL
- * compiles a kernel's machine code at its first launch of each size class,
- * up to 2 s a kernel on a cold cache: counted in the budget, that time
- * made the first pass and pilot look slow enough for a 15 s budget to stop
- * measuring at 1.3 x 10^5 particles. On a warm cache this costs the trace
- * of WARM_UP_PARTICLES and a one-sample pilot. */
+/* Launches the trace and the gather in both of PoCL's size classes, and
+ * throws the work away (the next trace from particle 0 empties the volume).
+ * PoCL compiles a kernel's machine code at its first launch of each size
+ * class, up to 2 s a kernel on a cold cache: counted in the budget, that
+ * time made the first pass and pilot look slow enough for a 15 s budget to
+ * stop measuring at 1.3 x 10^5 particles, and the final gather lost samples
+ * to it. On a warm cache this costs the trace of WARM_UP_PARTICLES and one
+ * sample of a 256 x 256 image. */
 static lvcl_error warm_up(lvcl_session *s, const lvcl_render_request *req, const lvcl_volume_settings *vs,
                           lvcl_status *st)
 {
-    lvcl_render_result img = {0};
+    /* A launch of each size class (lvcl_session_warm_camera_pass): a plan's
+     * last batch may be short. */
     lvcl_error e = trace_range(s, vs, 0, WARM_UP_PARTICLES, 0, st);
+    if (!e) e = trace_range(s, vs, WARM_UP_PARTICLES, WARM_UP_PARTICLES + WARM_UP_SHORT_BATCH, 0, st);
     if (!e) e = finish_pass(s, vs, 0, st);
-    if (!e) e = pilot(s, req, 0, 1, &img, st);
-    free(img.rgb);
-    return e;
+    return e ? e : lvcl_session_warm_camera_pass(s, req, st);
 }
 
 /* Measures A, B and the costs after two passes (the header's recipe). */

@@ -13,6 +13,23 @@
 /* Particles a time-limited trace stops at if its share of the time has not
  * ended it first. */
 #define GUIDE_PARTICLES_MAX (1u << 24)
+/* Particles of the warm-up trace before the clock starts: one launch. */
+#define WARM_UP_PARTICLES (1u << 16)
+
+/* Before a timed render: a small trace, its guide table and one sample of
+ * a small image, thrown away (the timed trace starts a new volume), so
+ * that the budget does not pay for PoCL's first-launch compiles. */
+static lvcl_error warm_up(lvcl_session *s, const lvcl_render_request *req, const lvcl_volume_settings *vs,
+                          lvcl_status *st)
+{
+    lvcl_volume_settings warm = *vs;
+    warm.particles = WARM_UP_PARTICLES;
+    warm.progress = 0;
+    lvcl_error e = lvcl_session_trace_volume(s, &warm, st);
+    for (int d = 0; d < s->device_count && !e; d++)
+        e = lvcl_volume_fill_guide(s->devices[d].volume, &s->devices[d].program, st);
+    return e ? e : lvcl_session_warm_camera_pass(s, req, st);
+}
 
 lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
                                       lvcl_status *st)
@@ -23,12 +40,14 @@ lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request
      * visibility rays (a quarter of the trace's time). */
     vs.subcells = 0;
     lvcl_pass_settings pass = req->pass;
+    lvcl_error e = pass.time_limit > 0 ? warm_up(s, req, &vs, st) : LVCL_OK;
+    if (e) return e;
     double start = lvcl_seconds();
     if (pass.time_limit > 0) {
         if (!vs.particles) vs.particles = GUIDE_PARTICLES_MAX;
         vs.deadline = start + GUIDE_TIME_SHARE * pass.time_limit;
     }
-    lvcl_error e = lvcl_session_trace_volume(s, &vs, st);
+    e = lvcl_session_trace_volume(s, &vs, st);
     for (int d = 0; d < s->device_count && !e; d++)
         e = lvcl_volume_fill_guide(s->devices[d].volume, &s->devices[d].program, st);
     if (e == LVCL_ERR_CLUSTER || (e = lvcl_cluster_agree(s->cluster, e, st))) return e;

@@ -1,6 +1,7 @@
 /* The session's camera passes: each device's kernel bound by the contract
  * (kernels/shared_types.h) and handed to the image pass. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "session_internal.h"
@@ -83,6 +84,25 @@ lvcl_error lvcl_session_camera_pass(lvcl_session *s, const lvcl_render_request *
     return e;
 }
 
+/* PoCL compiles a kernel's machine code per local size and per size class
+ * (under 65,536 work-items or not) at its first launch; a pass of one
+ * device launches over every pixel (the first samples, the pilots) and
+ * over the pixels adaptive sampling picks, so it meets both classes. The
+ * warm-up renders one sample of an image of each. */
+static const int warm_up_sides[2] = {256, 8};
+
+lvcl_error lvcl_session_warm_camera_pass(lvcl_session *s, const lvcl_render_request *req, lvcl_status *st)
+{
+    lvcl_pass_settings warm = {.spp = 1};
+    lvcl_error e = LVCL_OK;
+    for (int i = 0; i < 2 && !e; i++) {
+        lvcl_render_result img = {0};
+        e = lvcl_session_camera_pass(s, req, warm_up_sides[i], warm_up_sides[i], &warm, &img, st);
+        free(img.rgb);
+    }
+    return e;
+}
+
 lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
                                lvcl_status *st)
 {
@@ -97,8 +117,10 @@ lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, 
         e = lvcl_image_pass_check_size(&s->devices[d].device, req->width, req->height, st);
     /* Refusals every process meets are reported once, as themselves. */
     if ((e = lvcl_cluster_agree(s->cluster, e, st))) return e;
-    if (req->mode == LVCL_MODE_PT)
+    if (req->mode == LVCL_MODE_PT) {
+        if (req->pass.time_limit > 0 && (e = lvcl_session_warm_camera_pass(s, req, st))) return e;
         return lvcl_session_camera_pass(s, req, req->width, req->height, &req->pass, out, st);
+    }
     if (req->mode == LVCL_MODE_GUIDED) return lvcl_session_render_guided(s, req, out, st);
     /* Under a time limit the whole render keeps to it. */
     if (req->pass.time_limit > 0) return lvcl_session_render_budget(s, req, out, st);
