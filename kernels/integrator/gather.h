@@ -132,6 +132,8 @@ inline float3 lv_gather_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint
                 radiance += beta * le * lv_emission_weight(sc, h, r.dir, s.ng, bs.pdf, bs.delta);
         }
         if (lookup != LV_LOOKUP_NONE) {
+            /* A far hit of the integrating gather: the volume has answered. */
+            if (far && lookup == LV_LOOKUP_CORRECT) break;
             /* Light arriving from r.dir travels along -r.dir. */
             float3 volume = lookup_lit ? beta * lv_volume_radiance(&g->grid, lookup_point, -r.dir) : (float3)(0.0f);
             if (far) {
