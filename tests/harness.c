@@ -25,6 +25,17 @@ void harness_ok(lvcl_error e, const lvcl_status *st, const char *what)
     if (e) die(what, st->message);
 }
 
+lvcl_session *harness_session(const char *name, unsigned seed)
+{
+    lvcl_scene scene;
+    lvcl_status st = {0};
+    lvcl_session *s = NULL;
+    lvcl_session_config cfg = {.seed = seed, .max_depth = 64, .fast_math = 1};
+    if (lvcl_scene_load(name, &scene, &st) || lvcl_session_open(&scene, &cfg, &s, &st))
+        die("opening a session", st.message);
+    return s;
+}
+
 void harness_open(const char *spec, lvcl_device *dev, lvcl_program *prog)
 {
     lvcl_status st = {0};

@@ -46,6 +46,12 @@ void harness_trace(const lvcl_device *dev, const lvcl_program *prog, const lvcl_
  * 4 subcells, integrating gather). */
 lvcl_render_request harness_request(lvcl_mode mode, int size, int spp, int cells, uint64_t particles);
 
+/* A session on embedded scene `name` (cornell, furnace, kitchen) on the
+ * default device, with `seed`, paths of up to 64 segments and fast math, as
+ * the tests that build light volumes by hand use. Exits the test program
+ * with a message on failure. */
+lvcl_session *harness_session(const char *name, unsigned seed);
+
 /* Opens a session on `scene` (consumed) on `device` with `seed` and renders
  * req into out (zeroed on failure, with st saying why). */
 lvcl_error harness_render(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_render_request *req,

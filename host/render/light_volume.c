@@ -189,6 +189,7 @@ lvcl_volume_stats lvcl_volume_stats_of(const lvcl_light_volume *vol)
 {
     return (lvcl_volume_stats){.tally_bytes = vol->tally_bytes,
                                .device_bytes = vol->device_bytes,
+                               .axis_sums_bytes = (size_t)vol->axis_sums_slots * LV_AXIS_SUM_FLOATS * sizeof(float),
                                .tally_buffers = vol->tally_parts,
                                .particles = vol->particles,
                                .segments = vol->segments,

@@ -57,7 +57,8 @@ typedef struct {
 /* What a volume holds and what its trace did (this device's share). */
 typedef struct {
     size_t tally_bytes;       /* all tally buffers */
-    size_t device_bytes;      /* everything the volume holds on the device */
+    size_t device_bytes;      /* everything the volume holds on the device but the axis sums */
+    size_t axis_sums_bytes;   /* the gather's axis sums (lvcl_volume_axis_sums), once made */
     int tally_buffers;        /* buffers the tallies are split over */
     uint64_t particles;       /* traced here */
     uint64_t segments;        /* straight path pieces traced */

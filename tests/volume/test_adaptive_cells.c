@@ -133,14 +133,7 @@ int main(int argc, char **argv)
 {
     (void)argc;
     (void)argv;
-    lvcl_scene scene;
-    lvcl_status st = {0};
-    lvcl_session *ss = NULL;
-    lvcl_session_config cfg = {.seed = 7, .max_depth = 64, .fast_math = 1};
-    if (lvcl_scene_load("cornell", &scene, &st) || lvcl_session_open(&scene, &cfg, &ss, &st)) {
-        CHECK("adaptive cells: session", 0, "%s", st.message);
-        CHECK_EXIT();
-    }
+    lvcl_session *ss = harness_session("cornell", 7);
     test_merged_sums(ss, 12);
     test_merged_sums(ss, 20);
     test_tolerance(ss);

@@ -106,14 +106,7 @@ int main(int argc, char **argv)
 {
     (void)argc;
     (void)argv;
-    lvcl_scene scene;
-    lvcl_status st = {0};
-    lvcl_session *ss = NULL;
-    lvcl_session_config cfg = {.seed = 7, .max_depth = 64, .fast_math = 1};
-    if (lvcl_scene_load("cornell", &scene, &st) || lvcl_session_open(&scene, &cfg, &ss, &st)) {
-        CHECK("axis sums: session", 0, "%s", st.message);
-        CHECK_EXIT();
-    }
+    lvcl_session *ss = harness_session("cornell", 7);
     check_sums(ss, 0, "axis sums: equal the sums over the bins after a second part of the trace");
     check_sums(ss, 1, "axis sums: the same after cells split and slots took fine bins");
     lvcl_session_close(ss);

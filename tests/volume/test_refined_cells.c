@@ -234,14 +234,7 @@ static void test_budget(const lvcl_session *ss)
  * walls: the radiance is 2 in every cell and direction. */
 static void test_furnace(int subcells, int fine)
 {
-    lvcl_scene scene;
-    lvcl_status st = {0};
-    lvcl_session *ss = NULL;
-    lvcl_session_config cfg = {.seed = 2, .max_depth = 64, .fast_math = 1};
-    if (lvcl_scene_load("furnace", &scene, &st) || lvcl_session_open(&scene, &cfg, &ss, &st)) {
-        CHECK("refined cells: furnace session", 0, "%s", st.message);
-        return;
-    }
+    lvcl_session *ss = harness_session("furnace", 2);
     lvcl_volume_settings vs = {.cells = 4,
                                .dirs = 4,
                                .subcells = subcells,
@@ -311,14 +304,7 @@ int main(int argc, char **argv)
 {
     (void)argc;
     (void)argv;
-    lvcl_scene scene;
-    lvcl_status st = {0};
-    lvcl_session *ss = NULL;
-    lvcl_session_config cfg = {.seed = 7, .max_depth = 64, .fast_math = 1};
-    if (lvcl_scene_load("cornell", &scene, &st) || lvcl_session_open(&scene, &cfg, &ss, &st)) {
-        CHECK("refined cells: session", 0, "%s", st.message);
-        CHECK_EXIT();
-    }
+    lvcl_session *ss = harness_session("cornell", 7);
     test_split_sums(ss, 12, 4);
     test_split_sums(ss, 20, 0);
     test_fine_sums(ss);
