@@ -16,9 +16,10 @@
 /* Particles of the warm-up trace before the clock starts: one launch. */
 #define WARM_UP_PARTICLES (1u << 16)
 
-/* Before a timed render: a small trace, its guide table and one sample of
- * a small image, thrown away (the timed trace starts a new volume), so
- * that the budget does not pay for PoCL's first-launch compiles. */
+/* Before a timed render: a small trace, its guide table and the warm-up
+ * images (lvcl_session_warm_camera_pass), thrown away (the timed trace
+ * starts a new volume), so that the budget does not pay for PoCL's
+ * first-launch compiles. */
 static lvcl_error warm_up(lvcl_session *s, const lvcl_render_request *req, const lvcl_volume_settings *vs,
                           lvcl_status *st)
 {

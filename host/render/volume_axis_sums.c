@@ -13,6 +13,11 @@ lvcl_error lvcl_volume_axis_sums(lvcl_light_volume *vol, const lvcl_program *pro
     size_t work = (size_t)g->slot_count * LV_AXES, bytes = work * 3 * sizeof(float);
     lvcl_error e;
     cl_int err;
+    if (bytes > dev->max_alloc)
+        return lvcl_fail(st, LVCL_ERR_TOO_LARGE,
+                         "the gather's axis sums need %.1f MiB but %s allows %.1f MiB in one buffer; use fewer "
+                         "--cells",
+                         bytes / 1048576.0, dev->name, dev->max_alloc / 1048576.0);
     if (vol->axis_sums_slots != g->slot_count) { /* refining adds slots */
         if (vol->axis_sums_buf) clReleaseMemObject(vol->axis_sums_buf);
         vol->axis_sums_buf = lvcl_buffer_create(dev, CL_MEM_READ_WRITE, bytes, NULL, &err);
