@@ -104,9 +104,11 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
     if (b->used)
         fprintf(f,
                 ",\n  \"budget\": {\"seconds\": %.4f, \"volume_noise\": %.6g, \"gather_noise\": %.6g, "
+                "\"gather_noise_per_particle\": %.6g, \"adaptive_share\": %.4g, "
                 "\"seconds_per_particle\": %.6g, \"seconds_per_sample\": %.6g, \"warm_up_seconds\": %.4f, "
                 "\"measure_seconds\": %.4f, \"planned_particles\": %llu, \"spent_seconds\": %.4f}",
-                s->options->time_limit, b->volume_noise, b->gather_noise, b->seconds_per_particle,
+                s->options->time_limit, b->volume_noise, b->gather_noise, b->gather_noise_per_particle,
+                b->adaptive_share, b->seconds_per_particle,
                 b->seconds_per_sample, b->warm_up_seconds, b->measure_seconds, (unsigned long long)b->planned_particles,
                 b->spent_seconds);
     /* Each device's share of the work. */

@@ -46,8 +46,10 @@ typedef struct {
 typedef struct {
     int used;                    /* the last render ran under a time budget */
     double volume_noise;         /* A: the volume's share of the image's relMSE, times particles */
-    double gather_noise;         /* B: the gather's share, times samples per pixel */
-    double seconds_per_particle; /* measured on the second pass */
+    double gather_noise;         /* B0: the gather's share, times samples per pixel, sampling uniformly */
+    double gather_noise_per_particle; /* B1: the gather's noise is B0 + B1 / N over a volume of N particles */
+    double adaptive_share;       /* of B, what adaptive sampling leaves (1: off or not measured) */
+    double seconds_per_particle; /* measured on the second pass, then on the trace as it runs */
     double seconds_per_sample;   /* one sample per pixel of the image, measured on the pilots */
     double warm_up_seconds;      /* first launches before the clock started (not counted) */
     double measure_seconds;      /* the two first passes and the pilot images */

@@ -4,16 +4,19 @@
  * width and height measure how the image's error depends on particles and
  * on samples:
  *
- *   relMSE ~ A / N + B / S   (N particles, S samples per pixel),
+ *   relMSE ~ A / N + a (B0 + B1 / N) / S   (N particles, S samples per pixel),
  *
  * A from two images of the same camera samples over the volume of N1 and
- * of 2 N1 particles (their difference is the volume's noise alone), B from
- * two images of different samples over the same volume. A pilot takes 16
- * samples per pixel: with one, each lookup reads one jittered point and
- * the volume's noise is 13 times what many samples leave (Cornell box).
- * With the measured costs tp per particle and tg per sample, the error in
- * the time left R is least at N = (R + N_c tp) / (tp + sqrt(B tg tp / A));
- * the trace goes on to that N and the gather takes the rest. */
+ * of 2 N1 particles (their difference is the volume's noise alone), B over
+ * each volume from two images of different samples (B0 and B1 through the
+ * two: a jittered lookup reads noisy cells, so the gather's noise falls
+ * with the volume's too), a the share of it that adaptive sampling leaves,
+ * from how the noise spreads over the pixels. A pilot takes 16 samples per
+ * pixel: with one, each lookup reads one jittered point and the volume's
+ * noise is 13 times what many samples leave (Cornell box). With the
+ * measured costs tp per particle and tg per sample, the trace goes on to
+ * the N that leaves the least error in the time left, revised as the trace
+ * measures tp, and the gather takes the rest. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -96,6 +99,50 @@ static double weighted_difference(const float *a, const float *b, const float *d
     return n ? sum / (double)n : 0;
 }
 
+/* The share of the gather's uniform noise B that adaptive sampling leaves
+ * (host/render/adaptive_sampling.h): it gives pixel i samples in
+ * proportion to s_i = sqrt(r_i) + a tenth of their mean, r_i its relative
+ * variance per sample averaged over the 5 x 5 pixels around it, so that
+ * the gather's relMSE becomes sum_i (r_i / s_i) sum_j s_j / N^2 per
+ * sample, against sum_i r_i / N uniform. r_i is read from the noise pilot
+ * (`noise`: per value, (Q - P2)^2 / den, three channels a pixel). The
+ * first epoch, uniform, is left out: it is a few of a budget's samples. */
+static double adaptive_share(const double *noise, int w, int h)
+{
+    size_t n = (size_t)w * h;
+    double *r = malloc(n * sizeof *r), *sq = malloc(n * sizeof *sq);
+    double share = 1.0;
+    if (r && sq) {
+        for (size_t i = 0; i < n; i++) r[i] = (noise[3 * i] + noise[3 * i + 1] + noise[3 * i + 2]) / 3.0;
+        double mean_sq = 0;
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++) {
+                double sum = 0;
+                int count = 0;
+                for (int dy = -2; dy <= 2; dy++)
+                    for (int dx = -2; dx <= 2; dx++) {
+                        int xx = x + dx, yy = y + dy;
+                        if ((dx || dy) && xx >= 0 && yy >= 0 && xx < w && yy < h) sum += r[(size_t)yy * w + xx], count++;
+                    }
+                sq[(size_t)y * w + x] = sqrt(count ? sum / count : 0.0);
+                mean_sq += sq[(size_t)y * w + x] / (double)n;
+            }
+        double spread = 0, total = 0, uniform = 0;
+        for (size_t i = 0; i < n; i++) {
+            double s_i = sq[i] + 0.1 * mean_sq;
+            total += s_i;
+            uniform += r[i];
+            if (s_i > 0) spread += r[i] / s_i;
+        }
+        if (uniform > 0 && total > 0) share = spread * total / ((double)n * uniform);
+        if (!(share > 0.05)) share = 0.05;
+        if (share > 1.0) share = 1.0;
+    }
+    free(r);
+    free(sq);
+    return share;
+}
+
 /* relMSE's denominators (value^2 + LVCL_RELMSE_GUARD) from the mean of the pilots,
  * averaged over 3 x 3 pixels, so that their noise does not weigh. */
 static float *denominators(const lvcl_render_result *img, int count)
@@ -122,18 +169,30 @@ static float *denominators(const lvcl_render_result *img, int count)
 }
 
 /* The particle count that leaves the least error when `left` seconds
- * remain after `traced` particles (the header's formula), within
- * [traced, UINT32_MAX], keeping the gather its minimum share. */
+ * remain after `traced` particles, within [traced, UINT32_MAX], keeping
+ * the gather its minimum share: the least of A / N + a B(N) / S over N
+ * (a: adaptive sampling's share, adaptive_share), with
+ * S = (left - (N - traced) tp) / tg and B(N) = B0 + B1 / N (the gather's
+ * noise falls with the volume's: a jittered lookup reads noisy cells),
+ * scanned over 256 counts spaced evenly in log N (a deterministic 1% grid). */
 static uint64_t best_particles(const lvcl_budget_report *b, uint64_t traced, double left)
 {
     if (!(b->volume_noise > 0) || !(b->seconds_per_particle > 0) || left <= 0) return traced;
-    double tp = b->seconds_per_particle;
-    double n =
-        (left + (double)traced * tp) / (tp + sqrt(b->gather_noise * b->seconds_per_sample * tp / b->volume_noise));
+    double tp = b->seconds_per_particle, tg = b->seconds_per_sample;
+    double lo = traced > 0 ? (double)traced : 1.0;
     double most = (double)traced + (1.0 - GATHER_SHARE_MIN) * left / tp;
-    if (n > most) n = most;
-    if (n > (double)UINT32_MAX) n = (double)UINT32_MAX;
-    return n > (double)traced ? (uint64_t)n : traced;
+    if (most > (double)UINT32_MAX) most = (double)UINT32_MAX;
+    if (!(most > lo)) return traced;
+    double best = lo, best_error = INFINITY;
+    for (int i = 0; i <= 255; i++) {
+        double n = lo * pow(most / lo, i / 255.0);
+        double spp = (left - (n - (double)traced) * tp) / tg;
+        if (!(spp > 0)) continue;
+        double error =
+            b->volume_noise / n + b->adaptive_share * (b->gather_noise + b->gather_noise_per_particle / n) / spp;
+        if (error < best_error) best_error = error, best = n;
+    }
+    return best > (double)traced ? (uint64_t)best : traced;
 }
 
 /* Traces from `traced` particles on to the plan, revising it after every
@@ -192,7 +251,7 @@ static lvcl_error warm_up(lvcl_session *s, const lvcl_render_request *req, const
 static lvcl_error measure(lvcl_session *s, const lvcl_render_request *req, const lvcl_volume_settings *vs,
                           lvcl_budget_report *b, lvcl_status *st)
 {
-    lvcl_render_result img[3] = {{0}};
+    lvcl_render_result img[4] = {{0}};
     double t = lvcl_seconds();
     lvcl_error e = trace_range(s, vs, 0, FIRST_PASS, 0, st);
     double expected = TRACE_SHARE_GUESS * req->pass.time_limit / ((lvcl_seconds() - t) / FIRST_PASS);
@@ -206,6 +265,9 @@ static lvcl_error measure(lvcl_session *s, const lvcl_render_request *req, const
         b->measure_seconds = p - t;
         return LVCL_OK;
     }
+    /* The gather's noise over the first volume, for how it falls with N. */
+    if (!e) e = pilot(s, req, PILOT_SPP, NOISE_PILOT_SPP, &img[3], st);
+    double p2 = lvcl_seconds();
     if (!e) e = trace_range(s, vs, FIRST_PASS, 2 * (uint64_t)FIRST_PASS, 0, st);
     if (!e) e = finish_pass(s, vs, 0, st);
     double q = lvcl_seconds();
@@ -218,15 +280,34 @@ static lvcl_error measure(lvcl_session *s, const lvcl_render_request *req, const
         size_t n = (size_t)img[0].width * img[0].height * 3;
         /* Var(P1 - P2) = A / (2 N1); Var(Q - P2) = B / NOISE_PILOT_SPP + B / PILOT_SPP. */
         b->volume_noise = 2.0 * FIRST_PASS * weighted_difference(img[0].rgb, img[1].rgb, den, n);
-        b->gather_noise =
-            weighted_difference(img[2].rgb, img[1].rgb, den, n) / (1.0 / NOISE_PILOT_SPP + 1.0 / PILOT_SPP);
-        b->seconds_per_particle = (q - p) / FIRST_PASS;
+        /* Var(Q - P) = B / NOISE_PILOT_SPP + B / PILOT_SPP over either volume;
+         * B(N) = B0 + B1 / N through the two (same samples, so their noise
+         * differs less than they do). */
+        double pilots = 1.0 / NOISE_PILOT_SPP + 1.0 / PILOT_SPP;
+        double b2 = weighted_difference(img[2].rgb, img[1].rgb, den, n) / pilots;
+        double b1 = weighted_difference(img[3].rgb, img[0].rgb, den, n) / pilots;
+        double falls = 2.0 * FIRST_PASS * (b1 - b2); /* B1: 1/N1 - 1/N2 = 1 / (2 N1) */
+        if (falls < 0) falls = 0;
+        if (falls > 2.0 * FIRST_PASS * b2) falls = 2.0 * FIRST_PASS * b2; /* B0 >= 0 */
+        b->gather_noise_per_particle = falls;
+        b->gather_noise = b2 - falls / (2.0 * FIRST_PASS);
+        if (req->pass.adaptive) {
+            double *noise = malloc(n * sizeof *noise);
+            if (!noise) e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the pilot images");
+            for (size_t i = 0; !e && i < n; i++) {
+                double d = (double)img[2].rgb[i] - img[1].rgb[i];
+                noise[i] = d * d / den[i];
+            }
+            if (!e) b->adaptive_share = adaptive_share(noise, img[0].width, img[0].height);
+            free(noise);
+        }
+        b->seconds_per_particle = (q - p2) / FIRST_PASS;
         /* Per sample of the whole image: the pilots have 1 / PILOT_SCALE^2 of its pixels. */
         b->seconds_per_sample = (r - q) / (PILOT_SPP + NOISE_PILOT_SPP) * PILOT_SCALE * PILOT_SCALE;
         b->measure_seconds = r - t;
     }
     free(den);
-    for (int i = 0; i < 3; i++) free(img[i].rgb);
+    for (int i = 0; i < 4; i++) free(img[i].rgb);
     return e;
 }
 
@@ -242,6 +323,7 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
     if (e) return e;
     lvcl_budget_report *b = &s->budget;
     b->used = 1;
+    b->adaptive_share = 1.0;
     if (vs.particles) { /* --particles given: traced whole, the gather takes what is left */
         uint64_t split_at = lvcl_volume_split_point(&vs);
         if (split_at > 0 &&
@@ -269,7 +351,8 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
             fprintf(stderr,
                     "lvcl: %.0f s budget: %.3g particles, then the gather (measured: volume relMSE %.3g / N, "
                     "gather %.3g / spp, %.3g s per 10^6 particles, %.3g s per sample)\n",
-                    req->pass.time_limit, (double)b->planned_particles, b->volume_noise, b->gather_noise,
+                    req->pass.time_limit, (double)b->planned_particles, b->volume_noise,
+                    b->gather_noise * b->adaptive_share,
                     b->seconds_per_particle * 1e6, b->seconds_per_sample);
         vs.progress = progress;
         if (b->planned_particles > traced) {
