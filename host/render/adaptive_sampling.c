@@ -10,16 +10,38 @@
  * around it in a 5 x 5 square. A 3 x 3 one followed the path tracer's
  * fireflies on the glass table and lost there (docs/design.md). */
 #define REACH 2
-/* The share every pixel gets on top, in units of the mean share. */
-#define SHARE_FLOOR 0.1
-
 #define MAX_SHARE (LVCL_EPOCH_MAX_SHARE * LVCL_EPOCH_SPP)
+
+double lvcl_adaptive_weights(const double *variance, const double *guard, uint32_t width, uint32_t height,
+                             double *weight)
+{
+    double total = 0;
+    for (uint32_t y = 0; y < height; y++)
+        for (uint32_t x = 0; x < width; x++) {
+            double v = 0, g = 0;
+            for (int dy = -REACH; dy <= REACH; dy++)
+                for (int dx = -REACH; dx <= REACH; dx++) {
+                    long nx = (long)x + dx, ny = (long)y + dy;
+                    if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= (long)width || ny >= (long)height)
+                        continue;
+                    size_t j = (size_t)ny * width + (size_t)nx;
+                    v += variance[j];
+                    g += guard[j];
+                }
+            size_t i = (size_t)y * width + x;
+            weight[i] = g > 0 ? sqrt(v / g) : 0;
+            total += weight[i];
+        }
+    return total;
+}
 
 int lvcl_adaptive_plan(const float *sum, const float *sum_sq, uint32_t width, uint32_t height, size_t samples,
                        uint32_t epoch, uint32_t *list, uint32_t *rounds)
 {
     size_t pixels = (size_t)width * height;
-    double *variance = malloc(pixels * sizeof *variance), *guard = malloc(pixels * sizeof *guard);
+    /* Zeroed: GCC cannot tell that the loop below writes every entry. */
+    double *variance = calloc(pixels ? pixels : 1, sizeof *variance);
+    double *guard = calloc(pixels ? pixels : 1, sizeof *guard);
     uint8_t *share = malloc(pixels ? pixels : 1);
     if (!variance || !guard || !share) {
         free(variance);
@@ -36,25 +58,7 @@ int lvcl_adaptive_plan(const float *sum, const float *sum_sq, uint32_t width, ui
     }
     /* Each pixel's error per sample, from its neighbours only. */
     double *weight = malloc(pixels * sizeof *weight);
-    double total = 0;
-    if (weight) {
-        for (uint32_t y = 0; y < height; y++)
-            for (uint32_t x = 0; x < width; x++) {
-                double v = 0, g = 0;
-                for (int dy = -REACH; dy <= REACH; dy++)
-                    for (int dx = -REACH; dx <= REACH; dx++) {
-                        long nx = (long)x + dx, ny = (long)y + dy;
-                        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= (long)width || ny >= (long)height)
-                            continue;
-                        size_t j = (size_t)ny * width + (size_t)nx;
-                        v += variance[j];
-                        g += guard[j];
-                    }
-                size_t i = (size_t)y * width + x;
-                weight[i] = g > 0 ? sqrt(v / g) : 0;
-                total += weight[i];
-            }
-    }
+    double total = weight ? lvcl_adaptive_weights(variance, guard, width, height, weight) : 0;
     free(variance);
     free(guard);
     if (!weight) {
@@ -62,11 +66,12 @@ int lvcl_adaptive_plan(const float *sum, const float *sum_sq, uint32_t width, ui
         return -1;
     }
     double mean = pixels ? total / (double)pixels : 0;
-    double scale = mean > 0 ? (double)samples / ((1.0 + SHARE_FLOOR) * total) : 0;
+    double scale = mean > 0 ? (double)samples / ((1.0 + LVCL_ADAPTIVE_SHARE_FLOOR) * total) : 0;
     uint32_t count[MAX_SHARE + 1] = {0};
     for (size_t i = 0; i < pixels; i++) {
         /* Without any variance seen the epoch stays uniform. */
-        double want = mean > 0 ? scale * (weight[i] + SHARE_FLOOR * mean) : (double)samples / (double)pixels;
+        double want =
+            mean > 0 ? scale * (weight[i] + LVCL_ADAPTIVE_SHARE_FLOOR * mean) : (double)samples / (double)pixels;
         double dither = (lv_hash(lv_hash((uint32_t)i) ^ (epoch * 0x9e3779b9u)) >> 8) * 0x1p-24;
         double k = floor(want + dither);
         share[i] = (uint8_t)(k > MAX_SHARE ? MAX_SHARE : k);

@@ -31,4 +31,16 @@
 int lvcl_adaptive_plan(const float *sum, const float *sum_sq, uint32_t width, uint32_t height, size_t samples,
                        uint32_t epoch, uint32_t *list, uint32_t *rounds);
 
+/* The error per sample that pixel i's share follows, into weight[i]:
+ * sqrt(v / g) over the 24 pixels around it (5 x 5, not itself), v their
+ * summed variance of one sample and g their summed relMSE weight
+ * (m^2 + LVCL_RELMSE_GUARD). Returns the weights' sum. A pixel's share is
+ * its weight plus LVCL_ADAPTIVE_SHARE_FLOOR times the mean weight. */
+double lvcl_adaptive_weights(const double *variance, const double *guard, uint32_t width, uint32_t height,
+                             double *weight);
+
+/* The share every pixel gets on top, in units of the mean weight, so that
+ * no pixel is starved by an unlucky estimate. */
+#define LVCL_ADAPTIVE_SHARE_FLOOR 0.1
+
 #endif

@@ -22,6 +22,7 @@
 #include <stdlib.h>
 
 #include "../io/metrics.h"
+#include "adaptive_sampling.h"
 #include "session_internal.h"
 #include "../util/interrupt.h"
 #include "../util/progress.h"
@@ -43,10 +44,8 @@
 #define REPLAN_BATCH (1u << 19)
 /* A trace slower than measured stops this far past its planned time. */
 #define PLAN_SLACK 1.1
-/* Particles of the warm-up trace: one launch of at least 65,536 work-items,
- * the size class of the first pass's launches on PoCL. */
-#define WARM_UP_PARTICLES (1u << 16)
-/* and a short one, below that class, as a plan's last batch may be. */
+/* After the warm-up's LVCL_WARM_UP_PARTICLES, a short launch, below that
+ * size class, as a plan's last batch may be. */
 #define WARM_UP_SHORT_BATCH 64u
 
 /* The share of the budget the plan usually gives the trace (the Cornell box
@@ -100,47 +99,30 @@ static double weighted_difference(const float *a, const float *b, const float *d
 }
 
 /* The share of the gather's uniform noise B that adaptive sampling leaves
- * (host/render/adaptive_sampling.h): it gives pixel i samples in
- * proportion to s_i = sqrt(r_i) + a tenth of their mean, r_i its relative
- * variance per sample averaged over the 5 x 5 pixels around it, so that
- * the gather's relMSE becomes sum_i (r_i / s_i) sum_j s_j / N^2 per
- * sample, against sum_i r_i / N uniform. r_i is read from the noise pilot
- * (`noise`: per value, (Q - P2)^2 / den, three channels a pixel). The
- * first epoch, uniform, is left out: it is a few of a budget's samples. */
-static double adaptive_share(const double *noise, int w, int h)
+ * (adaptive_sampling.h): it gives pixel i samples in proportion to
+ * s_i = w_i + LVCL_ADAPTIVE_SHARE_FLOOR mean(w), w_i the sampler's own
+ * weight from the pixels around it, so that the gather's relMSE becomes
+ * sum_i (r_i / s_i) sum_j s_j / N^2 per sample, r_i = v_i / g_i the
+ * pixel's relative variance, against sum_i r_i / N uniform. The variances
+ * v_i (a sample's, up to a common factor) and weights g_i come from the
+ * noise pilot. The first epoch, uniform, is left out: it is a few of a
+ * budget's samples. */
+static double adaptive_share(const double *variance, const double *guard, int w, int h)
 {
     size_t n = (size_t)w * h;
-    double *r = malloc(n * sizeof *r), *sq = malloc(n * sizeof *sq);
-    double share = 1.0;
-    if (r && sq) {
-        for (size_t i = 0; i < n; i++) r[i] = (noise[3 * i] + noise[3 * i + 1] + noise[3 * i + 2]) / 3.0;
-        double mean_sq = 0;
-        for (int y = 0; y < h; y++)
-            for (int x = 0; x < w; x++) {
-                double sum = 0;
-                int count = 0;
-                for (int dy = -2; dy <= 2; dy++)
-                    for (int dx = -2; dx <= 2; dx++) {
-                        int xx = x + dx, yy = y + dy;
-                        if ((dx || dy) && xx >= 0 && yy >= 0 && xx < w && yy < h) sum += r[(size_t)yy * w + xx], count++;
-                    }
-                sq[(size_t)y * w + x] = sqrt(count ? sum / count : 0.0);
-                mean_sq += sq[(size_t)y * w + x] / (double)n;
-            }
-        double spread = 0, total = 0, uniform = 0;
-        for (size_t i = 0; i < n; i++) {
-            double s_i = sq[i] + 0.1 * mean_sq;
-            total += s_i;
-            uniform += r[i];
-            if (s_i > 0) spread += r[i] / s_i;
-        }
-        if (uniform > 0 && total > 0) share = spread * total / ((double)n * uniform);
-        if (!(share > 0.05)) share = 0.05;
-        if (share > 1.0) share = 1.0;
+    double *weight = malloc(n * sizeof *weight);
+    if (!weight) return 1.0;
+    double mean = lvcl_adaptive_weights(variance, guard, (uint32_t)w, (uint32_t)h, weight) / (double)n;
+    double spread = 0, total = 0, uniform = 0;
+    for (size_t i = 0; i < n; i++) {
+        double s_i = weight[i] + LVCL_ADAPTIVE_SHARE_FLOOR * mean, r_i = variance[i] / guard[i];
+        total += s_i;
+        uniform += r_i;
+        if (s_i > 0) spread += r_i / s_i;
     }
-    free(r);
-    free(sq);
-    return share;
+    free(weight);
+    double share = uniform > 0 && total > 0 ? spread * total / ((double)n * uniform) : 1.0;
+    return share < 0.05 ? 0.05 : share > 1.0 ? 1.0 : share;
 }
 
 /* relMSE's denominators (value^2 + LVCL_RELMSE_GUARD) from the mean of the pilots,
@@ -234,15 +216,15 @@ static lvcl_error trace_to_plan(lvcl_session *s, const lvcl_volume_settings *vs,
  * class, up to 2 s a kernel on a cold cache: counted in the budget, that
  * time made the first pass and pilot look slow enough for a 15 s budget to
  * stop measuring at 1.3 x 10^5 particles, and the final gather lost samples
- * to it. On a warm cache this costs the trace of WARM_UP_PARTICLES and one
+ * to it. On a warm cache this costs the trace of LVCL_WARM_UP_PARTICLES and one
  * sample of a 256 x 256 image. */
 static lvcl_error warm_up(lvcl_session *s, const lvcl_render_request *req, const lvcl_volume_settings *vs,
                           lvcl_status *st)
 {
     /* A launch of each size class (lvcl_session_warm_camera_pass): a plan's
      * last batch may be short. */
-    lvcl_error e = trace_range(s, vs, 0, WARM_UP_PARTICLES, 0, st);
-    if (!e) e = trace_range(s, vs, WARM_UP_PARTICLES, WARM_UP_PARTICLES + WARM_UP_SHORT_BATCH, 0, st);
+    lvcl_error e = trace_range(s, vs, 0, LVCL_WARM_UP_PARTICLES, 0, st);
+    if (!e) e = trace_range(s, vs, LVCL_WARM_UP_PARTICLES, LVCL_WARM_UP_PARTICLES + WARM_UP_SHORT_BATCH, 0, st);
     if (!e) e = finish_pass(s, vs, 0, st);
     return e ? e : lvcl_session_warm_camera_pass(s, req, st);
 }
@@ -292,14 +274,24 @@ static lvcl_error measure(lvcl_session *s, const lvcl_render_request *req, const
         b->gather_noise_per_particle = falls;
         b->gather_noise = b2 - falls / (2.0 * FIRST_PASS);
         if (req->pass.adaptive) {
-            double *noise = malloc(n * sizeof *noise);
-            if (!noise) e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the pilot images");
-            for (size_t i = 0; !e && i < n; i++) {
-                double d = (double)img[2].rgb[i] - img[1].rgb[i];
-                noise[i] = d * d / den[i];
+            /* Per pixel, as the sampler sees it: the squared difference
+             * of the two pilots' channel means, and its relMSE weight. */
+            size_t pixels = n / 3;
+            double *variance = malloc(pixels * sizeof *variance), *guard = malloc(pixels * sizeof *guard);
+            if (!variance || !guard)
+                e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the pilot images");
+            for (size_t i = 0; !e && i < pixels; i++) {
+                double d = 0, g = 0;
+                for (int c = 0; c < 3; c++) {
+                    d += ((double)img[2].rgb[3 * i + c] - img[1].rgb[3 * i + c]) / 3.0;
+                    g += den[3 * i + c] / 3.0;
+                }
+                variance[i] = d * d;
+                guard[i] = g;
             }
-            if (!e) b->adaptive_share = adaptive_share(noise, img[0].width, img[0].height);
-            free(noise);
+            if (!e) b->adaptive_share = adaptive_share(variance, guard, img[0].width, img[0].height);
+            free(variance);
+            free(guard);
         }
         b->seconds_per_particle = (q - p2) / FIRST_PASS;
         /* Per sample of the whole image: the pilots have 1 / PILOT_SCALE^2 of its pixels. */

@@ -13,8 +13,6 @@
 /* Particles a time-limited trace stops at if its share of the time has not
  * ended it first. */
 #define GUIDE_PARTICLES_MAX (1u << 24)
-/* Particles of the warm-up trace before the clock starts: one launch. */
-#define WARM_UP_PARTICLES (1u << 16)
 
 /* Before a timed render: a small trace, its guide table and the warm-up
  * images (lvcl_session_warm_camera_pass), thrown away (the timed trace
@@ -24,7 +22,7 @@ static lvcl_error warm_up(lvcl_session *s, const lvcl_render_request *req, const
                           lvcl_status *st)
 {
     lvcl_volume_settings warm = *vs;
-    warm.particles = WARM_UP_PARTICLES;
+    warm.particles = LVCL_WARM_UP_PARTICLES;
     warm.progress = 0;
     lvcl_error e = lvcl_session_trace_volume(s, &warm, st);
     for (int d = 0; d < s->device_count && !e; d++)

@@ -38,6 +38,10 @@ lvcl_error lvcl_session_new_volume(lvcl_session *s, int d, const lvcl_volume_set
 lvcl_error lvcl_session_camera_pass(lvcl_session *s, const lvcl_render_request *req, int width, int height,
                                     const lvcl_pass_settings *pass, lvcl_render_result *out, lvcl_status *st);
 
+/* Particles of a timed render's warm-up trace: one launch of at least
+ * 65,536 work-items, the size class of the trace's batches on PoCL. */
+#define LVCL_WARM_UP_PARTICLES (1u << 16)
+
 /* Before a timed pass: one sample of a 256 x 256 and of an 8 x 8 image in
  * req's mode, thrown away, so that the pass's clock does not count the
  * machine code PoCL compiles at a kernel's first launch of each size class
