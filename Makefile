@@ -154,7 +154,7 @@ $(foreach t,$(TEST_SOURCES),$(eval $(call test_program,$(t),$(filter-out $(dir $
 # how long each part took (about 20 s on two cores; the first run also
 # compiles the kernels).
 run: $(BUILD)/lvcl
-	$(BUILD)/lvcl --mode lv --spp 32 kitchen
+	$(BUILD)/lvcl --spp 32 kitchen
 
 # make test T=NAME runs one test (tests/run.sh takes the same names).
 test: all

@@ -14,7 +14,7 @@ shift 2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 for spp in "$@"; do
-    "$build/lvcl" -q --spp "$spp" --width 256 --height 256 --seed 11 -o "$tmp/img.exr" --stats "$tmp/stats.json" "$scene" ||
+    "$build/lvcl" -q --mode pt --spp "$spp" --width 256 --height 256 --seed 11 -o "$tmp/img.exr" --stats "$tmp/stats.json" "$scene" ||
         exit 1
     seconds=$(sed -n 's/.*"render_seconds": \([0-9.]*\).*/\1/p' "$tmp/stats.json")
     err=$("$build/lvcl-compare" "$tmp/img.exr" "$ref")

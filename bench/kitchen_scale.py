@@ -45,7 +45,7 @@ def main():
     results = {}
     with tempfile.TemporaryDirectory() as tmp:
         for variant, scene in scenes.items():
-            load = run(a.build, ["--spp", "1", "--width", "64", scene], tmp)
+            load = run(a.build, ["--mode", "pt", "--spp", "1", "--width", "64", scene], tmp)
             lv = run(a.build, ["--mode", "lv", "--particles", a.particles, "--spp", a.spp,
                                "--width", "640", "--height", "480", scene], tmp)
             rec = {

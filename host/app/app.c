@@ -47,6 +47,41 @@ static lvcl_error write_outputs(const lvcl_options *o, const lvcl_render_result 
     return LVCL_OK;
 }
 
+/* Whether path can be written: an existing file writable, or a new one's
+ * folder. Checked before rendering, so that a typo in -o or --stats costs
+ * an error line, not the render. */
+static lvcl_error check_writable(const char *path, const char *what, lvcl_status *st)
+{
+    if (!access(path, F_OK)) {
+        if (access(path, W_OK)) return lvcl_fail(st, LVCL_ERR_IO, "cannot write %s %s: %s", what, path, strerror(errno));
+        return LVCL_OK;
+    }
+    char folder[4096];
+    snprintf(folder, sizeof folder, "%s", path);
+    char *slash = strrchr(folder, '/');
+    if (!slash) snprintf(folder, sizeof folder, ".");
+    else if (slash == folder) folder[1] = 0;
+    else *slash = 0;
+    if (access(folder, W_OK | X_OK))
+        return lvcl_fail(st, LVCL_ERR_IO, "cannot write %s %s: %s: %s", what, path, folder, strerror(errno));
+    return LVCL_OK;
+}
+
+/* The outputs' formats and folders, before any work that they would lose. */
+static lvcl_error check_outputs(const lvcl_options *o, lvcl_status *st)
+{
+    lvcl_error e;
+    if (o->output) {
+        if ((e = lvcl_image_format_check(o->output, st)) || (e = check_writable(o->output, "the image", st)))
+            return e;
+    } else {
+        if (mkdir("out", 0755) && errno != EEXIST)
+            return lvcl_fail(st, LVCL_ERR_IO, "cannot create the output directory out/: %s", strerror(errno));
+        if ((e = check_writable("out/", "the image to", st))) return e;
+    }
+    return o->stats ? check_writable(o->stats, "stats to", st) : LVCL_OK;
+}
+
 /* This process's share of the render, and every rank's gathered into
  * stats->ranks (collective; lvcl-mpi only). */
 static lvcl_error gather_shares(lvcl_cluster *c, const lvcl_session *s, lvcl_stats *stats, lvcl_status *st)
@@ -89,6 +124,8 @@ static lvcl_error render(const lvcl_options *o, lvcl_cluster *cluster, lvcl_sess
                          lvcl_stats *stats, int *talked_out, lvcl_status *st)
 {
     lvcl_error e;
+    int speaks = !cluster || cluster->rank == 0;
+    if ((e = lvcl_cluster_agree(cluster, speaks ? check_outputs(o, st) : LVCL_OK, st))) return e;
     lvcl_scene scene = {0};
     double t = lvcl_seconds();
     if ((e = lvcl_cluster_agree(cluster, lvcl_scene_load(o->scene, &scene, st), st))) {

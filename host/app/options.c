@@ -98,7 +98,7 @@ static void fill_defaults(lvcl_options *o)
 lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_status *st)
 {
     memset(o, 0, sizeof *o);
-    o->mode = "pt";
+    o->mode = "lv";
     o->max_depth = 64;
     o->fast_math = 1;
     o->cells = LVCL_DEFAULT_CELLS;
@@ -262,8 +262,8 @@ void lvcl_options_print_help(const char *program)
         "                       all renders on several at once\n"
         "  --list-devices       list OpenCL devices and exit\n"
         "  --device-memory MIB  act as a device of MIB MiB, a quarter of it in one buffer (default: the device's own)\n"
-        "  --mode pt|lv|lv-all|guided  pt: path tracing; lv: light volume for indirect light, shadow\n"
-        "                       rays for direct (default pt); lv-all: the light volume answers all\n"
+        "  --mode lv|pt|lv-all|guided  lv: light volume for indirect light, shadow rays for direct\n"
+        "                       (default); pt: path tracing; lv-all: the light volume answers all\n"
         "                       light; guided: path tracing that samples by the light volume too\n"
         "                       (unbiased)\n"
         "  --particles N        light volume: particles traced (default 1e6; under --time-limit\n"

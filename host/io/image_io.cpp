@@ -60,6 +60,17 @@ extern "C" lvcl_error lvcl_image_write(const char *path, const float *rgb, int w
     }
 }
 
+extern "C" lvcl_error lvcl_image_format_check(const char *path, lvcl_status *st)
+{
+    try {
+        if (!OIIO::ImageOutput::create(path))
+            return lvcl_fail(st, LVCL_ERR_IO, "cannot write %s: unknown image format", path);
+        return LVCL_OK;
+    } catch (...) {
+        return lvcl_fail(st, LVCL_ERR_IO, "cannot write %s: unknown image format", path);
+    }
+}
+
 extern "C" lvcl_error lvcl_image_read(const char *path, float **rgb, int *width, int *height, lvcl_status *st)
 {
     *rgb = nullptr;

@@ -59,8 +59,16 @@ expect_error "device list out of range" 1 --device 0,99 cornell
 (export POCL_DEVICES="pthread basic"
  expect_error "time limit on several devices" 2 --device 0,1 --time-limit 1 --spp 1 --width 8 cornell)
 expect_error "device index out of range" 1 --device 99 cornell
-expect_error "unwritable output" 1 --spp 1 --width 8 -o "$tmp/no/such/dir/x.png" cornell
-expect_error "unknown output format" 1 --spp 1 --width 8 -o "$tmp/x.unknownformat" cornell
+# Outputs that cannot be written are found before the render, whose
+# progress would otherwise show on stderr before the error.
+for where in "-o $tmp/no/such/dir/x.exr" "-o $tmp/x.unknownformat" "--stats $tmp/no/such/dir/s.json"; do
+    # shellcheck disable=SC2086 # $where is a flag and its value
+    "$lvcl" --particles 1e5 --spp 1 --width 8 $where cornell >"$tmp/stdout" 2>"$tmp/err"
+    status=$?
+    if [ "$status" -eq 1 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q '^lvcl: error: cannot write' "$tmp/err"
+    then pass "${where%% *} not writable: reported before rendering"
+    else fail "${where%% *} not writable: reported before rendering" "status $status: $(head -c 300 "$tmp/err")"; fi
+done
 expect_error "device memory not a number" 2 --device-memory lots cornell
 expect_error "light volume over the device memory" 1 --device-memory 2 --mode lv --spp 1 --width 8 cornell
 expect_error "unknown adaptive setting" 2 --adaptive maybe cornell
@@ -103,7 +111,7 @@ else pass "image size checked before the trace"; fi
 if [ -n "$ASAN_OPTIONS" ]; then
     echo "SKIP ulimit -v: a sanitizer build reserves terabytes of shadow address space"
 else
-    for run in "--spp 1 --width 8192 --height 8192" "--mode lv --cells 128 --particles 1e5 --spp 1 --width 64"; do
+    for run in "--mode pt --spp 1 --width 8192 --height 8192" "--mode lv --cells 128 --particles 1e5 --spp 1 --width 64"; do
         # shellcheck disable=SC2086 # $run is a list of flags
         (ulimit -v 1500000 && exec "$lvcl" -q $run -o "$tmp/ulimit.exr" kitchen) >"$tmp/stdout" 2>"$tmp/err"
         status=$?
@@ -119,22 +127,25 @@ if "$lvcl" --list-devices | grep -q '^0 '; then pass "--list-devices"; else fail
 
 # Adaptive sampling: the same command gives the same image (its plan reads
 # only the image's sums), and it differs from uniform sampling past 8 spp.
-"$lvcl" -q --spp 24 --width 48 -o "$tmp/ad1.exr" cornell 2>/dev/null
-"$lvcl" -q --spp 24 --width 48 -o "$tmp/ad2.exr" cornell 2>/dev/null
-"$lvcl" -q --spp 24 --width 48 --adaptive off -o "$tmp/ad0.exr" cornell 2>/dev/null
+"$lvcl" -q --mode pt --spp 24 --width 48 -o "$tmp/ad1.exr" cornell 2>/dev/null
+"$lvcl" -q --mode pt --spp 24 --width 48 -o "$tmp/ad2.exr" cornell 2>/dev/null
+"$lvcl" -q --mode pt --spp 24 --width 48 --adaptive off -o "$tmp/ad0.exr" cornell 2>/dev/null
 if "$build/lvcl-compare" "$tmp/ad1.exr" "$tmp/ad2.exr" | grep -q '"rmse": 0,' &&
     ! "$build/lvcl-compare" "$tmp/ad1.exr" "$tmp/ad0.exr" | grep -q '"rmse": 0,'; then
     pass "adaptive sampling repeats its image and differs from uniform"
 else fail "adaptive sampling repeats its image and differs from uniform" "$("$build/lvcl-compare" "$tmp/ad1.exr" "$tmp/ad2.exr")"; fi
 
-# A small render writes both default outputs, in out/ under the working directory.
-(cd "$tmp" && "$OLDPWD/$lvcl" -q --spp 2 --width 32 cornell) 2>"$tmp/err"
+# A small render writes both default outputs, in out/ under the working
+# directory, and the light volume is the default mode.
+(cd "$tmp" && "$OLDPWD/$lvcl" -q --particles 20000 --cells 8 --spp 2 --width 32 --stats s0.json cornell) 2>"$tmp/err"
 if [ -s "$tmp/out/cornell.exr" ] && [ -s "$tmp/out/cornell.png" ]; then pass "default outputs in out/"
 else fail "default outputs in out/" "$(cat "$tmp/err")"; fi
+if grep -q '"mode": "lv"' "$tmp/s0.json" 2>/dev/null; then pass "the light volume is the default mode"
+else fail "the light volume is the default mode" "$(grep '"mode"' "$tmp/s0.json" 2>/dev/null)"; fi
 
 # Stats: the fields the README promises, and a warm cache on the second run.
-"$lvcl" -q --spp 2 --width 32 --stats "$tmp/s1.json" -o "$tmp/a.exr" cornell 2>/dev/null
-"$lvcl" -q --spp 2 --width 32 --stats "$tmp/s2.json" -o "$tmp/b.exr" cornell 2>/dev/null
+"$lvcl" -q --mode pt --spp 2 --width 32 --stats "$tmp/s1.json" -o "$tmp/a.exr" cornell 2>/dev/null
+"$lvcl" -q --mode pt --spp 2 --width 32 --stats "$tmp/s2.json" -o "$tmp/b.exr" cornell 2>/dev/null
 missing=""
 for key in device triangles bvh_build_seconds bvh_bytes kernel_build_seconds kernel_from_cache render_seconds \
     samples_per_second startup_seconds adaptive; do
@@ -148,9 +159,9 @@ else fail "same seed, same image" "the pixels differ"; fi
 
 # A device just big enough for the kitchen (--device-memory gives a quarter
 # of it to one buffer) splits the large scene tables and renders the same.
-"$lvcl" -q --spp 1 --width 24 --stats "$tmp/k1.json" -o "$tmp/k1.exr" kitchen 2>/dev/null
+"$lvcl" -q --mode pt --spp 1 --width 24 --stats "$tmp/k1.json" -o "$tmp/k1.exr" kitchen 2>/dev/null
 mib=$(awk -F': ' '/"device_bytes"/ { printf "%.4f", $2 * 1.01 / 1048576 }' "$tmp/k1.json")
-"$lvcl" -q --spp 1 --width 24 --device-memory "$mib" --stats "$tmp/k2.json" -o "$tmp/k2.exr" kitchen 2>"$tmp/err"
+"$lvcl" -q --mode pt --spp 1 --width 24 --device-memory "$mib" --stats "$tmp/k2.json" -o "$tmp/k2.exr" kitchen 2>"$tmp/err"
 split=$(awk -F': ' '/"scene_tables_split"/ { print $2 + 0 }' "$tmp/k2.json" 2>/dev/null)
 if [ "${split:-0}" -ge 2 ] && "$build/lvcl-compare" "$tmp/k1.exr" "$tmp/k2.exr" | grep -q '"rmse": 0,'
 then pass "scene tables split over buffers render the same image"
@@ -160,11 +171,11 @@ else fail "scene tables split over buffers render the same image" "--device-memo
 # line: each encoding of the glowing square gives 2 triangles and the image
 # of the plain one (within float rounding of another triangle order); the
 # one with its own camera and the textured one only render.
-"$lvcl" -q --spp 4 --width 16 -o "$tmp/square.exr" "$data/corners/quad_indices_u16.gltf" 2>/dev/null
+"$lvcl" -q --mode pt --spp 4 --width 16 -o "$tmp/square.exr" "$data/corners/quad_indices_u16.gltf" 2>/dev/null
 bad_renders=""
 for f in "$data"/corners/quad_*.gltf "$data"/corners/quad_*.glb; do
     name=$(basename "$f")
-    if ! "$lvcl" -q --spp 4 --width 16 --stats "$tmp/corner.json" -o "$tmp/corner.exr" "$f" 2>"$tmp/err" ||
+    if ! "$lvcl" -q --mode pt --spp 4 --width 16 --stats "$tmp/corner.json" -o "$tmp/corner.exr" "$f" 2>"$tmp/err" ||
         ! grep -q '"instanced_triangles": 2,' "$tmp/corner.json"; then
         bad_renders="$bad_renders $name: $(head -2 "$tmp/err")"
         continue
@@ -180,7 +191,7 @@ for f in "$data"/corners/bad_*; do
 done
 
 # Non-finite vertices are skipped with a warning, and the image stays finite.
-"$lvcl" -q --spp 2 --width 32 -o "$tmp/nan.exr" "$data/nan_vertex.gltf" 2>"$tmp/err"
+"$lvcl" -q --mode pt --spp 2 --width 32 -o "$tmp/nan.exr" "$data/nan_vertex.gltf" 2>"$tmp/err"
 status=$?
 if [ $status -eq 0 ] && grep -q 'warning' "$tmp/err" && ! "$build/lvcl-compare" "$tmp/nan.exr" "$tmp/nan.exr" | grep -qi 'nan\|inf'
 then pass "NaN vertices skipped with a warning"
@@ -298,7 +309,7 @@ for mode in pt lv; do
             "status $status, ${took} s, spp ${spp:-none}; $(tail -2 "$tmp/int.err" | tr '\r' '\n' | tail -2)"
     fi
 done
-interrupt_render TERM render --adaptive on cornell
+interrupt_render TERM render --mode pt --adaptive on cornell
 if [ "$status" -eq 143 ] && [ -s "$tmp/int.exr" ] && grep -q '^lvcl: terminated (SIGTERM)' "$tmp/int.err"; then
     pass "SIGTERM during an adaptive render writes the image so far"
 else fail "SIGTERM during an adaptive render writes the image so far" "status $status; $(tail -c 300 "$tmp/int.err")"; fi
@@ -314,6 +325,6 @@ else
         "status $status, ${took} s, particles ${traced:-none}; $(tail -c 300 "$tmp/int.err")"
 fi
 # A second signal ends lvcl at once, by the signal's default action.
-interrupt_render "INT INT" render cornell
+interrupt_render "INT INT" render --mode pt cornell
 if [ "$status" -eq 130 ] && [ "$took" -le 5 ]; then pass "a second SIGINT ends lvcl at once"
 else fail "a second SIGINT ends lvcl at once" "status $status after ${took} s"; fi

@@ -66,13 +66,13 @@ compare_runs() {
 # ranks share the trace. Past 8 spp adaptive sampling (on by default)
 # plans its epochs from every rank's bands.
 small="--width 80 --spp 20 cornell"
-compare_runs "pt, adaptive" $small
+compare_runs "pt, adaptive" --mode pt $small
 compare_runs "lv" --mode lv --particles 7e5 $small
 compare_runs "lv-all" --mode lv-all --particles 7e5 $small
 compare_runs "guided" --mode guided --particles 7e5 $small
 # The variants on 3 ranks, where every rank takes work.
 ranks=3
-compare_runs "pt, uniform" --adaptive off --spp 6 --width 80 cornell
+compare_runs "pt, uniform" --mode pt --adaptive off --spp 6 --width 80 cornell
 # Sampling gather, no subcells, an offset grid of another size.
 compare_runs "lv, sampled gather, no subcells, 20 offset cells" --mode lv --gather sample --subcells 0 --cells 20 \
     --grid-offset 0.37 --particles 7e5 $small
@@ -126,9 +126,9 @@ expect_error "bad flag, reported once" 2 "unknown option" -np 3 "$mpi" --frobnic
 expect_error "missing scene, reported once" 1 "no-such.gltf" -np 3 "$mpi" "$tmp/no-such.gltf"
 expect_error "time limit over ranks refused" 2 "one process only" -np 2 "$mpi" --time-limit 5 cornell
 expect_error "a device that fails on one rank names it" 1 "rank 1: device 99 does not exist" \
-    -np 1 "$mpi" --spp 1 --width 8 cornell : -np 1 "$mpi" --device 99 --spp 1 --width 8 cornell
+    -np 1 "$mpi" --mode pt --spp 1 --width 8 cornell : -np 1 "$mpi" --mode pt --device 99 --spp 1 --width 8 cornell
 expect_error "a device that fails on one of three names it" 1 "rank 2: device 99" \
-    -np 2 "$mpi" --spp 1 --width 8 cornell : -np 1 "$mpi" --device 99 --spp 1 --width 8 cornell
+    -np 2 "$mpi" --mode pt --spp 1 --width 8 cornell : -np 1 "$mpi" --mode pt --device 99 --spp 1 --width 8 cornell
 
 # A rank killed during the particle trace ends the job, non-zero, within
 # 30 s, and mpirun names the rank.
@@ -185,7 +185,7 @@ EOF
         fail "$name" "status $status: $(tail -3 "$tmp/err"; head -c 300 "$tmp/usr2.json" 2>/dev/null)"
     else pass "$name"; fi
 }
-stop_with_usr2 "SIGUSR2 during adaptive sampling keeps the image" 5 --spp 100000 --width 48 cornell
+stop_with_usr2 "SIGUSR2 during adaptive sampling keeps the image" 5 --mode pt --spp 100000 --width 48 cornell
 stop_with_usr2 "SIGUSR2 during the particle trace keeps the image" 5 --mode lv --particles 4e9 --spp 100000 \
     --width 48 cornell
 

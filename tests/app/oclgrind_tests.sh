@@ -52,16 +52,16 @@ render() {
 # "scene tables split": a device of a few hundred KiB (--device-memory)
 # holds the kitchen only in several buffers per table.
 lv="--mode lv --cells 6 --particles 1500"
-render "path tracer" 1e-6 cornell
-render "path tracer, glass and textures" 1e-6 --max-depth 4 "$scenes/glass-table.gltf"
+render "path tracer" 1e-6 --mode pt cornell
+render "path tracer, glass and textures" 1e-6 --mode pt --max-depth 4 "$scenes/glass-table.gltf"
 render "light volume (trace, visibility rays, gather)" 1e-6 $lv cornell
 render "light volume, lights' own segments (lv-all)" 1e-6 --mode lv-all --cells 6 --particles 1500 cornell
 render "light volume, sampled gather" 1e-6 $lv --gather sample cornell
 render "light volume, refined cells and directions" 1e-6 $lv --refine 1 --refine-dirs 2 cornell
 render "light volume, adaptive cells" 1e-5 $lv --merge-tolerance 0.25 --subcells 2 kitchen
 render "guided path tracer" 1e-6 --mode guided --cells 6 --particles 1500 cornell
-render "scene tables split over buffers" 1e-5 --device-memory 0.3 kitchen
-render "adaptive sampling" 1e-6 --spp 16 --adaptive on --width 4 cornell
+render "scene tables split over buffers" 1e-5 --mode pt --device-memory 0.3 kitchen
+render "adaptive sampling" 1e-6 --mode pt --spp 16 --adaptive on --width 4 cornell
 export LVCL_EMULATE_INT64_ATOMICS=1
 render "64-bit tallies from 32-bit atomics" 1e-6 $lv --stats "$tmp/stats.json" cornell
 unset LVCL_EMULATE_INT64_ATOMICS
