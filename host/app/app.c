@@ -74,10 +74,9 @@ static lvcl_error check_outputs(const lvcl_options *o, lvcl_status *st)
     if (o->output) {
         if ((e = lvcl_image_format_check(o->output, st)) || (e = check_writable(o->output, "the image", st)))
             return e;
-    } else {
-        if (mkdir("out", 0755) && errno != EEXIST)
-            return lvcl_fail(st, LVCL_ERR_IO, "cannot create the output directory out/: %s", strerror(errno));
-        if ((e = check_writable("out/", "the image to", st))) return e;
+    } else if (access("out", F_OK) ? access(".", W_OK | X_OK) : access("out", W_OK | X_OK)) {
+        /* out/ itself is made once there is an image to put in it. */
+        return lvcl_fail(st, LVCL_ERR_IO, "cannot write the image to out/: %s", strerror(errno));
     }
     return o->stats ? check_writable(o->stats, "stats to", st) : LVCL_OK;
 }
