@@ -19,6 +19,13 @@
 
 #define LVCL_VERSION "0.1.0"
 
+/* With a cluster, rank 0 speaks for all: it reports, checks and writes
+ * what the job has one of. */
+static int speaks_for_all(const lvcl_cluster *cluster)
+{
+    return !cluster || cluster->rank == 0;
+}
+
 /* The name of a scene for default output files: its file name without
  * directory and extension. */
 static void scene_stem(const char *scene, char *out, size_t size)
@@ -123,8 +130,7 @@ static lvcl_error render(const lvcl_options *o, lvcl_cluster *cluster, lvcl_sess
                          lvcl_stats *stats, int *talked_out, lvcl_status *st)
 {
     lvcl_error e;
-    int speaks = !cluster || cluster->rank == 0;
-    if ((e = lvcl_cluster_agree(cluster, speaks ? check_outputs(o, st) : LVCL_OK, st))) return e;
+    if ((e = lvcl_cluster_agree(cluster, speaks_for_all(cluster) ? check_outputs(o, st) : LVCL_OK, st))) return e;
     lvcl_scene scene = {0};
     double t = lvcl_seconds();
     if ((e = lvcl_cluster_agree(cluster, lvcl_scene_load(o->scene, &scene, st), st))) {
@@ -179,7 +185,7 @@ static lvcl_error render(const lvcl_options *o, lvcl_cluster *cluster, lvcl_sess
     stats->interrupted_by = lvcl_interrupted();
     if (lvcl_cluster_shared(cluster) && (e = gather_shares(cluster, *s, stats, st))) return e;
     *talked_out = 1;
-    if (stats->interrupted_by && (!cluster || cluster->rank == 0))
+    if (stats->interrupted_by && speaks_for_all(cluster))
         fprintf(stderr, "lvcl: %s: sampling stopped after %d of %d samples per pixel; writing the image so far\n",
                 stats->interrupted_by == SIGINT    ? "interrupted (SIGINT)"
                 : stats->interrupted_by == SIGTERM ? "terminated (SIGTERM)"
@@ -221,8 +227,8 @@ int lvcl_app_main(int argc, char **argv, lvcl_cluster *cluster)
 {
     lvcl_stats stats = {0};
     stats.process_start = lvcl_seconds();
-    /* With a cluster rank 0 speaks for all: bad input is reported once. */
-    int speaks = !cluster || cluster->rank == 0;
+    /* Bad input is reported once. */
+    int speaks = speaks_for_all(cluster);
     lvcl_options o;
     lvcl_status st = {0};
     if (lvcl_options_parse(argc, argv, &o, &st)) {

@@ -14,6 +14,16 @@
  * ended it first. */
 #define GUIDE_PARTICLES_MAX (1u << 24)
 
+/* Traces the volume vs asks for on every device and fills each device's
+ * guide table from it. */
+static lvcl_error trace_guide(lvcl_session *s, const lvcl_volume_settings *vs, lvcl_status *st)
+{
+    lvcl_error e = lvcl_session_trace_volume(s, vs, st);
+    for (int d = 0; d < s->device_count && !e; d++)
+        e = lvcl_volume_fill_guide(s->devices[d].volume, &s->devices[d].program, st);
+    return e;
+}
+
 /* Before a timed render: a small trace, its guide table and the warm-up
  * images (lvcl_session_warm_camera_pass), thrown away (the timed trace
  * starts a new volume), so that the budget does not pay for PoCL's
@@ -24,9 +34,7 @@ static lvcl_error warm_up(lvcl_session *s, const lvcl_render_request *req, const
     lvcl_volume_settings warm = *vs;
     warm.particles = LVCL_WARM_UP_PARTICLES;
     warm.progress = 0;
-    lvcl_error e = lvcl_session_trace_volume(s, &warm, st);
-    for (int d = 0; d < s->device_count && !e; d++)
-        e = lvcl_volume_fill_guide(s->devices[d].volume, &s->devices[d].program, st);
+    lvcl_error e = trace_guide(s, &warm, st);
     return e ? e : lvcl_session_warm_camera_pass(s, req, st);
 }
 
@@ -46,9 +54,7 @@ lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request
         if (!vs.particles) vs.particles = GUIDE_PARTICLES_MAX;
         vs.deadline = start + GUIDE_TIME_SHARE * pass.time_limit;
     }
-    e = lvcl_session_trace_volume(s, &vs, st);
-    for (int d = 0; d < s->device_count && !e; d++)
-        e = lvcl_volume_fill_guide(s->devices[d].volume, &s->devices[d].program, st);
+    e = trace_guide(s, &vs, st);
     if (e == LVCL_ERR_CLUSTER || (e = lvcl_cluster_agree(s->cluster, e, st))) return e;
     /* At least one sample is taken, however long the trace took. */
     if (pass.time_limit > 0) pass.time_limit = fmax(pass.time_limit - (lvcl_seconds() - start), 1e-3);
