@@ -196,6 +196,18 @@ typedef struct {
  * adaptive cells take a bin's variance as this times its tally, as if its
  * pieces were alike; the guide trusts a cell by its pieces. */
 #define LV_PIECE_TALLY 0.67f
+/* A tally set: its bins' RGB tallies (bin b's at 3b), then its axis
+ * corrections, LV_AXES of them after the last bin (after the 2 (2n)^2 bins
+ * of a set of fine bins, which takes four sets' room). Per axis normal
+ * (+x, -x, +y, -y, +z, -z, lv_axis_normal's order), over the pieces of
+ * concentrated light (volume/tally.h) that reach a surface facing that
+ * way: their luminance times their own cosine to the normal, minus the same
+ * times the mean cosine their bin is read with. Signed. A bin's mean cosine
+ * assumes its light spread evenly over the bin; a lamp seen through glass
+ * is not, and the corrections make a Lambertian surface facing along an
+ * axis gather it exactly (docs/light-volume.md, "Axis corrections"). */
+#define LV_AXES 6
+#define LV_SET_LONGS(bins) (3 * (size_t)(bins) + LV_AXES)
 /* Largest single contribution accepted, in tally units of 1 (2^36 units):
  * 2^32 particles of weight below 32 cannot overflow a bin (see
  * docs/light-volume.md). */
@@ -213,7 +225,7 @@ typedef struct {
     lv_u32 subcells;       /* k: k x k x k binary subcells per cell (k <= 4), 0 = none */
     lv_u32 slots_per_part; /* the tallies are split over buffers of this many tally sets each */
     float visibility_rate; /* share of tallied surface hits that cast a subcell visibility ray */
-    lv_u32 tally_sets;     /* sets of 2 n^2 RGB tallies stored: the cells of a merged block share one */
+    lv_u32 tally_sets;     /* tally sets stored (LV_SET_LONGS): the cells of a merged block share one */
 } lv_grid_info;
 
 /* Regions of a cut cell (docs/light-volume.md, "Regions"): a stored cell
@@ -454,9 +466,8 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
 
 /* The axis sums of the integrating gather (integrator/gather.h): per slot
  * and axis normal (+x, -x, +y, -y, +z, -z), the RGB sum of its set's
- * tallies weighted by the bins' mean cosines, as a Lambertian surface facing
- * that way gathers them. */
-#define LV_AXES 6
+ * tallies as a Lambertian surface facing that way gathers them: weighted by
+ * the bins' mean cosines, then corrected by the set's axis corrections. */
 #define LV_AXIS_SUM_FLOATS (3 * LV_AXES)
 #define LV_AXIS_SUMS_ARGS(X, SEP)                                 \
     X(lv_axis_sums, VOLUME, , volume) SEP()                       \
@@ -471,6 +482,8 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
     X(lv_particle_trace, VALUE, lv_u32, count) SEP()                                         \
     X(lv_particle_trace, VALUE, lv_u32, store_emitted) SEP() /* lv-all: tally the lights' own segments */ \
     X(lv_particle_trace, BUFFER, const uint, subcells_seen) SEP() /* each slot's masks before the batch */ \
+    X(lv_particle_trace, BUFFER, const float, bin_table) SEP()                                \
+    X(lv_particle_trace, BUFFER, const float, fine_bin_table) SEP() /* the bin table of 2n x 2n */ \
     X(lv_particle_trace, BUFFER, uint, ray_counts)           /* segments, visibility rays */
 
 #define LV_LIT_VOLUMES_ARGS(X, SEP)               \

@@ -112,7 +112,7 @@ int lvcl_volume_layout_tallies(lvcl_light_volume *vol)
     lv_grid_info *g = &vol->buf.info;
     /* The tallies go in as few buffers as the device's largest allocation
      * allows (GPUs often allow a quarter of their memory in one). */
-    size_t set_bytes = (size_t)g->bins * 3 * sizeof(int64_t);
+    size_t set_bytes = LV_SET_LONGS(g->bins) * sizeof(int64_t);
     vol->tally_bytes = (size_t)g->tally_sets * set_bytes;
     size_t per_part = vol->dev->max_alloc / set_bytes;
     if (per_part > UINT32_MAX) per_part = UINT32_MAX;
@@ -134,7 +134,7 @@ cl_int lvcl_volume_allocate_tallies(lvcl_light_volume *vol)
 
 size_t lvcl_volume_part_bytes(const lvcl_light_volume *vol, int part)
 {
-    size_t set_bytes = (size_t)vol->buf.info.bins * 3 * sizeof(int64_t);
+    size_t set_bytes = LV_SET_LONGS(vol->buf.info.bins) * sizeof(int64_t);
     size_t first = (size_t)part * vol->buf.info.slots_per_part;
     size_t sets = vol->buf.info.tally_sets > first ? vol->buf.info.tally_sets - first : 0;
     if (sets > vol->buf.info.slots_per_part) sets = vol->buf.info.slots_per_part;

@@ -244,7 +244,7 @@ static int block_should_merge(const int64_t *tallies, const uint32_t *records, u
     double m[8][MOMENTS] = {{0}}, m2[8][MOMENTS] = {{0}}, total[MOMENTS] = {0}, total2[MOMENTS] = {0};
     for (uint32_t i = 0; i < count; i++)
         for (uint32_t b = 0; b < bins; b++) {
-            const int64_t *t = &tallies[((size_t)members[i] * bins + b) * 3];
+            const int64_t *t = &tallies[(size_t)members[i] * LV_SET_LONGS(bins) + 3 * b];
             double x = (double)(t[0] + t[1] + t[2]) / (3.0 * LV_TALLY_SCALE);
             for (int j = 0; j < MOMENTS; j++) {
                 double w = weights[(size_t)b * MOMENTS + j];
@@ -277,7 +277,7 @@ lvcl_error lvcl_volume_adapt(lvcl_light_volume *vol, double expected_particles, 
     int64_t *tallies = NULL;
     uint32_t *records = NULL;
     lvcl_error e = lvcl_volume_read(vol, &tallies, &records, st);
-    size_t per_set = (size_t)g->bins * 3;
+    size_t per_set = LV_SET_LONGS(g->bins);
     /* Each block's slots, in slot order: a counting sort by block. */
     uint32_t *start = calloc(vol->block_count + 1, sizeof(uint32_t));
     uint32_t *members = malloc(((size_t)g->slot_count + 1) * sizeof(uint32_t));

@@ -64,7 +64,7 @@ static int add_middle_planes(lvcl_cell_planes *c)
  * tally set, planes), and the shares a slot of a cut cell holds. */
 static size_t slot_bytes(const lv_grid_info *g)
 {
-    return (size_t)g->bins * 3 * sizeof(int64_t) + (LV_SUBCELL_STRIDE + 2) * sizeof(uint32_t) + sizeof(lv_slot_region);
+    return LV_SET_LONGS(g->bins) * sizeof(int64_t) + (LV_SUBCELL_STRIDE + 2) * sizeof(uint32_t) + sizeof(lv_slot_region);
 }
 
 static size_t share_bytes(const lv_grid_info *g)
@@ -73,11 +73,13 @@ static size_t share_bytes(const lv_grid_info *g)
     return (1u + (k ? k * k * k : 1u)) * sizeof(float);
 }
 
-/* The pieces per particle the tallies of slots [base, end) hold. */
+/* The pieces per particle the bins of slots [base, end) hold (sets of
+ * per_set longs, their bins' RGB tallies first). */
 static double pieces(const int64_t *tallies, size_t per_set, uint32_t base, uint32_t end, double particles)
 {
     double sum = 0;
-    for (size_t t = (size_t)base * per_set; t < (size_t)end * per_set; t++) sum += (double)tallies[t];
+    for (size_t s = base; s < end; s++)
+        for (size_t t = s * per_set; t < s * per_set + per_set - LV_AXES; t++) sum += (double)tallies[t];
     return sum / (3.0 * LV_TALLY_SCALE * LV_PIECE_TALLY) / particles;
 }
 
@@ -109,7 +111,7 @@ static size_t collect(const lvcl_light_volume *vol, const int64_t *tallies, lvcl
                       uint32_t *first_slot, candidate *cand)
 {
     const lv_grid_info *g = &vol->buf.info;
-    size_t per_set = (size_t)g->bins * 3, count = 0;
+    size_t per_set = LV_SET_LONGS(g->bins), count = 0;
     for (size_t i = 0, s = 0; i < vol->cell_count; i++) {
         uint32_t entry = vol->cell_slot[i];
         if (entry == LV_EMPTY_CELL) continue;
@@ -179,7 +181,7 @@ static size_t choose_fine(const lvcl_light_volume *vol, const int64_t *tallies, 
                           size_t *need, size_t budget, uint8_t *fine)
 {
     const lv_grid_info *g = &vol->buf.info;
-    size_t per_set = (size_t)g->bins * 3, count = 0, taken = 0, more = 3 * per_set * sizeof(int64_t);
+    size_t per_set = LV_SET_LONGS(g->bins), count = 0, taken = 0, more = 3 * per_set * sizeof(int64_t);
     fine_candidate *cand = malloc(((size_t)g->slot_count + 1) * sizeof *cand);
     if (!cand) return 0;
     for (size_t s = 0; s < stored; s++) {
@@ -246,7 +248,7 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
     lv_slot_region *new_regions = NULL;
     float *new_shares = NULL;
     uint8_t *split_slot = NULL, *restarted = NULL;
-    size_t new_share_count = 0, per_set = (size_t)g->bins * 3, stored = 0;
+    size_t new_share_count = 0, per_set = LV_SET_LONGS(g->bins), stored = 0;
     for (size_t i = 0; i < vol->cell_count; i++) stored += vol->cell_slot[i] != LV_EMPTY_CELL;
     lvcl_cell_planes *planes = malloc((stored ? stored : 1) * sizeof *planes);
     candidate *cand = malloc((stored ? stored : 1) * sizeof *cand);

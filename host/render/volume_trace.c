@@ -32,20 +32,25 @@ static lvcl_error fill_bin_table(lvcl_light_volume *vol, const lvcl_program *pro
     return e;
 }
 
+/* The table of the fine bins, once slots have them: the trace reads it
+ * for concentrated light, the gather for every bin. */
+static lvcl_error make_fine_bin_table(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st)
+{
+    if (!vol->fine_slots || vol->fine_bin_table_buf) return LVCL_OK;
+    uint32_t n = 2 * vol->buf.info.dirs;
+    cl_int err;
+    vol->fine_bin_table_buf = lvcl_buffer_create(vol->dev, CL_MEM_READ_WRITE,
+                                                 (size_t)LV_BIN_TABLE_FLOATS(2 * n * n) * sizeof(float), NULL, &err);
+    lvcl_error e = lvcl_cl_check(err, "allocating the fine bins' table", st);
+    return e ? e : fill_bin_table(vol, prog, n, vol->fine_bin_table_buf, st);
+}
+
 lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st)
 {
     const lvcl_device *dev = vol->dev;
     cl_kernel k;
     lvcl_error e;
-    if (vol->fine_slots && !vol->fine_bin_table_buf) {
-        uint32_t n = 2 * vol->buf.info.dirs;
-        cl_int err;
-        vol->fine_bin_table_buf = lvcl_buffer_create(
-            dev, CL_MEM_READ_WRITE, (size_t)LV_BIN_TABLE_FLOATS(2 * n * n) * sizeof(float), NULL, &err);
-        if ((e = lvcl_cl_check(err, "allocating the fine bins' table", st)) ||
-            (e = fill_bin_table(vol, prog, n, vol->fine_bin_table_buf, st)))
-            return e;
-    }
+    if ((e = make_fine_bin_table(vol, prog, st))) return e;
     vol->axis_sums_current = 0;
     e = lvcl_kernel_create(prog, "lv_lit_volumes", &k, st);
     if (e) return e;
@@ -153,7 +158,8 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
     if (s->first_particle >= s->particles)
         return lvcl_fail(st, LVCL_ERR_USAGE, "no particles to trace from %llu to %llu",
                          (unsigned long long)s->first_particle, (unsigned long long)s->particles);
-    if (s->first_particle == 0 && (e = clear_volume(vol, prog, st))) return e;
+    if ((s->first_particle == 0 && (e = clear_volume(vol, prog, st))) || (e = make_fine_bin_table(vol, prog, st)))
+        return e;
     cl_int err;
     /* Per batch: segments traced, visibility rays cast. */
     cl_mem counter = lvcl_buffer_create(dev, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint), NULL, &err);
@@ -169,6 +175,8 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
                                      .volume = &vol->buf,
                                      .store_emitted = s->store_emitted ? 1u : 0u,
                                      .subcells_seen = seen,
+                                     .bin_table = lvcl_volume_bin_table(vol),
+                                     .fine_bin_table = lvcl_volume_fine_bin_table(vol),
                                      .ray_counts = counter};
     if ((e = lvcl_kernel_create(prog, "lv_particle_trace", &k, st)) ||
         (e = lvcl_bind_lv_particle_trace(k, &args, st))) {

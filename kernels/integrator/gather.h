@@ -53,11 +53,22 @@ inline int lv_axis_of(float3 ns, float3 ng)
     return -1;
 }
 
-/* The unit normal of axis a (lv_axis_of's numbering). */
-inline float3 lv_axis_normal(uint a)
+/* What a Lambertian surface facing along axis a (lv_axis_of's numbering)
+ * gathers from slot's tallies, before its albedo and the volume's scale:
+ * the bins weighted by their mean cosines, scaled by the set's axis
+ * correction. The mean cosine assumes a bin's light spread evenly over
+ * it; a lamp seen through glass fills a corner of its bins, which 8 x 8
+ * bins per hemisphere read 3% dark on a floor below it. The correction
+ * adds, for such concentrated light, each piece's own cosine in place of
+ * its bin's mean (docs/light-volume.md, "Axis corrections"). */
+inline float3 lv_axis_sum(const lv_grid *grid, const lv_bin_tables *tables, uint slot, uint a)
 {
-    float s = (a & 1u) ? -1.0f : 1.0f;
-    return (float3)(a / 2u == 0u ? s : 0.0f, a / 2u == 1u ? s : 0.0f, a / 2u == 2u ? s : 0.0f);
+    uint n = lv_slot_dirs(grid, slot);
+    float3 normal = lv_axis_normal(a);
+    float3 sum = lv_cosine_weighted_tallies(lv_bin_table_for(tables, grid, n), lv_tally_bin(grid, slot, 0u),
+                                            2u * n * n, normal, normal);
+    float binned = lv_luminance(sum), exact = binned + (float)lv_axis_corrections(grid, slot)[a];
+    return binned > 0.0f ? sum * (fmax(exact, 0.0f) / binned) : (float3)(0.0f);
 }
 
 /* The BSDF-weighted sum of the volume's radiance over every bin of the cell

@@ -17,14 +17,17 @@ typedef struct {
     uint visibility_rays;
 } lv_particle_rays;
 
-/* Adds segment r, which carried `weight` (power over total power) up to hit h (surface s, if any) through a medium of
- * absorption sigma, to the volume; at a hit also offers a lit point and
- * may cast a visibility ray. Returns the visibility rays cast. */
+/* Adds segment r, which carried `weight` (power over total power) up to
+ * hit h (surface s, if any) through a medium of absorption sigma, to the
+ * volume (its light concentrated where `concentrated`, the bin tables, is
+ * not null: lv_tally_segment); at a hit also offers a lit point and may
+ * cast a visibility ray. Returns the visibility rays cast. */
 inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray r, lv_hit h, const lv_surface *s,
-                                float3 weight, float3 sigma, lv_rng *rng)
+                                float3 weight, float3 sigma, const lv_bin_tables *concentrated, lv_rng *rng)
 {
     uint fine = lv_direction_bin(r.dir, 2u * grid->g.dirs);
-    lv_tally_segment(grid, r.origin, r.dir, 0.0f, h.t, (uint2)(lv_coarse_bin(fine, grid->g.dirs), fine), weight, sigma);
+    lv_tally_segment(grid, r.origin, r.dir, 0.0f, h.t, (uint2)(lv_coarse_bin(fine, grid->g.dirs), fine), weight, sigma,
+                     concentrated);
     if (!grid->g.subcells || h.tri == LV_NO_HIT) return 0u;
     /* Just off the hit on the side the particle came from, its light
      * reached: off along the normal, by more than a lit point's rounding
@@ -38,11 +41,13 @@ inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray 
     return 0u;
 }
 
-/* Traces one particle, drawing from rng, into grid. store_emitted: tally
- * the first segment (emitted light) too, which lv mode leaves to shadow
- * rays. */
-inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *grid, lv_rng *rng, uint store_emitted)
+/* Traces one particle, drawing from rng, into grid (tables: its bin
+ * tables). store_emitted: tally the first segment (emitted light) too,
+ * which lv mode leaves to shadow rays. */
+inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *grid, const lv_bin_tables *tables,
+                                          lv_rng *rng, uint store_emitted)
 {
+    int specular_only = 1; /* every scatter so far a delta lobe: the light is still concentrated */
     lv_particle_rays n = {0u, 0u};
     lv_emission_sample es;
     float2 ul = lv_rng_next2(rng), ud = lv_rng_next2(rng);
@@ -61,7 +66,8 @@ inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *gri
             if (lv_inside_glass(m, &s)) sigma = LV_F3(m->attenuation);
         }
         if (depth > 1 || store_emitted)
-            n.visibility_rays += lv_particle_deposit(sc, grid, r, h, &s, throughput, sigma, rng);
+            n.visibility_rays +=
+                lv_particle_deposit(sc, grid, r, h, &s, throughput, sigma, specular_only ? tables : 0, rng);
         if (h.tri == LV_NO_HIT || depth == sc->info.max_depth) break;
         throughput *= exp(-sigma * h.t);
 
@@ -69,6 +75,7 @@ inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *gri
         if (!lv_shading_at(sc, &s, r.dir, &sh)) break;
         lv_bsdf_sample bs;
         if (!lv_scatter(sc, &s, h, &sh, walk, depth, rng, &throughput, &r, &bs)) break;
+        specular_only = specular_only && bs.delta;
     }
     return n;
 }

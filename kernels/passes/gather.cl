@@ -20,8 +20,7 @@ __kernel void lv_gather_pass(LV_KERNEL_PARAMS(LV_GATHER_PASS_ARGS))
 }
 
 /* One work-item per slot and axis: the axis sums (integrator/gather.h),
- * once the trace is done. Computed by the gather's own function, so a
- * surface reads from them exactly what it would sum itself. */
+ * once the trace is done. */
 __kernel void lv_axis_sums(LV_KERNEL_PARAMS(LV_AXIS_SUMS_ARGS))
 {
     uint id = get_global_id(0), slot = id / LV_AXES, axis = id % LV_AXES;
@@ -29,9 +28,5 @@ __kernel void lv_axis_sums(LV_KERNEL_PARAMS(LV_AXIS_SUMS_ARGS))
     lv_grid grid;
     LV_VOLUME_OPEN(grid);
     lv_bin_tables tables = {bin_table, fine_bin_table};
-    uint n = lv_slot_dirs(&grid, slot);
-    float3 normal = lv_axis_normal(axis);
-    float3 sum = lv_cosine_weighted_tallies(lv_bin_table_for(&tables, &grid, n), lv_tally_bin(&grid, slot, 0u),
-                                            2u * n * n, normal, normal);
-    vstore3(sum, id, axis_sums);
+    vstore3(lv_axis_sum(&grid, &tables, slot, axis), id, axis_sums);
 }

@@ -206,6 +206,28 @@ inline void lv_bin_mean_cosines(__global const float *table, uint bins, uint fir
                 same);
 }
 
+/* The unit normal of axis a: +x, -x, +y, -y, +z, -z for 0 to 5 (the axis
+ * sums' and corrections' order, shared_types.h). */
+inline float3 lv_axis_normal(uint a)
+{
+    float s = (a & 1u) ? -1.0f : 1.0f;
+    return (float3)(a / 2u == 0u ? s : 0.0f, a / 2u == 1u ? s : 0.0f, a / 2u == 2u ? s : 0.0f);
+}
+
+/* The weight lv_bin_mean_cosines gives bin `bin` of `bins` for a surface
+ * whose shading and true normals are both n, one bin at a time (the
+ * particle trace's axis corrections, tally.h). */
+inline float lv_bin_mean_cosine(__global const float *table, uint bins, uint bin, float3 n)
+{
+    __global const float *group = table + (size_t)(bin / LV_BIN_GROUP) * LV_BIN_GROUP_FLOATS + bin % LV_BIN_GROUP;
+    float3 mean = (float3)(group[4 * LV_BIN_GROUP], group[5 * LV_BIN_GROUP], group[6 * LV_BIN_GROUP]);
+    float cs = -dot(lv_bin_centre(table, bin), n), spread = group[3 * LV_BIN_GROUP];
+    if (cs >= spread) return -dot(mean, n);
+    if (!(cs > -spread)) return 0.0f;
+    __global const float *edges = table + (size_t)LV_BIN_GROUPS(bins) * LV_BIN_GROUP_FLOATS;
+    return lv_bin_cut_cosine(edges + (size_t)bin * LV_BIN_EDGE_FLOATS, mean, n, n, 1);
+}
+
 inline float lv_bin_solid_angle(uint n)
 {
     return 2.0f * LV_PI / (float)(n * n);

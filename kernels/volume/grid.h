@@ -3,8 +3,8 @@
  * cell_slot maps a cell (x + dims.x (y + dims.y z)) to its first slot (with
  * LV_CUT_CELL set if it has planes) or
  * LV_EMPTY_CELL; slot s, bin b, channel c is, with t = tally_slot[s] and
- * q = slots_per_part, tallies[t / q][((t % q) * bins + b) * 3 + c] (the
- * cells of a merged block share t). docs/light-volume.md
+ * q = slots_per_part, tallies[t / q][(t % q) * LV_SET_LONGS(bins) + 3 b + c]
+ * (the cells of a merged block share t). docs/light-volume.md
  * describes the estimator the tallies feed. */
 #ifndef LV_VOLUME_GRID_H
 #define LV_VOLUME_GRID_H
@@ -30,7 +30,7 @@ inline __global long *lv_tally_set(const lv_grid *grid, uint set)
     /* Most grids fit one buffer: skip the division there. */
     uint part = set < grid->g.slots_per_part ? 0u : set / grid->g.slots_per_part;
     uint in_part = set - part * grid->g.slots_per_part;
-    return grid->tallies[part] + (size_t)in_part * grid->g.bins * 3;
+    return grid->tallies[part] + (size_t)in_part * LV_SET_LONGS(grid->g.bins);
 }
 
 /* The three (RGB) tallies of one bin of a stored cell. */
@@ -43,6 +43,26 @@ inline __global long *lv_tally_bin(const lv_grid *grid, uint slot, uint bin)
 inline uint lv_slot_dirs(const lv_grid *grid, uint slot)
 {
     return grid->tally_slot[slot] & LV_FINE_DIRS ? 2u * grid->g.dirs : grid->g.dirs;
+}
+
+/* The LV_AXES axis corrections of slot's tally set (shared_types.h). */
+inline __global long *lv_axis_corrections(const lv_grid *grid, uint slot)
+{
+    uint n = lv_slot_dirs(grid, slot);
+    return lv_tally_bin(grid, slot, 2u * n * n);
+}
+
+/* The bin tables (shared_types.h has their layout) of the passes that
+ * visit every bin of a cell: one for n x n bins per hemisphere, one for the
+ * 2n x 2n of slots with fine bins (LV_FINE_DIRS). */
+typedef struct {
+    __global const float *coarse, *fine;
+} lv_bin_tables;
+
+/* The table of a slot whose set holds n x n bins per hemisphere. */
+inline __global const float *lv_bin_table_for(const lv_bin_tables *t, const lv_grid *grid, uint n)
+{
+    return n == grid->g.dirs ? t->coarse : t->fine;
 }
 
 inline float3 lv_grid_origin(const lv_grid *grid)

@@ -27,19 +27,6 @@ inline float3 lv_bin_radiance(const lv_grid *grid, uint slot, uint bin, float li
     return lv_bin_tally(lv_tally_bin(grid, slot, bin)) * lv_tally_to_radiance(grid, lit, lv_slot_dirs(grid, slot));
 }
 
-/* The bin tables (shared_types.h has their layout) of the passes that
- * visit every bin of a cell: one for n x n bins per hemisphere, one for the
- * 2n x 2n of slots with fine bins (LV_FINE_DIRS). */
-typedef struct {
-    __global const float *coarse, *fine;
-} lv_bin_tables;
-
-/* The table of a slot whose set holds n x n bins per hemisphere. */
-inline __global const float *lv_bin_table_for(const lv_bin_tables *t, const lv_grid *grid, uint n)
-{
-    return n == grid->g.dirs ? t->coarse : t->fine;
-}
-
 /* Radiance of the light travelling along `dir` through the cell at p. */
 inline float3 lv_volume_radiance(const lv_grid *grid, float3 p, float3 dir)
 {

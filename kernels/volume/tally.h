@@ -10,13 +10,15 @@
 #error "64-bit tallies from two 32-bit atomics need a little-endian device"
 #endif
 
+#include "direction_map.h"
 #include "grid.h"
 
-/* Adds a positive amount to a 64-bit tally. A device without 64-bit
- * atomics (cl_khr_int64_base_atomics is optional; tests force this path
- * with LV_EMULATE_INT64_ATOMICS) adds the low word and carries into the
- * high one: every add's carry lands exactly once, so the tally is exact
- * once the trace has finished, which is when it is read. */
+/* Adds an amount to a 64-bit tally. A device without 64-bit atomics
+ * (cl_khr_int64_base_atomics is optional; tests force this path with
+ * LV_EMULATE_INT64_ATOMICS) adds the low word and carries into the high
+ * one: every add's carry lands exactly once, so the tally is exact (modulo
+ * 2^64, which a negative amount relies on) once the trace has finished,
+ * which is when it is read. */
 inline void lv_tally_atomic_add(__global long *tally, long units)
 {
 #ifdef LV_NATIVE_INT64_ATOMICS
@@ -30,16 +32,41 @@ inline void lv_tally_atomic_add(__global long *tally, long units)
 #endif
 }
 
-/* Adds an RGB amount (in tally units of 1) to the bin at t. Non-finite or
+/* What a tally takes of an amount (in tally units of 1): non-finite or
  * negative amounts are dropped; huge ones are clamped, so no bin can
  * overflow (see LV_TALLY_MAX_CONTRIBUTION). */
+inline float3 lv_tally_accepted(float3 amount)
+{
+    return select((float3)(0.0f), fmin(amount, LV_TALLY_MAX_CONTRIBUTION), amount > 0.0f && isfinite(amount));
+}
+
+/* Adds an RGB amount (in tally units of 1) to the bin at t. */
 inline void lv_tally_add(__global long *t, float3 amount)
 {
-    float a[3] = {amount.x, amount.y, amount.z};
+    float3 accepted = lv_tally_accepted(amount);
+    float a[3] = {accepted.x, accepted.y, accepted.z};
     for (int c = 0; c < 3; c++) {
-        if (!(a[c] > 0.0f) || !isfinite(a[c])) continue;
-        long units = (long)(fmin(a[c], LV_TALLY_MAX_CONTRIBUTION) * LV_TALLY_SCALE + 0.5f); /* rounded, not cut */
+        long units = (long)(a[c] * LV_TALLY_SCALE + 0.5f); /* rounded, not cut */
         if (units > 0) lv_tally_atomic_add(&t[c], units);
+    }
+}
+
+/* Adds, for a piece of concentrated light (a lamp seen through glass or in
+ * a mirror, which fills a corner of its bin) that tallied `amount` along
+ * dir into bin `bin` of the `bins` that `table` describes, its axis
+ * corrections (shared_types.h) to `axes`: per axis normal, the luminance
+ * tallied times the piece's exact cosine to it (a surface facing +x
+ * receives light travelling along -x) minus the mean cosine its bin is
+ * read with. Done at once, not queued: few pieces are concentrated. */
+inline void lv_tally_correct(__global long *axes, float3 amount, float3 dir, __global const float *table, uint bins,
+                             uint bin)
+{
+    float l = lv_luminance(lv_tally_accepted(amount));
+    for (uint a = 0; a < LV_AXES; a++) {
+        float3 n = lv_axis_normal(a);
+        float exact = fmax(-dot(dir, n), 0.0f), binned = lv_bin_mean_cosine(table, bins, bin, n);
+        long units = convert_long_rte(l * (exact - binned) * LV_TALLY_SCALE);
+        if (units != 0) lv_tally_atomic_add(&axes[a], units);
     }
 }
 

@@ -104,9 +104,24 @@
     X(t_axis_sums, BUFFER, const float, axis_sums) SEP()        \
     X(t_axis_sums, BUFFER, float4, out)
 
+/* One work-item tallies segments (per segment two float4: origin and
+ * length in metres, unit direction and weight) one after another, each
+ * as concentrated light if `concentrated`, and writes per segment and
+ * axis the luminance of lv_axis_sum of the slot at the segment's middle
+ * after it, then the same of the bins' sum with mean cosines alone. */
+#define T_AXIS_CORRECTION_ARGS(X, SEP)                            \
+    X(t_axis_correction, VOLUME, , volume) SEP()                  \
+    X(t_axis_correction, BUFFER, const float, bin_table) SEP()    \
+    X(t_axis_correction, BUFFER, const float, fine_bin_table) SEP() \
+    X(t_axis_correction, BUFFER, const float4, segments) SEP()    \
+    X(t_axis_correction, VALUE, lv_u32, count) SEP()              \
+    X(t_axis_correction, VALUE, lv_u32, concentrated) SEP()       \
+    X(t_axis_correction, BUFFER, float, out)
+
 /* clang-format on */
 
 LV_ARG_INDICES(T_AXIS_SUMS_ARGS, t_axis_sums);
+LV_ARG_INDICES(T_AXIS_CORRECTION_ARGS, t_axis_correction);
 LV_ARG_INDICES(T_DIRECTION_HISTOGRAM_ARGS, t_direction_histogram);
 LV_ARG_INDICES(T_DIRECTION_ROUNDTRIP_ARGS, t_direction_roundtrip);
 LV_ARG_INDICES(T_BSDF_MOMENTS_ARGS, t_bsdf_moments);

@@ -298,8 +298,9 @@ __kernel void t_bin_radiance(LV_KERNEL_PARAMS(T_BIN_RADIANCE_ARGS))
     radiance[bin] = (float4)(lv_bin_radiance(&grid, slot, bin, lit), lit);
 }
 
-/* The gather's axis sums against the sum over the slot's bins for each
- * axis normal, spelled out here rather than from lv_axis_normal. */
+/* The gather's axis sums against lv_axis_sum computed afresh, and
+ * lv_axis_of against the axis normals spelled out here rather than from
+ * lv_axis_normal. */
 __kernel void t_axis_sums(LV_KERNEL_PARAMS(T_AXIS_SUMS_ARGS))
 {
     uint id = get_global_id(0), slot = id / LV_AXES, a = id % LV_AXES;
@@ -311,10 +312,33 @@ __kernel void t_axis_sums(LV_KERNEL_PARAMS(T_AXIS_SUMS_ARGS))
                                      (float3)(0.0f, 0.0f, 1.0f), (float3)(0.0f, 0.0f, -1.0f)};
     float3 n = normals[a];
     lv_bin_tables tables = {bin_table, fine_bin_table};
-    uint dirs = lv_slot_dirs(&grid, slot);
-    float3 sum = lv_cosine_weighted_tallies(lv_bin_table_for(&tables, &grid, dirs), lv_tally_bin(&grid, slot, 0u),
-                                            2u * dirs * dirs, n, n);
+    float3 sum = lv_axis_sum(&grid, &tables, slot, a);
     float3 tilted = normalize(n + (float3)(1e-3f, 2e-3f, -1e-3f));
     out[2 * id] = (float4)(vload3(id, axis_sums), (float)lv_axis_of(n, n));
     out[2 * id + 1] = (float4)(sum, (float)lv_axis_of(tilted, tilted));
+}
+
+/* Tallies known segments into the volume, one after another in one
+ * work-item (test_args.h, T_AXIS_CORRECTION_ARGS). */
+__kernel void t_axis_correction(LV_KERNEL_PARAMS(T_AXIS_CORRECTION_ARGS))
+{
+    if (get_global_id(0) != 0) return;
+    lv_grid grid;
+    LV_VOLUME_OPEN(grid);
+    lv_bin_tables tables = {bin_table, fine_bin_table};
+    for (uint i = 0; i < count; i++) {
+        float4 o = segments[2 * i], d = segments[2 * i + 1];
+        float3 dir = d.xyz;
+        uint fine = lv_direction_bin(dir, 2u * grid.g.dirs);
+        lv_tally_segment(&grid, o.xyz, dir, 0.0f, o.w, (uint2)(lv_coarse_bin(fine, grid.g.dirs), fine), (float3)(d.w),
+                         (float3)(0.0f), concentrated ? &tables : 0);
+        uint slot = lv_grid_slot_at(&grid, o.xyz + dir * (0.5f * o.w));
+        uint n = lv_slot_dirs(&grid, slot);
+        for (uint a = 0; a < LV_AXES; a++) {
+            float3 normal = lv_axis_normal(a);
+            out[(size_t)i * 2 * LV_AXES + a] = lv_luminance(lv_axis_sum(&grid, &tables, slot, a));
+            out[(size_t)i * 2 * LV_AXES + LV_AXES + a] = lv_luminance(lv_cosine_weighted_tallies(
+                lv_bin_table_for(&tables, &grid, n), lv_tally_bin(&grid, slot, 0u), 2u * n * n, normal, normal));
+        }
+    }
 }

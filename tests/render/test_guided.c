@@ -48,7 +48,7 @@ static float *render(const char *what, const char *scene_name, int spp, uint64_t
         if (!e && change != GUIDE_AS_TRACED) {
             const lv_grid_info *g = lvcl_volume_grid(sd->volume);
             for (size_t set = 0; set < g->tally_sets; set++) {
-                int64_t *t = tallies + set * g->bins * 3;
+                int64_t *t = tallies + set * LV_SET_LONGS(g->bins);
                 /* One bin in 16 keeps its light, a thousandfold: spikes
                  * the guide trusts (its share is near the most). */
                 if (change == GUIDE_SPIKY)

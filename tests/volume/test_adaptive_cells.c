@@ -69,7 +69,7 @@ static void test_merged_sums(const lvcl_session *ss, int cells)
         return;
     }
     const lv_grid_info *g = lvcl_volume_grid(merged.volume);
-    size_t per_set = (size_t)g->bins * 3, sets = g->tally_sets;
+    size_t per_set = LV_SET_LONGS(g->bins), sets = g->tally_sets;
     int64_t *sum = calloc(sets * per_set, sizeof(int64_t));
     double *lit = calloc(sets, sizeof(double));
     if (!sum || !lit) exit(1);

@@ -61,7 +61,7 @@ static void release(traced_volume *tv)
 
 static int64_t tally(const traced_volume *tv, uint32_t slot, uint32_t bin, int c)
 {
-    return tv->tallies[((size_t)slot * lvcl_volume_grid(tv->volume)->bins + bin) * 3 + c];
+    return tv->tallies[(size_t)slot * LV_SET_LONGS(lvcl_volume_grid(tv->volume)->bins) + 3 * bin + c];
 }
 
 static uint32_t slot_of(const traced_volume *tv, int x, int y, int z)

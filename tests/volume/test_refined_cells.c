@@ -103,7 +103,7 @@ static void test_split_sums(const lvcl_session *ss, int cells, int subcells)
         return;
     }
     const lv_grid_info *gp = lvcl_volume_grid(plain.volume), *gs = lvcl_volume_grid(split.volume);
-    size_t per = (size_t)gp->bins * 3, cap = gp->slot_count + 1;
+    size_t per = LV_SET_LONGS(gp->bins), cap = gp->slot_count + 1;
     uint32_t *pf = malloc(cap * 4), *pc = malloc(cap * 4), *sf = malloc((gs->slot_count + 1) * 4),
              *sc = malloc((gs->slot_count + 1) * 4);
     if (!pf || !pc || !sf || !sc) exit(1);
@@ -168,7 +168,7 @@ static void test_fine_sums(const lvcl_session *ss)
     }
     const lv_grid_info *g = lvcl_volume_grid(fine.volume);
     uint32_t n = g->dirs, m = 2 * n;
-    size_t per = (size_t)g->bins * 3, fine_slots = 0, exact = 1, coarse_exact = 1;
+    size_t per = LV_SET_LONGS(g->bins), fine_slots = 0, exact = 1, coarse_exact = 1;
     for (uint32_t slot = 0; slot < g->slot_count; slot++) {
         uint32_t set = lvcl_volume_tally_set(fine.volume, slot);
         const int64_t *p = &plain.tallies[(size_t)slot * per], *b = &before[(size_t)slot * per];
@@ -265,7 +265,8 @@ static void test_furnace(int subcells, int fine)
                     if (set & LV_FINE_DIRS) bins *= 4, fine_slots++;
                     set &= ~LV_FINE_DIRS;
                     double sum = 0;
-                    for (uint32_t b = 0; b < bins; b++) sum += (double)v.tallies[((size_t)set * g->bins + b) * 3];
+                    const int64_t *t = &v.tallies[(size_t)set * LV_SET_LONGS(g->bins)];
+                    for (uint32_t b = 0; b < bins; b++) sum += (double)t[3 * b];
                     double radiance = sum / g->bins * to_radiance / v.lit[s];
                     worst = fmax(worst, fabs(radiance / 2.0 - 1.0));
                     regions++;
