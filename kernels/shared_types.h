@@ -205,7 +205,7 @@ typedef struct {
  * times the mean cosine their bin is read with. Signed. A bin's mean cosine
  * assumes its light spread evenly over the bin; a lamp seen through glass
  * is not, and the corrections make a Lambertian surface facing along an
- * axis gather it exactly (docs/light-volume.md, "Axis corrections"). */
+ * axis gather its luminance exactly (docs/light-volume.md, "Axis corrections"). */
 #define LV_AXES 6
 #define LV_SET_LONGS(bins) (3 * (size_t)(bins) + LV_AXES)
 /* Largest single contribution accepted, in tally units of 1 (2^36 units):
@@ -462,6 +462,7 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
 #define LV_GUIDE_TABLE_FLOATS(info) (LV_GUIDE_STATS_AT(info) + 2 * (size_t)(info).tally_sets)
 #define LV_GUIDE_TABLE_ARGS(X, SEP)              \
     X(lv_guide_table, VOLUME, , volume) SEP()    \
+    X(lv_guide_table, VALUE, lv_u32, fine_pass) SEP() /* the second pass: slots of fine bins */ \
     X(lv_guide_table, BUFFER, float, guide_table)
 
 /* The axis sums of the integrating gather (integrator/gather.h): per slot

@@ -221,7 +221,8 @@ static void bin_centre(uint32_t bin, uint32_t n, double w[3])
 /* The six moments a block's cells are compared by: per axis and sign, the
  * cosine-weighted sum of the bins travelling that way, the irradiance an
  * axis-aligned surface would gather. The gather integrates the BSDF over
- * the bins, so these, not single bins, are what an image shows. */
+ * the bins, so these, not single bins, are what an image shows (less the
+ * axis corrections of concentrated light, which merging adds up). */
 #define MOMENTS 6
 
 /* Whether the `count` slots in `members` (one block's) should share one

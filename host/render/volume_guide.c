@@ -23,10 +23,15 @@ lvcl_error lvcl_volume_fill_guide(lvcl_light_volume *vol, const lvcl_program *pr
     if ((e = lvcl_cl_check(err, "allocating the guide table", st))) return e;
     cl_kernel k;
     if ((e = lvcl_kernel_create(prog, "lv_guide_table", &k, st))) return e;
-    lvcl_guide_table_args args = {.volume = &vol->buf, .guide_table = vol->guide_table_buf};
+    lvcl_guide_table_args args = {.volume = &vol->buf, .fine_pass = 0, .guide_table = vol->guide_table_buf};
     if (!(e = lvcl_bind_lv_guide_table(k, &args, st)) &&
-        !(e = lvcl_kernel_enqueue(dev, k, (size_t)g->tally_sets + 1, "filling the guide table", st)))
-        e = lvcl_cl_check(clFinish(dev->queue), "filling the guide table", st);
+        !(e = lvcl_kernel_enqueue(dev, k, (size_t)g->tally_sets + 1, "filling the guide table", st)) &&
+        vol->fine_slots) { /* the slots of fine bins' rooms, after the sets' (kernels/passes/guided.cl) */
+        args.fine_pass = 1;
+        if (!(e = lvcl_bind_lv_guide_table(k, &args, st)))
+            e = lvcl_kernel_enqueue(dev, k, g->slot_count, "filling the guide table's fine bins", st);
+    }
+    if (!e) e = lvcl_cl_check(clFinish(dev->queue), "filling the guide table", st);
     clReleaseKernel(k);
     return e;
 }

@@ -42,7 +42,12 @@ static lvcl_error make_fine_bin_table(lvcl_light_volume *vol, const lvcl_program
     vol->fine_bin_table_buf = lvcl_buffer_create(vol->dev, CL_MEM_READ_WRITE,
                                                  (size_t)LV_BIN_TABLE_FLOATS(2 * n * n) * sizeof(float), NULL, &err);
     lvcl_error e = lvcl_cl_check(err, "allocating the fine bins' table", st);
-    return e ? e : fill_bin_table(vol, prog, n, vol->fine_bin_table_buf, st);
+    if (!e) e = fill_bin_table(vol, prog, n, vol->fine_bin_table_buf, st);
+    if (e && vol->fine_bin_table_buf) { /* a later call makes it afresh */
+        clReleaseMemObject(vol->fine_bin_table_buf);
+        vol->fine_bin_table_buf = NULL;
+    }
+    return e;
 }
 
 lvcl_error lvcl_volume_finish(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st)

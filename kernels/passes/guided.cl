@@ -4,20 +4,10 @@
  * as pt.cl. */
 #include "../lvcl.h"
 
-/* One work-item per tally set: its bins' luminance, then its sum and
- * largest; one more writes the padding. */
-__kernel void lv_guide_table(LV_KERNEL_PARAMS(LV_GUIDE_TABLE_ARGS))
+/* One room of the guide table (shared_types.h): the luminance of the
+ * `bins` bins from t, then their sum and largest. */
+inline void lv_guide_fill(__global const long *t, uint bins, __global float *out, __global float *stats)
 {
-    uint set = get_global_id(0), bins = grid_info.bins;
-    if (set > grid_info.tally_sets) return;
-    if (set == grid_info.tally_sets) {
-        for (uint l = 0; l < LV_BIN_GROUP; l++) guide_table[(size_t)set * bins + l] = 0.0f;
-        return;
-    }
-    lv_grid grid;
-    LV_VOLUME_OPEN(grid);
-    __global const long *t = lv_tally_set(&grid, set);
-    __global float *out = guide_table + (size_t)set * bins;
     float sum = 0.0f, top = 0.0f;
     for (uint b = 0; b < bins; b++) {
         float l = lv_guide_luminance(t + 3 * (size_t)b);
@@ -25,9 +15,36 @@ __kernel void lv_guide_table(LV_KERNEL_PARAMS(LV_GUIDE_TABLE_ARGS))
         sum += l;
         top = fmax(top, l);
     }
-    __global float *stats = guide_table + LV_GUIDE_STATS_AT(grid_info) + 2 * (size_t)set;
     stats[0] = sum;
     stats[1] = top;
+}
+
+/* Without fine_pass: one work-item per tally set, one more for the
+ * padding. A set of fine bins takes four sets' room, its bins in one run
+ * and its axis corrections after them, so the second to fourth rooms'
+ * work-items read the wrong bins; with fine_pass, one work-item per slot
+ * then fills each slot of fine bins' four rooms from its run (a volume
+ * with fine bins merges no cells, so every such set has one slot). */
+__kernel void lv_guide_table(LV_KERNEL_PARAMS(LV_GUIDE_TABLE_ARGS))
+{
+    uint id = get_global_id(0), bins = grid_info.bins;
+    __global float *stats = guide_table + LV_GUIDE_STATS_AT(grid_info);
+    lv_grid grid;
+    LV_VOLUME_OPEN(grid);
+    if (fine_pass) {
+        if (id >= grid_info.slot_count || !(grid.tally_slot[id] & LV_FINE_DIRS)) return;
+        uint set = grid.tally_slot[id] & ~LV_FINE_DIRS;
+        for (uint k = 0; k < 4u; k++)
+            lv_guide_fill(lv_tally_bin(&grid, id, k * bins), bins, guide_table + (size_t)(set + k) * bins,
+                          stats + 2 * (size_t)(set + k));
+        return;
+    }
+    if (id > grid_info.tally_sets) return;
+    if (id == grid_info.tally_sets) {
+        for (uint l = 0; l < LV_BIN_GROUP; l++) guide_table[(size_t)id * bins + l] = 0.0f;
+        return;
+    }
+    lv_guide_fill(lv_tally_set(&grid, id), bins, guide_table + (size_t)id * bins, stats + 2 * (size_t)id);
 }
 
 __kernel void lv_guided_pass(LV_KERNEL_PARAMS(LV_GUIDED_PASS_ARGS))

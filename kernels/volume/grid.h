@@ -53,8 +53,9 @@ inline __global long *lv_axis_corrections(const lv_grid *grid, uint slot)
 }
 
 /* The bin tables (shared_types.h has their layout) of the passes that
- * visit every bin of a cell: one for n x n bins per hemisphere, one for the
- * 2n x 2n of slots with fine bins (LV_FINE_DIRS). */
+ * visit every bin of a cell and of the trace's axis corrections: one for
+ * n x n bins per hemisphere, one for the 2n x 2n of slots with fine bins
+ * (LV_FINE_DIRS). */
 typedef struct {
     __global const float *coarse, *fine;
 } lv_bin_tables;

@@ -57,7 +57,8 @@ inline void lv_tally_add(__global long *t, float3 amount)
  * corrections (shared_types.h) to `axes`: per axis normal, the luminance
  * tallied times the piece's exact cosine to it (a surface facing +x
  * receives light travelling along -x) minus the mean cosine its bin is
- * read with. Done at once, not queued: few pieces are concentrated. */
+ * read with. Done at once, not queued: in lv few pieces are concentrated
+ * (in lv-all every lamp's own segment is). */
 inline void lv_tally_correct(__global long *axes, float3 amount, float3 dir, __global const float *table, uint bins,
                              uint bin)
 {

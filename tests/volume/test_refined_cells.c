@@ -16,7 +16,9 @@
  * (e) an image's mean moves by under 1%;
  * (f) fine bins (--refine-dirs): the four fine bins of a coarse one hold,
  *     bit for bit, what the coarse bin tallied after the split in a volume
- *     traced without refining, and the furnace's fine bins read 2 as well. */
+ *     traced without refining, and the furnace's fine bins read 2 as well;
+ *     the guide table of guided path tracing holds each fine slot's bins
+ *     in order, as lv_guide_at reads them. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -152,6 +154,36 @@ static void test_split_sums(const lvcl_session *ss, int cells, int subcells)
     release(&again);
 }
 
+/* The guide table (kernels/passes/guided.cl) of a volume with fine bins:
+ * every slot's luminance entries are those of its bins, in order, the
+ * four sets' room of a fine slot included. */
+static void check_guide_table(const lvcl_session *ss, const read_volume *v)
+{
+    lvcl_status st = {0};
+    const lv_grid_info *g = lvcl_volume_grid(v->volume);
+    const lvcl_device *dev = lvcl_session_device(ss, 0);
+    if (lvcl_volume_fill_guide(v->volume, lvcl_session_program(ss, 0), &st)) {
+        CHECK("refined directions: the guide table", 0, "%s", st.message);
+        return;
+    }
+    size_t floats = LV_GUIDE_TABLE_FLOATS(*g), wrong = 0, read = 0;
+    float *table = malloc(floats * sizeof(float));
+    if (!table) exit(1);
+    harness_read(dev, lvcl_volume_guide_table(v->volume), floats * sizeof(float), table);
+    for (uint32_t slot = 0; slot < g->slot_count; slot++) {
+        uint32_t set = lvcl_volume_tally_set(v->volume, slot), fine = (set & LV_FINE_DIRS) != 0;
+        set &= ~LV_FINE_DIRS;
+        const int64_t *t = &v->tallies[(size_t)set * LV_SET_LONGS(g->bins)];
+        for (uint32_t b = 0; b < (fine ? 4 : 1) * g->bins; b++, read++) {
+            double l = LV_LUMINANCE((double)t[3 * b], (double)t[3 * b + 1], (double)t[3 * b + 2]);
+            wrong += fabs(table[(size_t)set * g->bins + b] - l) > 1e-5 * l + 1e-3;
+        }
+    }
+    CHECK("refined directions: the guide table holds every slot's bins in order, fine ones too", wrong == 0,
+          "%zu of %zu entries wrong", wrong, read);
+    free(table);
+}
+
 static void test_fine_sums(const lvcl_session *ss)
 {
     lvcl_volume_settings vs = {.cells = 12, .dirs = 4, .subcells = 4, .particles = 200000};
@@ -196,6 +228,7 @@ static void test_fine_sums(const lvcl_session *ss)
     CHECK("refined directions: four fine bins hold what their coarse bin tallied after the split, bit for bit", exact,
           "12 cells");
     CHECK("refined directions: a slot left coarse keeps its tallies bit for bit", coarse_exact, "12 cells");
+    check_guide_table(ss, &fine);
     free(before);
     release(&plain);
     release(&fine);
