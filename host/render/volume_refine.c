@@ -64,7 +64,8 @@ static int add_middle_planes(lvcl_cell_planes *c)
  * tally set, planes), and the shares a slot of a cut cell holds. */
 static size_t slot_bytes(const lv_grid_info *g)
 {
-    return LV_SET_LONGS(g->bins) * sizeof(int64_t) + (LV_SUBCELL_STRIDE + 2) * sizeof(uint32_t) + sizeof(lv_slot_region);
+    return LV_SET_LONGS(g->bins) * sizeof(int64_t) + (LV_SUBCELL_STRIDE + 2) * sizeof(uint32_t) +
+           sizeof(lv_slot_region);
 }
 
 static size_t share_bytes(const lv_grid_info *g)

@@ -120,7 +120,8 @@ static void check_sums(const lvcl_session *ss, int refine, const char *what)
 static void check_correction(const lvcl_session *ss, int concentrated)
 {
     const lvcl_device *dev = lvcl_session_device(ss, 0);
-    lvcl_volume_settings vs = {.cells = 12, .dirs = 4, .subcells = 0, .particles = 1}; /* no subcells: no masks to mark */
+    /* No subcells: the test kernel has no copy of the masks to mark. */
+    lvcl_volume_settings vs = {.cells = 12, .dirs = 4, .subcells = 0, .particles = 1};
     lvcl_light_volume *vol = NULL;
     lvcl_status st = {0};
     lvcl_error e = lvcl_volume_create(dev, lvcl_session_packed_scene(ss), &vs, &vol, &st);

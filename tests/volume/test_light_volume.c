@@ -438,7 +438,8 @@ static void test_determinism(void)
         if (!lvcl_scene_load("cornell", &scene, &st) &&
             trace_sized(&scene, "0", 9, &coarse, 0, LVCL_BUILD_EMULATED_INT64_ATOMICS, &emulated)) {
             size_t n = lvcl_volume_stats_of(native.volume).tally_bytes / sizeof(int64_t), wide = 0;
-            for (size_t i = 0; i < n; i++) wide += native.tallies[i] >= (int64_t)1 << 32; /* not a negative correction */
+            /* Past 2^32, so not a negative axis correction. */
+            for (size_t i = 0; i < n; i++) wide += native.tallies[i] >= (int64_t)1 << 32;
             int same =
                 lvcl_volume_stats_of(emulated.volume).tally_bytes == lvcl_volume_stats_of(native.volume).tally_bytes &&
                 memcmp(native.tallies, emulated.tallies, lvcl_volume_stats_of(native.volume).tally_bytes) == 0;
