@@ -122,10 +122,17 @@ inline void lv_fill_bin_table(uint bin, uint n, __global float *table)
         }
 }
 
+/* Bin `bin`'s first entry in its group of the table; its k-th value lies
+ * k LV_BIN_GROUP floats on (shared_types.h). */
+inline __global const float *lv_bin_entries(__global const float *table, uint bin)
+{
+    return table + (size_t)(bin / LV_BIN_GROUP) * LV_BIN_GROUP_FLOATS + bin % LV_BIN_GROUP;
+}
+
 /* Bin `bin`'s central direction, from the table. */
 inline float3 lv_bin_centre(__global const float *table, uint bin)
 {
-    __global const float *group = table + (size_t)(bin / LV_BIN_GROUP) * LV_BIN_GROUP_FLOATS + bin % LV_BIN_GROUP;
+    __global const float *group = lv_bin_entries(table, bin);
     return (float3)(group[0], group[LV_BIN_GROUP], group[2 * LV_BIN_GROUP]);
 }
 
@@ -219,7 +226,7 @@ inline float3 lv_axis_normal(uint a)
  * particle trace's axis corrections, tally.h). */
 inline float lv_bin_mean_cosine(__global const float *table, uint bins, uint bin, float3 n)
 {
-    __global const float *group = table + (size_t)(bin / LV_BIN_GROUP) * LV_BIN_GROUP_FLOATS + bin % LV_BIN_GROUP;
+    __global const float *group = lv_bin_entries(table, bin);
     float3 mean = (float3)(group[4 * LV_BIN_GROUP], group[5 * LV_BIN_GROUP], group[6 * LV_BIN_GROUP]);
     float cs = -dot(lv_bin_centre(table, bin), n), spread = group[3 * LV_BIN_GROUP];
     if (cs >= spread) return -dot(mean, n);
