@@ -40,7 +40,7 @@ inline int lv_light_sample_ray(const lv_scene *sc, const lv_surface *s, lv_hit h
     out->d = ls.target - out->origin;
     out->inst = h.inst;
     out->tri = h.tri;
-    float w = ls.delta ? 1.0f : lv_power_heuristic(ls.pdf, gv ? lv_guide_mix(gv, pdf, lv_guide_pdf(gv, ls.wi)) : pdf);
+    float w = ls.delta ? 1.0f : lv_power_heuristic(ls.pdf, gv ? lv_guide_density(gv, pdf, ls.wi) : pdf);
     out->li = fcos * ls.li * (w / ls.pdf);
     return 1;
 }

@@ -112,11 +112,19 @@ __attribute__((always_inline)) inline int lv_guided_scatter(const lv_scene *sc, 
 {
     float pick = lv_rng_next(rng);
     float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
-    float bsdf_pdf, guide_pdf;
+    float bsdf_pdf, bin_pdf, light_pdf;
     float3 fcos;
     if (pick < gv->share) {
+        /* From the bins or toward the lights: the sample brings its own
+         * density, the other is evaluated. */
         float3 wiw;
-        if (!lv_guide_sample(gv, u, &wiw, &guide_pdf)) return 0;
+        if (pick < gv->bin_share) {
+            if (!lv_guide_sample(gv, u, &wiw, &bin_pdf)) return 0;
+            light_pdf = lv_guide_light_pdf(gv, wiw);
+        } else {
+            if (!lv_light_candidates_sample(&gv->lights, gv->p, u, &wiw, &light_pdf)) return 0;
+            bin_pdf = lv_guide_pdf(gv, wiw);
+        }
         bs->wi = lv_to_local(sh->f, wiw);
         fcos = lv_bsdf_eval(&sh->b, sh->wo, bs->wi, w.mode, &bsdf_pdf);
     } else {
@@ -125,9 +133,11 @@ __attribute__((always_inline)) inline int lv_guided_scatter(const lv_scene *sc, 
         if (!lv_bsdf_sample_dir(&sh->b, sh->wo, u, w.mode, bs) || bs->delta) return 0;
         bsdf_pdf = bs->pdf;
         fcos = bs->weight * bs->pdf;
-        guide_pdf = lv_guide_pdf(gv, lv_to_world(sh->f, bs->wi));
+        float3 wiw = lv_to_world(sh->f, bs->wi);
+        bin_pdf = lv_guide_pdf(gv, wiw);
+        light_pdf = lv_guide_light_pdf(gv, wiw);
     }
-    float pdf = lv_guide_mix(gv, bsdf_pdf, guide_pdf);
+    float pdf = lv_guide_mix(gv, bsdf_pdf, bin_pdf, light_pdf);
     if (!(pdf > 0.0f) || lv_max3(fcos) <= 0.0f) return 0;
     lv_bsdf_sample_lobe(bs->wi, fcos, pdf, bs);
     return lv_scatter_along(sc, s, h, sh, w, depth, rng, beta, r, bs);

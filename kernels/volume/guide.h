@@ -10,6 +10,7 @@
 #define LV_VOLUME_GUIDE_H
 
 #include "lookup.h"
+#include "../light/light_directions.h"
 
 /* The guide's share of a mixture with BSDF sampling where the cell holds
  * light from many particles. With share g every sample's weight is at most
@@ -28,6 +29,9 @@
 /* A cell whose bins hold this many particle pieces gets half the share,
  * more pieces up to all of it: a guide from a few pieces is a few spikes. */
 #define LV_GUIDE_TRUSTED_PIECES 256.0f
+/* The bins toward the lights must hold this much of a guide's light before
+ * directions toward the lights get a share of their own (lv_guide_lights). */
+#define LV_GUIDE_MIN_LIGHT_MASS 0.02f
 
 /* The weight of a tally set's bin before the cosine: its luminance (the
  * guide table, one float per bin, filled once after the trace). */
@@ -50,9 +54,13 @@ typedef struct {
     __global const float *luminance; /* the slot's bins' */
     __global const float *table;
     uint n, bins;
+    float3 p;      /* the surface point */
     float3 ns, ng; /* shading normal and geometric normal, both on the side light arrives from */
     float total;
-    float share; /* probability of sampling the guide (lv_guide_prepare), 0 where it holds no light */
+    float share;       /* probability of sampling the guide (lv_guide_prepare), 0 where it holds no light */
+    float bin_share;   /* the part of it that samples the bins */
+    float light_share; /* and the part that aims at the lights (lv_guide_lights) */
+    lv_light_candidates lights;
 } lv_guide_vertex;
 
 /* A bin's weight: its luminance times the cosine of its central direction
@@ -98,14 +106,17 @@ inline int lv_guide_prepare(lv_guide_vertex *gv, float share)
     float16 sum = (float16)(0.0f);
     for (uint first = 0; first < gv->bins; first += LV_BIN_GROUP) sum += lv_guide_group(gv, first);
     gv->total = lv_sum16(sum);
-    gv->share = gv->total > 0.0f && isfinite(gv->total) ? share : 0.0f;
+    gv->share = gv->bin_share = gv->total > 0.0f && isfinite(gv->total) ? share : 0.0f;
+    gv->light_share = 0.0f;
     return gv->share > 0.0f;
 }
 
-/* The share the guide of a tally set of `bins` bins gets, from the sum and
- * the largest of their luminance in the guide table: over `rooms` entries,
- * as a set of fine bins takes four sets' room, each with its own. */
-inline float lv_guide_share(__global const float *stats, uint rooms, uint bins)
+/* The shares a tally set of `bins` bins can give, from the sum and the
+ * largest of their luminance in the guide table (over `rooms` entries, as
+ * a set of fine bins takes four sets' room, each with its own): *trust
+ * grows with the particle pieces the bins hold, and *bins_share is that
+ * where the brightest bin passes the peak test, else 0. */
+inline void lv_guide_shares(__global const float *stats, uint rooms, uint bins, float *trust, float *bins_share)
 {
     float sum = 0.0f, top = 0.0f;
     for (uint r = 0; r < rooms; r++) {
@@ -115,15 +126,60 @@ inline float lv_guide_share(__global const float *stats, uint rooms, uint bins)
     /* Luminance weights add to 1, so the luminance counts pieces as one
      * channel does (pieces that lost power count as less than one). */
     float pieces = sum * (1.0f / (LV_TALLY_SCALE * LV_PIECE_TALLY));
-    if (!(top * (float)bins >= LV_GUIDE_MIN_PEAK * sum) || !(sum > 0.0f)) return 0.0f;
-    return LV_GUIDE_SHARE * pieces / (pieces + LV_GUIDE_TRUSTED_PIECES);
+    *trust = sum > 0.0f ? LV_GUIDE_SHARE * pieces / (pieces + LV_GUIDE_TRUSTED_PIECES) : 0.0f;
+    *bins_share = top * (float)bins >= LV_GUIDE_MIN_PEAK * sum ? *trust : 0.0f;
+}
+
+/* Light that the bins hold from the directions of the lights has come
+ * through glass (the guide's volume leaves the lights' own segments to
+ * light samples), and a direction toward the light itself finds it better
+ * than one uniform in its bin. Picks gv's candidate lights and finds each
+ * one's bin (gv->bins where it cannot light the surface); returns the
+ * share of the set's luminance, sum_luminance, in those bins (each bin
+ * once), a cheap first look taken over both hemispheres. */
+inline float lv_guide_light_bins(const lv_scene *sc, lv_guide_vertex *gv, float sum_luminance, uint *bins)
+{
+    lv_light_candidates *c = &gv->lights;
+    float mass = 0.0f;
+    uint count = lv_light_candidates_pick(sc, c);
+    for (uint k = 0; k < count; k++) {
+        float3 d = c->v0[k] + (c->e1[k] + c->e2[k]) * (1.0f / 3.0f) - gv->p;
+        bins[k] = gv->bins;
+        if (!(dot(d, gv->ng) > 0.0f) || !(dot(d, c->n[k]) < 0.0f)) continue;
+        bins[k] = lv_direction_bin(-normalize(d), gv->n); /* light from the candidate travels along -d */
+        int seen = 0;
+        for (uint j = 0; j < k; j++) seen |= bins[j] == bins[k];
+        if (!seen) mass += gv->luminance[bins[k]];
+    }
+    return mass / sum_luminance;
+}
+
+/* Once gv's bins are prepared: weighs each candidate by the guide's weight
+ * of its bin and returns those bins' share of the guide (each bin once). */
+inline float lv_guide_light_mass(lv_guide_vertex *gv, const uint *bins)
+{
+    lv_light_candidates *c = &gv->lights;
+    float w[LV_LIGHT_CANDIDATES], mass = 0.0f;
+    for (uint k = 0; k < c->count; k++) {
+        w[k] = 0.0f;
+        if (bins[k] == gv->bins) continue;
+        float3 centre = lv_bin_centre(gv->table, bins[k]);
+        w[k] = lv_guide_weight(gv->luminance[bins[k]], -dot(centre, gv->ns), -dot(centre, gv->ng));
+        int seen = 0;
+        for (uint j = 0; j < k; j++) seen |= bins[j] == bins[k];
+        if (!seen) mass += w[k];
+    }
+    return lv_light_candidates_weigh(c, w) ? fmin(mass / gv->total, 1.0f) : 0.0f;
 }
 
 /* Sets up the guide at surface point p, with shading normal ns and
  * geometric normal ng on the side light arrives from. Reads the region of
- * the cell in front of p, where that side's light is tallied. Returns 0
- * (share 0) where the volume holds no light there. */
-inline int lv_guide_at(const lv_guide *g, float3 p, float3 ns, float3 ng, lv_guide_vertex *gv)
+ * the cell in front of p, where that side's light is tallied. Where the
+ * bins toward the lights hold a share m of its light (at least
+ * LV_GUIDE_MIN_LIGHT_MASS), directions toward the lights get m of the
+ * guide's share and the bins the rest. Returns 0 (share 0) where the
+ * volume holds no light there, or none worth a guide. */
+inline int lv_guide_at(const lv_guide *g, const lv_scene *sc, float3 p, float3 ns, float3 ng, lv_guide_vertex *gv)
 {
     gv->share = 0.0f;
     uint slot = lv_grid_slot_at(&g->grid, lv_front_point(&g->grid, p, ng));
@@ -131,20 +187,36 @@ inline int lv_guide_at(const lv_guide *g, float3 p, float3 ns, float3 ng, lv_gui
     uint set = g->grid.tally_slot[slot] & ~LV_FINE_DIRS;
     gv->n = lv_slot_dirs(&g->grid, slot);
     gv->bins = 2u * gv->n * gv->n;
-    float share = lv_guide_share(g->stats + 2 * (size_t)set, gv->bins / g->grid.g.bins, gv->bins);
-    if (!(share > 0.0f)) return 0; /* no guide: the cost of setting one up is saved too */
+    __global const float *stats = g->stats + 2 * (size_t)set;
+    uint rooms = gv->bins / g->grid.g.bins;
+    float trust, bins_share;
+    lv_guide_shares(stats, rooms, gv->bins, &trust, &bins_share);
+    if (!(trust > 0.0f)) return 0; /* no guide: the cost of setting one up is saved too */
     gv->luminance = g->luminance + (size_t)set * g->grid.g.bins;
     gv->table = lv_bin_table_for(&g->tables, &g->grid, gv->n);
+    gv->p = p;
     gv->ns = ns;
     gv->ng = ng;
-    return lv_guide_prepare(gv, share);
+    float sum = 0.0f;
+    for (uint r = 0; r < rooms; r++) sum += stats[2 * r];
+    /* About half a set's light arrives from the front, so the first look
+     * counts twice. */
+    uint bins[LV_LIGHT_CANDIDATES];
+    int aim = 2.0f * lv_guide_light_bins(sc, gv, sum, bins) >= LV_GUIDE_MIN_LIGHT_MASS;
+    if (!(bins_share > 0.0f) && !aim) return 0;
+    if (!lv_guide_prepare(gv, 1.0f)) return 0;
+    float m = aim ? lv_guide_light_mass(gv, bins) : 0.0f;
+    gv->light_share = m >= LV_GUIDE_MIN_LIGHT_MASS ? trust * m : 0.0f;
+    gv->bin_share = gv->light_share > 0.0f ? bins_share * (1.0f - m) : bins_share;
+    gv->share = gv->bin_share + gv->light_share;
+    return gv->share > 0.0f;
 }
 
 /* The guide's density (per steradian) of light arriving from world
  * direction wi. */
 inline float lv_guide_pdf(const lv_guide_vertex *gv, float3 wi)
 {
-    if (!(gv->share > 0.0f)) return 0.0f;
+    if (!(gv->bin_share > 0.0f)) return 0.0f;
     uint bin = lv_direction_bin(-wi, gv->n); /* light arriving from wi travels along -wi */
     float3 c = lv_bin_centre(gv->table, bin);
     return lv_guide_weight(gv->luminance[bin], -dot(c, gv->ns), -dot(c, gv->ng)) /
@@ -184,10 +256,23 @@ inline int lv_guide_sample(const lv_guide_vertex *gv, float3 u, float3 *wi, floa
     return 1;
 }
 
-/* The density of the one-sample mixture of BSDF sampling and the guide. */
-inline float lv_guide_mix(const lv_guide_vertex *gv, float bsdf_pdf, float guide_pdf)
+/* The density of aiming at gv's lights, at world direction wi. */
+inline float lv_guide_light_pdf(const lv_guide_vertex *gv, float3 wi)
 {
-    return (1.0f - gv->share) * bsdf_pdf + gv->share * guide_pdf;
+    return gv->light_share > 0.0f ? lv_light_candidates_pdf(&gv->lights, gv->p, wi) : 0.0f;
+}
+
+/* The density of the one-sample mixture of BSDF sampling, the bins and the
+ * lights, from each one's density. */
+inline float lv_guide_mix(const lv_guide_vertex *gv, float bsdf_pdf, float bin_pdf, float light_pdf)
+{
+    return (1.0f - gv->share) * bsdf_pdf + gv->bin_share * bin_pdf + gv->light_share * light_pdf;
+}
+
+/* The mixture's density at world direction wi, whose BSDF density is bsdf_pdf. */
+inline float lv_guide_density(const lv_guide_vertex *gv, float bsdf_pdf, float3 wi)
+{
+    return lv_guide_mix(gv, bsdf_pdf, lv_guide_pdf(gv, wi), lv_guide_light_pdf(gv, wi));
 }
 
 #endif

@@ -86,6 +86,21 @@
     X(t_guide_sampling, BUFFER, uint, counts) SEP()            \
     X(t_guide_sampling, BUFFER, float4, results)
 
+/* Directions toward candidate lights (kernels/light/light_directions.h):
+ * `count` triangles (three corners each, the first's w the front sign)
+ * with `weights`, seen from `point`. Per work-item, over per_item uniform
+ * directions: the sum and the sum of squares of their density times 4 pi,
+ * and how many have a density; over per_item samples: the sum of 1 / pdf,
+ * how many came back with a density other than lv_light_candidates_pdf's,
+ * how many failed, and the sum of 1 / pdf^2. */
+#define T_LIGHT_DIRECTIONS_ARGS(X, SEP)                          \
+    X(t_light_directions, BUFFER, const float4, corners) SEP()   \
+    X(t_light_directions, BUFFER, const float, weights) SEP()    \
+    X(t_light_directions, VALUE, lv_u32, count) SEP()            \
+    X(t_light_directions, BUFFER, const float4, point) SEP()     \
+    X(t_light_directions, VALUE, lv_u32, per_item) SEP()         \
+    X(t_light_directions, BUFFER, float4, results)
+
 /* The first `dims` numbers of the camera streams (pixel, sample) for
  * `pixels` pixels and `samples` samples each, pixel-major. */
 #define T_CAMERA_STREAMS_ARGS(X, SEP)                \
@@ -131,6 +146,7 @@ LV_ARG_INDICES(T_BIN_RADIANCE_ARGS, t_bin_radiance);
 LV_ARG_INDICES(T_BIN_TABLE_ARGS, t_bin_table);
 LV_ARG_INDICES(T_BIN_COSINE_ARGS, t_bin_cosine);
 LV_ARG_INDICES(T_GUIDE_SAMPLING_ARGS, t_guide_sampling);
+LV_ARG_INDICES(T_LIGHT_DIRECTIONS_ARGS, t_light_directions);
 LV_ARG_INDICES(T_CAMERA_STREAMS_ARGS, t_camera_streams);
 
 /* lv_cos_sin of each angle in phis, (cos, sin) per angle. */

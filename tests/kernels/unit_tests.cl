@@ -104,6 +104,46 @@ __kernel void t_guide_sampling(LV_KERNEL_PARAMS(T_GUIDE_SAMPLING_ARGS))
     results[i] = (float4)(integral / (float)per_item, mismatches, none, gv.total);
 }
 
+__kernel void t_light_directions(LV_KERNEL_PARAMS(T_LIGHT_DIRECTIONS_ARGS))
+{
+    uint i = get_global_id(0);
+    lv_light_candidates c;
+    float w[LV_LIGHT_CANDIDATES];
+    c.count = count;
+    for (uint k = 0; k < count; k++) {
+        float3 v0 = corners[3 * k].xyz, v1 = corners[3 * k + 1].xyz, v2 = corners[3 * k + 2].xyz;
+        c.v0[k] = v0;
+        c.e1[k] = v1 - v0;
+        c.e2[k] = v2 - v0;
+        c.n[k] = corners[3 * k].w * cross(c.e1[k], c.e2[k]);
+        w[k] = weights[k];
+    }
+    if (!lv_light_candidates_weigh(&c, w)) {
+        results[2 * i] = results[2 * i + 1] = (float4)(-1.0f);
+        return;
+    }
+    lv_rng rng = lv_rng_make(29u, i, 0u);
+    float sum = 0.0f, sum_sq = 0.0f, support = 0.0f, inverse = 0.0f, inverse_sq = 0.0f, mismatches = 0.0f;
+    float failed = 0.0f;
+    for (uint k = 0; k < per_item; k++) {
+        float d = lv_light_candidates_pdf(&c, point[0].xyz, uniform_sphere(lv_rng_next2(&rng))) * 4.0f * LV_PI;
+        sum += d;
+        sum_sq += d * d;
+        support += d > 0.0f ? 1.0f : 0.0f;
+        float3 u = (float3)(lv_rng_next2(&rng), lv_rng_next(&rng)), dir;
+        float pdf;
+        if (!lv_light_candidates_sample(&c, point[0].xyz, u, &dir, &pdf)) {
+            failed += 1.0f;
+            continue;
+        }
+        inverse += 1.0f / pdf;
+        inverse_sq += 1.0f / (pdf * pdf);
+        if (fabs(lv_light_candidates_pdf(&c, point[0].xyz, dir) - pdf) > 1e-3f * pdf) mismatches += 1.0f;
+    }
+    results[2 * i] = (float4)(sum, sum_sq, support, 0.0f);
+    results[2 * i + 1] = (float4)(inverse, mismatches, failed, inverse_sq);
+}
+
 /* One work-item per (pixel, sample): the first `dims` numbers of its
  * camera stream, as the camera passes draw them. */
 __kernel void t_camera_streams(LV_KERNEL_PARAMS(T_CAMERA_STREAMS_ARGS))
