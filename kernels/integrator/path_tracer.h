@@ -62,7 +62,7 @@ __attribute__((always_inline)) inline int lv_path_shade(const lv_scene *sc, cons
      * in lv mode (rough, opaque, no delta lobe), the first few on a path. */
     int rough = guide && lv_bsdf_gathers(sh.b.type, sh.b.alpha);
     lv_guide_vertex gv;
-    int guided = rough && p->rough < LV_GUIDE_VERTICES && lv_guide_at(guide, sc, s.p, sh.f.n, sh.ng_out, &gv);
+    int guided = rough && p->rough < LV_GUIDE_VERTICES && lv_guide_at(guide, s.p, sh.f.n, sh.ng_out, &gv);
     p->rough += rough ? 1u : 0u;
     if (p->depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b) &&
         lv_light_sample_ray(sc, &s, h, &sh, guided ? &gv : 0, rng, shadow)) {

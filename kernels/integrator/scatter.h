@@ -122,7 +122,7 @@ __attribute__((always_inline)) inline int lv_guided_scatter(const lv_scene *sc, 
             if (!lv_guide_sample(gv, u, &wiw, &bin_pdf)) return 0;
             light_pdf = lv_guide_light_pdf(gv, wiw);
         } else {
-            if (!lv_light_candidates_sample(&gv->lights, gv->p, u, &wiw, &light_pdf)) return 0;
+            if (!lv_light_directions_sample(gv->lights, &gv->odds, gv->p, u, &wiw, &light_pdf)) return 0;
             bin_pdf = lv_guide_pdf(gv, wiw);
         }
         bs->wi = lv_to_local(sh->f, wiw);

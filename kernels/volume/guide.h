@@ -30,7 +30,7 @@
  * more pieces up to all of it: a guide from a few pieces is a few spikes. */
 #define LV_GUIDE_TRUSTED_PIECES 256.0f
 /* The bins toward the lights must hold this much of a guide's light before
- * directions toward the lights get a share of their own (lv_guide_lights). */
+ * directions toward the lights get a share of their own (lv_guide_at). */
 #define LV_GUIDE_MIN_LIGHT_MASS 0.02f
 
 /* The weight of a tally set's bin before the cosine: its luminance (the
@@ -46,6 +46,7 @@ typedef struct {
     lv_bin_tables tables;
     __global const float *luminance; /* per tally set and bin (lv_guide_luminance), as the tallies are laid out */
     __global const float *stats;     /* per tally set: its bins' summed and largest luminance */
+    lv_light_candidates lights;      /* the lights that guided paths may aim at (lv_guide_at) */
 } lv_guide;
 
 /* The guide at one surface point: the bins of the cell region in front of
@@ -59,8 +60,9 @@ typedef struct {
     float total;
     float share;       /* probability of sampling the guide (lv_guide_prepare), 0 where it holds no light */
     float bin_share;   /* the part of it that samples the bins */
-    float light_share; /* and the part that aims at the lights (lv_guide_lights) */
-    lv_light_candidates lights;
+    float light_share; /* and the part that aims at the lights */
+    const lv_light_candidates *lights;
+    lv_light_odds odds; /* the lights' odds here */
 } lv_guide_vertex;
 
 /* A bin's weight: its luminance times the cosine of its central direction
@@ -111,12 +113,10 @@ inline int lv_guide_prepare(lv_guide_vertex *gv, float share)
     return gv->share > 0.0f;
 }
 
-/* The shares a tally set of `bins` bins can give, from the sum and the
- * largest of their luminance in the guide table (over `rooms` entries, as
- * a set of fine bins takes four sets' room, each with its own): *trust
- * grows with the particle pieces the bins hold, and *bins_share is that
- * where the brightest bin passes the peak test, else 0. */
-inline void lv_guide_shares(__global const float *stats, uint rooms, uint bins, float *trust, float *bins_share)
+/* The share the guide of a tally set of `bins` bins gets, from the sum and
+ * the largest of their luminance in the guide table: over `rooms` entries,
+ * as a set of fine bins takes four sets' room, each with its own. */
+inline float lv_guide_share(__global const float *stats, uint rooms, uint bins)
 {
     float sum = 0.0f, top = 0.0f;
     for (uint r = 0; r < rooms; r++) {
@@ -126,30 +126,33 @@ inline void lv_guide_shares(__global const float *stats, uint rooms, uint bins, 
     /* Luminance weights add to 1, so the luminance counts pieces as one
      * channel does (pieces that lost power count as less than one). */
     float pieces = sum * (1.0f / (LV_TALLY_SCALE * LV_PIECE_TALLY));
-    *trust = sum > 0.0f ? LV_GUIDE_SHARE * pieces / (pieces + LV_GUIDE_TRUSTED_PIECES) : 0.0f;
-    *bins_share = top * (float)bins >= LV_GUIDE_MIN_PEAK * sum ? *trust : 0.0f;
+    if (!(top * (float)bins >= LV_GUIDE_MIN_PEAK * sum) || !(sum > 0.0f)) return 0.0f;
+    return LV_GUIDE_SHARE * pieces / (pieces + LV_GUIDE_TRUSTED_PIECES);
 }
 
 /* Light that the bins hold from the directions of the lights has come
  * through glass (the guide's volume leaves the lights' own segments to
  * light samples), and a direction toward the light itself finds it better
- * than one uniform in its bin. Picks gv's candidate lights and finds each
- * one's bin (gv->bins where it cannot light the surface); returns the
+ * than one uniform in its bin. Finds the bin of each of gv's candidate
+ * lights (gv->bins where it cannot light the surface); returns the
  * share of the set's luminance, sum_luminance, in those bins (each bin
- * once), a cheap first look taken over both hemispheres. */
-inline float lv_guide_light_bins(const lv_scene *sc, lv_guide_vertex *gv, float sum_luminance, uint *bins)
+ * once, *distinct of them), a cheap first look over both hemispheres. */
+inline float lv_guide_light_bins(const lv_guide_vertex *gv, float sum_luminance, uint *bins, uint *distinct)
 {
-    lv_light_candidates *c = &gv->lights;
+    const lv_light_candidates *c = gv->lights;
     float mass = 0.0f;
-    uint count = lv_light_candidates_pick(sc, c);
-    for (uint k = 0; k < count; k++) {
+    *distinct = 0;
+    for (uint k = 0; k < c->count; k++) {
         float3 d = c->v0[k] + (c->e1[k] + c->e2[k]) * (1.0f / 3.0f) - gv->p;
         bins[k] = gv->bins;
         if (!(dot(d, gv->ng) > 0.0f) || !(dot(d, c->n[k]) < 0.0f)) continue;
         bins[k] = lv_direction_bin(-normalize(d), gv->n); /* light from the candidate travels along -d */
         int seen = 0;
         for (uint j = 0; j < k; j++) seen |= bins[j] == bins[k];
-        if (!seen) mass += gv->luminance[bins[k]];
+        if (!seen) {
+            mass += gv->luminance[bins[k]];
+            *distinct += 1;
+        }
     }
     return mass / sum_luminance;
 }
@@ -158,9 +161,8 @@ inline float lv_guide_light_bins(const lv_scene *sc, lv_guide_vertex *gv, float 
  * of its bin and returns those bins' share of the guide (each bin once). */
 inline float lv_guide_light_mass(lv_guide_vertex *gv, const uint *bins)
 {
-    lv_light_candidates *c = &gv->lights;
     float w[LV_LIGHT_CANDIDATES], mass = 0.0f;
-    for (uint k = 0; k < c->count; k++) {
+    for (uint k = 0; k < gv->lights->count; k++) {
         w[k] = 0.0f;
         if (bins[k] == gv->bins) continue;
         float3 centre = lv_bin_centre(gv->table, bins[k]);
@@ -169,7 +171,7 @@ inline float lv_guide_light_mass(lv_guide_vertex *gv, const uint *bins)
         for (uint j = 0; j < k; j++) seen |= bins[j] == bins[k];
         if (!seen) mass += w[k];
     }
-    return lv_light_candidates_weigh(c, w) ? fmin(mass / gv->total, 1.0f) : 0.0f;
+    return lv_light_odds_set(gv->lights, w, &gv->odds) ? fmin(mass / gv->total, 1.0f) : 0.0f;
 }
 
 /* Sets up the guide at surface point p, with shading normal ns and
@@ -179,7 +181,7 @@ inline float lv_guide_light_mass(lv_guide_vertex *gv, const uint *bins)
  * LV_GUIDE_MIN_LIGHT_MASS), directions toward the lights get m of the
  * guide's share and the bins the rest. Returns 0 (share 0) where the
  * volume holds no light there, or none worth a guide. */
-inline int lv_guide_at(const lv_guide *g, const lv_scene *sc, float3 p, float3 ns, float3 ng, lv_guide_vertex *gv)
+inline int lv_guide_at(const lv_guide *g, float3 p, float3 ns, float3 ng, lv_guide_vertex *gv)
 {
     gv->share = 0.0f;
     uint slot = lv_grid_slot_at(&g->grid, lv_front_point(&g->grid, p, ng));
@@ -189,27 +191,27 @@ inline int lv_guide_at(const lv_guide *g, const lv_scene *sc, float3 p, float3 n
     gv->bins = 2u * gv->n * gv->n;
     __global const float *stats = g->stats + 2 * (size_t)set;
     uint rooms = gv->bins / g->grid.g.bins;
-    float trust, bins_share;
-    lv_guide_shares(stats, rooms, gv->bins, &trust, &bins_share);
-    if (!(trust > 0.0f)) return 0; /* no guide: the cost of setting one up is saved too */
+    float share = lv_guide_share(stats, rooms, gv->bins);
+    if (!(share > 0.0f)) return 0; /* no guide: the cost of setting one up is saved too */
     gv->luminance = g->luminance + (size_t)set * g->grid.g.bins;
     gv->table = lv_bin_table_for(&g->tables, &g->grid, gv->n);
     gv->p = p;
     gv->ns = ns;
     gv->ng = ng;
+    gv->lights = &g->lights;
     float sum = 0.0f;
     for (uint r = 0; r < rooms; r++) sum += stats[2 * r];
-    /* About half a set's light arrives from the front, so the first look
-     * counts twice. */
-    uint bins[LV_LIGHT_CANDIDATES];
-    int aim = 2.0f * lv_guide_light_bins(sc, gv, sum, bins) >= LV_GUIDE_MIN_LIGHT_MASS;
-    if (!(bins_share > 0.0f) && !aim) return 0;
-    if (!lv_guide_prepare(gv, 1.0f)) return 0;
+    /* The first look asks of the lights' bins what the peak test asks of
+     * the brightest: LV_GUIDE_MIN_PEAK times the mean bin, each. (Where
+     * the brightest fails, so do they, and no guide is set up.) */
+    uint bins[LV_LIGHT_CANDIDATES], distinct;
+    float first = lv_guide_light_bins(gv, sum, bins, &distinct);
+    int aim = distinct && first * (float)gv->bins >= LV_GUIDE_MIN_PEAK * (float)distinct;
+    if (!lv_guide_prepare(gv, share)) return 0;
     float m = aim ? lv_guide_light_mass(gv, bins) : 0.0f;
-    gv->light_share = m >= LV_GUIDE_MIN_LIGHT_MASS ? trust * m : 0.0f;
-    gv->bin_share = gv->light_share > 0.0f ? bins_share * (1.0f - m) : bins_share;
-    gv->share = gv->bin_share + gv->light_share;
-    return gv->share > 0.0f;
+    gv->light_share = m >= LV_GUIDE_MIN_LIGHT_MASS ? share * m : 0.0f;
+    gv->bin_share = share - gv->light_share;
+    return 1;
 }
 
 /* The guide's density (per steradian) of light arriving from world
@@ -259,7 +261,7 @@ inline int lv_guide_sample(const lv_guide_vertex *gv, float3 u, float3 *wi, floa
 /* The density of aiming at gv's lights, at world direction wi. */
 inline float lv_guide_light_pdf(const lv_guide_vertex *gv, float3 wi)
 {
-    return gv->light_share > 0.0f ? lv_light_candidates_pdf(&gv->lights, gv->p, wi) : 0.0f;
+    return gv->light_share > 0.0f ? lv_light_directions_pdf(gv->lights, &gv->odds, gv->p, wi) : 0.0f;
 }
 
 /* The density of the one-sample mixture of BSDF sampling, the bins and the

@@ -91,7 +91,7 @@
  * with `weights`, seen from `point`. Per work-item, over per_item uniform
  * directions: the sum and the sum of squares of their density times 4 pi,
  * and how many have a density; over per_item samples: the sum of 1 / pdf,
- * how many came back with a density other than lv_light_candidates_pdf's,
+ * how many came back with a density other than lv_light_directions_pdf's,
  * how many failed, and the sum of 1 / pdf^2. */
 #define T_LIGHT_DIRECTIONS_ARGS(X, SEP)                          \
     X(t_light_directions, BUFFER, const float4, corners) SEP()   \

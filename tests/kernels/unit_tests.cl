@@ -108,6 +108,7 @@ __kernel void t_light_directions(LV_KERNEL_PARAMS(T_LIGHT_DIRECTIONS_ARGS))
 {
     uint i = get_global_id(0);
     lv_light_candidates c;
+    lv_light_odds odds;
     float w[LV_LIGHT_CANDIDATES];
     c.count = count;
     for (uint k = 0; k < count; k++) {
@@ -118,7 +119,7 @@ __kernel void t_light_directions(LV_KERNEL_PARAMS(T_LIGHT_DIRECTIONS_ARGS))
         c.n[k] = corners[3 * k].w * cross(c.e1[k], c.e2[k]);
         w[k] = weights[k];
     }
-    if (!lv_light_candidates_weigh(&c, w)) {
+    if (!lv_light_odds_set(&c, w, &odds)) {
         results[2 * i] = results[2 * i + 1] = (float4)(-1.0f);
         return;
     }
@@ -126,19 +127,19 @@ __kernel void t_light_directions(LV_KERNEL_PARAMS(T_LIGHT_DIRECTIONS_ARGS))
     float sum = 0.0f, sum_sq = 0.0f, support = 0.0f, inverse = 0.0f, inverse_sq = 0.0f, mismatches = 0.0f;
     float failed = 0.0f;
     for (uint k = 0; k < per_item; k++) {
-        float d = lv_light_candidates_pdf(&c, point[0].xyz, uniform_sphere(lv_rng_next2(&rng))) * 4.0f * LV_PI;
+        float d = lv_light_directions_pdf(&c, &odds, point[0].xyz, uniform_sphere(lv_rng_next2(&rng))) * 4.0f * LV_PI;
         sum += d;
         sum_sq += d * d;
         support += d > 0.0f ? 1.0f : 0.0f;
         float3 u = (float3)(lv_rng_next2(&rng), lv_rng_next(&rng)), dir;
         float pdf;
-        if (!lv_light_candidates_sample(&c, point[0].xyz, u, &dir, &pdf)) {
+        if (!lv_light_directions_sample(&c, &odds, point[0].xyz, u, &dir, &pdf)) {
             failed += 1.0f;
             continue;
         }
         inverse += 1.0f / pdf;
         inverse_sq += 1.0f / (pdf * pdf);
-        if (fabs(lv_light_candidates_pdf(&c, point[0].xyz, dir) - pdf) > 1e-3f * pdf) mismatches += 1.0f;
+        if (fabs(lv_light_directions_pdf(&c, &odds, point[0].xyz, dir) - pdf) > 1e-3f * pdf) mismatches += 1.0f;
     }
     results[2 * i] = (float4)(sum, sum_sq, support, 0.0f);
     results[2 * i + 1] = (float4)(inverse, mismatches, failed, inverse_sq);

@@ -1,7 +1,7 @@
 /* Directions toward candidate lights (kernels/light/light_directions.h),
  * the strategy by which guided paths aim at lamps behind glass: the
  * density integrates to the probability of the candidates that face the
- * point, samples come back with the density lv_light_candidates_pdf gives
+ * point, samples come back with the density lv_light_directions_pdf gives
  * their direction, the mean of 1 / pdf over samples is the solid angle the
  * candidates cover (which a sampler whose points did not follow its
  * density would miss), and samples of candidates that face away fail as
@@ -86,7 +86,7 @@ static void test_layout(const layout *l)
     snprintf(name, sizeof name, "light directions, %s: the density integrates to the facing candidates' probability",
              l->name);
     CHECK(name, fabs(integral - facing) < 5 * sd + 1e-4, "integral %.4f +- %.4f, expected %.4f", integral, sd, facing);
-    snprintf(name, sizeof name, "light directions, %s: each sample's density is lv_light_candidates_pdf's", l->name);
+    snprintf(name, sizeof name, "light directions, %s: each sample's density is lv_light_directions_pdf's", l->name);
     CHECK(name, mismatches < 1e-4 * n, "%.0f of %.0f samples differ", mismatches, n - failed);
     /* Failures are Bernoulli with the facing-away candidates' probability. */
     double away = 1 - facing, fail_sd = sqrt(away * (1 - away) / n);
