@@ -111,6 +111,12 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
                 b->adaptive_share, b->seconds_per_particle,
                 b->seconds_per_sample, b->warm_up_seconds, b->measure_seconds, (unsigned long long)b->planned_particles,
                 b->spent_seconds);
+    const lvcl_guided_report *g = lvcl_session_guided(ss);
+    if (g->used)
+        fprintf(f,
+                ",\n  \"guided_choice\": {\"guided_cost\": %.6g, \"plain_cost\": %.6g, \"paths\": \"%s\", "
+                "\"pilot_seconds\": %.4f}",
+                g->guided_cost, g->plain_cost, g->plain ? "plain" : "guided", g->pilot_seconds);
     /* Each device's share of the work. */
     fprintf(f, ",\n  \"devices\": [");
     for (int d = 0; d < devices; d++) {

@@ -149,3 +149,8 @@ const lvcl_budget_report *lvcl_session_budget(const lvcl_session *s)
 {
     return &s->budget;
 }
+
+const lvcl_guided_report *lvcl_session_guided(const lvcl_session *s)
+{
+    return &s->guided;
+}

@@ -57,6 +57,15 @@ typedef struct {
     double spent_seconds;        /* the whole render: trace, pilots and gather */
 } lvcl_budget_report;
 
+/* How a guided render under a time limit chose its paths (session_guided.c). */
+typedef struct {
+    int used;            /* the last render was guided, under a time limit */
+    double guided_cost;  /* the guided pilots' noise times their time (relMSE per sample x seconds per sample) */
+    double plain_cost;   /* the same for the path tracer's pilots */
+    int plain;           /* the path tracer's paths rendered the image: its cost was the lower */
+    double pilot_seconds; /* the four pilots */
+} lvcl_guided_report;
+
 /* One device's share of the last camera pass. */
 typedef struct {
     int bands;           /* bands rendered */
@@ -108,5 +117,8 @@ double lvcl_session_bvh_build_seconds(const lvcl_session *s);
 double lvcl_session_volume_seconds(const lvcl_session *s);
 /* The last render's time budget; its `used` is 0 without one. */
 const lvcl_budget_report *lvcl_session_budget(const lvcl_session *s);
+/* The last render's choice between guided and plain paths; `used` is 0
+ * unless it was guided under a time limit. */
+const lvcl_guided_report *lvcl_session_guided(const lvcl_session *s);
 
 #endif

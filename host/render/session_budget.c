@@ -75,29 +75,6 @@ static lvcl_error finish_pass(lvcl_session *s, const lvcl_volume_settings *vs, d
     return e ? e : lvcl_volume_finish(sd->volume, &sd->program, st);
 }
 
-/* A pilot image of spp samples from index `first`, without progress. */
-static lvcl_error pilot(lvcl_session *s, const lvcl_render_request *req, int first, int spp, lvcl_render_result *out,
-                        lvcl_status *st)
-{
-    int w, h;
-    lvcl_image_size(&s->scene.camera, req->width, req->height, &w, &h);
-    w = w / PILOT_SCALE > 8 ? w / PILOT_SCALE : 8;
-    h = h / PILOT_SCALE > 8 ? h / PILOT_SCALE : 8;
-    lvcl_pass_settings pass = {.spp = spp, .first_sample = first};
-    return lvcl_session_camera_pass(s, req, w, h, &pass, out, st);
-}
-
-/* mean((a - b)^2 / den) over n values. */
-static double weighted_difference(const float *a, const float *b, const float *den, size_t n)
-{
-    double sum = 0;
-    for (size_t i = 0; i < n; i++) {
-        double d = (double)a[i] - b[i];
-        sum += d * d / den[i];
-    }
-    return n ? sum / (double)n : 0;
-}
-
 /* The share of the gather's uniform noise B that adaptive sampling leaves
  * (adaptive_sampling.h): it gives pixel i samples in proportion to
  * s_i = w_i + LVCL_ADAPTIVE_SHARE_FLOOR mean(w), w_i the sampler's own
@@ -123,31 +100,6 @@ static double adaptive_share(const double *variance, const double *guard, int w,
     free(weight);
     double share = uniform > 0 && total > 0 ? spread * total / ((double)n * uniform) : 1.0;
     return share < 0.05 ? 0.05 : share > 1.0 ? 1.0 : share;
-}
-
-/* relMSE's denominators (value^2 + LVCL_RELMSE_GUARD) from the mean of the pilots,
- * averaged over 3 x 3 pixels, so that their noise does not weigh. */
-static float *denominators(const lvcl_render_result *img, int count)
-{
-    int w = img[0].width, h = img[0].height;
-    float *den = malloc((size_t)w * h * 3 * sizeof(float));
-    if (!den) return NULL;
-    for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++)
-            for (int c = 0; c < 3; c++) {
-                double sum = 0;
-                int n = 0;
-                for (int dy = -1; dy <= 1; dy++)
-                    for (int dx = -1; dx <= 1; dx++) {
-                        int xx = x + dx, yy = y + dy;
-                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-                        for (int i = 0; i < count; i++) sum += img[i].rgb[((size_t)yy * w + xx) * 3 + c];
-                        n += count;
-                    }
-                double m = sum / n;
-                den[((size_t)y * w + x) * 3 + c] = (float)(m * m + LVCL_RELMSE_GUARD);
-            }
-    return den;
 }
 
 /* The particle count that leaves the least error when `left` seconds
@@ -239,7 +191,7 @@ static lvcl_error measure(lvcl_session *s, const lvcl_render_request *req, const
     double expected = TRACE_SHARE_GUESS * req->pass.time_limit / ((lvcl_seconds() - t) / FIRST_PASS);
     if (expected < 2.0 * FIRST_PASS) expected = 2.0 * FIRST_PASS;
     if (!e) e = finish_pass(s, vs, expected, st);
-    if (!e) e = pilot(s, req, 0, PILOT_SPP, &img[0], st);
+    if (!e) e = lvcl_session_pilot(s, req, PILOT_SCALE, 0, PILOT_SPP, &img[0], st);
     double p = lvcl_seconds();
     /* A budget this short is better spent on the gather than on measuring. */
     if (!e && p - t > req->pass.time_limit / 4) {
@@ -248,26 +200,26 @@ static lvcl_error measure(lvcl_session *s, const lvcl_render_request *req, const
         return LVCL_OK;
     }
     /* The gather's noise over the first volume, for how it falls with N. */
-    if (!e) e = pilot(s, req, PILOT_SPP, NOISE_PILOT_SPP, &img[3], st);
+    if (!e) e = lvcl_session_pilot(s, req, PILOT_SCALE, PILOT_SPP, NOISE_PILOT_SPP, &img[3], st);
     double p2 = lvcl_seconds();
     if (!e) e = trace_range(s, vs, FIRST_PASS, 2 * (uint64_t)FIRST_PASS, 0, st);
     if (!e) e = finish_pass(s, vs, 0, st);
     double q = lvcl_seconds();
-    if (!e) e = pilot(s, req, 0, PILOT_SPP, &img[1], st);
-    if (!e) e = pilot(s, req, PILOT_SPP, NOISE_PILOT_SPP, &img[2], st);
+    if (!e) e = lvcl_session_pilot(s, req, PILOT_SCALE, 0, PILOT_SPP, &img[1], st);
+    if (!e) e = lvcl_session_pilot(s, req, PILOT_SCALE, PILOT_SPP, NOISE_PILOT_SPP, &img[2], st);
     double r = lvcl_seconds();
-    float *den = e ? NULL : denominators(img, 3);
+    float *den = e ? NULL : lvcl_pilot_denominators(img, 3);
     if (!e && !den) e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the pilot images");
     if (!e) {
         size_t n = (size_t)img[0].width * img[0].height * 3;
         /* Var(P1 - P2) = A / (2 N1); Var(Q - P2) = B / NOISE_PILOT_SPP + B / PILOT_SPP. */
-        b->volume_noise = 2.0 * FIRST_PASS * weighted_difference(img[0].rgb, img[1].rgb, den, n);
+        b->volume_noise = 2.0 * FIRST_PASS * lvcl_weighted_difference(img[0].rgb, img[1].rgb, den, n);
         /* Var(Q - P) = B / NOISE_PILOT_SPP + B / PILOT_SPP over either volume;
          * B(N) = B0 + B1 / N through the two (same samples, so their noise
          * differs less than they do). */
         double pilots = 1.0 / NOISE_PILOT_SPP + 1.0 / PILOT_SPP;
-        double b2 = weighted_difference(img[2].rgb, img[1].rgb, den, n) / pilots;
-        double b1 = weighted_difference(img[3].rgb, img[0].rgb, den, n) / pilots;
+        double b2 = lvcl_weighted_difference(img[2].rgb, img[1].rgb, den, n) / pilots;
+        double b1 = lvcl_weighted_difference(img[3].rgb, img[0].rgb, den, n) / pilots;
         double falls = 2.0 * FIRST_PASS * (b1 - b2); /* B1: 1/N1 - 1/N2 = 1 / (2 N1) */
         if (falls < 0) falls = 0;
         if (falls > 2.0 * FIRST_PASS * b2) falls = 2.0 * FIRST_PASS * b2; /* B0 >= 0 */

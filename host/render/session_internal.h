@@ -27,6 +27,7 @@ struct lvcl_session {
     unsigned features;
     double bvh_build_seconds;
     lvcl_budget_report budget;
+    lvcl_guided_report guided;
 };
 
 /* Replaces device d's light volume by a new, empty one of these settings. */
@@ -52,8 +53,21 @@ lvcl_error lvcl_session_warm_camera_pass(lvcl_session *s, const lvcl_render_requ
 lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
                                       lvcl_status *st);
 
+/* A pilot image of spp samples from index `first`, at the image's width
+ * and height over `scale` (at least 8), without progress
+ * (session_pilots.c). */
+lvcl_error lvcl_session_pilot(lvcl_session *s, const lvcl_render_request *req, int scale, int first, int spp,
+                              lvcl_render_result *out, lvcl_status *st);
+/* relMSE's denominators (value^2 + LVCL_RELMSE_GUARD) from the mean of
+ * `count` pilots of one size, averaged over 3 x 3 pixels so that their
+ * noise does not weigh; malloc'ed, NULL when out of memory. */
+float *lvcl_pilot_denominators(const lvcl_render_result *img, int count);
+/* mean((a - b)^2 / den) over n values. */
+double lvcl_weighted_difference(const float *a, const float *b, const float *den, size_t n);
+
 /* A guided render: the light volume, then guided camera paths; under a
- * time limit the trace takes a fixed share of it (session_guided.c). */
+ * time limit the trace takes a fixed share of it, and pilots choose
+ * between guided and plain paths for the rest (session_guided.c). */
 lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
                                       lvcl_status *st);
 

@@ -108,6 +108,7 @@ lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, 
 {
     lvcl_error e = LVCL_OK;
     s->budget = (lvcl_budget_report){0};
+    s->guided = (lvcl_guided_report){0};
     if (req->pass.time_limit > 0 && lvcl_cluster_shared(s->cluster))
         e = lvcl_fail(st, LVCL_ERR_USAGE, "--time-limit works in one process only, not over %d ranks",
                       s->cluster->size);

@@ -207,15 +207,20 @@ for mode in lv lv-all; do
 done
 
 # Guided path tracing renders over its light volume, repeats its image for
-# a seed, and renders under a time limit too.
+# a seed, and renders under a time limit too, where its pilots' choice of
+# guided or plain paths is reported (and only there).
 guided="--mode guided --particles 20000 --cells 8 --spp 4 --width 32"
 "$lvcl" -q $guided --stats "$tmp/g1.json" -o "$tmp/g1.exr" cornell 2>"$tmp/err"
 "$lvcl" -q $guided -o "$tmp/g2.exr" cornell 2>>"$tmp/err"
-"$lvcl" -q --mode guided --time-limit 2 --width 32 -o "$tmp/g3.exr" cornell 2>>"$tmp/err"
+"$lvcl" -q --mode guided --time-limit 2 --width 32 --stats "$tmp/g3.json" -o "$tmp/g3.exr" cornell 2>>"$tmp/err"
 if grep -q '"particle_trace_seconds"' "$tmp/g1.json" 2>/dev/null && [ -s "$tmp/g3.exr" ] &&
-    "$build/lvcl-compare" "$tmp/g1.exr" "$tmp/g2.exr" | grep -q '"rmse": 0,'
-then pass "--mode guided renders, repeats its image and renders under --time-limit"
-else fail "--mode guided renders, repeats its image and renders under --time-limit" "$(cat "$tmp/err")"; fi
+    "$build/lvcl-compare" "$tmp/g1.exr" "$tmp/g2.exr" | grep -q '"rmse": 0,' &&
+    ! grep -q '"guided_choice"' "$tmp/g1.json" &&
+    grep -Eq '"guided_choice": \{"guided_cost": [0-9.e+-]+, "plain_cost": [0-9.e+-]+, "paths": "(guided|plain)"' \
+        "$tmp/g3.json"
+then pass "--mode guided renders, repeats its image, renders under --time-limit and reports its choice of paths"
+else fail "--mode guided renders, repeats its image, renders under --time-limit and reports its choice of paths" \
+    "$(cat "$tmp/err")"; fi
 
 # Refined cells and directions refine some and report them; the same
 # command gives the same image.
