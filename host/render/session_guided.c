@@ -15,7 +15,7 @@
  * ended it first. */
 #define GUIDE_PARTICLES_MAX (1u << 24)
 /* The pilots that choose between guided and plain paths: samples per
- * pixel of each, at the image's width and height over PILOT_SCALE. */
+ * pixel of each, at the image's width and height over CHOICE_PILOT_SCALE. */
 #define CHOICE_PILOT_SPP 8
 #define CHOICE_PILOT_SCALE 2
 
