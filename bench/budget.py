@@ -10,7 +10,8 @@ one run, each image measured against a reference (relMSE, build/lvcl-compare).
 lvcl: `lvcl -q --time-limit T --mode M ...` per mode, no --spp unless given in
 --lvcl-args.  "seconds" is what lvcl's --stats reports as spent under the
 limit: for an lv render its budget's spent_seconds (particle passes,
-pilot images and gather), else render_seconds plus particle_trace_seconds;
+pilot images and gather), else render_seconds plus particle_trace_seconds
+(plus, for guided renders, the pilots that chose guided or plain paths);
 "wall_seconds" is the whole process (startup, kernel build and writing the
 image included).  Before the first budget each lvcl build renders every mode
 once under a 2-second limit, image thrown away: a build whose kernels
@@ -76,11 +77,14 @@ def run_lvcl(a, mode, budget, seed, image, build=None, extra=None):
         s = json.load(f)
     keys = ("render_seconds", "particle_trace_seconds", "startup_seconds", "kernel_build_seconds",
             "spp", "samples", "samples_per_second", "particles", "particles_per_second", "grid")
+    choice = s.get("guided_choice", {})
+    seconds = (s["budget"]["spent_seconds"] if "budget" in s else
+               s.get("render_seconds", 0.0) + s.get("particle_trace_seconds", 0.0) + choice.get("pilot_seconds", 0.0))
     rec = {"renderer": "lvcl" if build is None else "lvcl-before", "mode": mode, "seed": seed,
-           "seconds": round(s["budget"]["spent_seconds"] if "budget" in s else
-                            s.get("render_seconds", 0.0) + s.get("particle_trace_seconds", 0.0), 4),
-           "wall_seconds": round(wall, 4)}
+           "seconds": round(seconds, 4), "wall_seconds": round(wall, 4)}
     rec.update({k: s[k] for k in keys if k in s})
+    if choice:
+        rec["guided_choice"] = choice
     return rec
 
 
