@@ -14,6 +14,10 @@
 /* Particles a time-limited trace stops at if its share of the time has not
  * ended it first. */
 #define GUIDE_PARTICLES_MAX (1u << 24)
+/* Under a time limit the trace stops first at this part of its share; the
+ * pilots then choose guided or plain paths on that guide, and only guided
+ * paths have the trace go on to the rest. */
+#define CHOICE_TRACE_PART 0.25
 /* The pilots that choose between guided and plain paths: samples per
  * pixel of each, at the image's width and height over CHOICE_PILOT_SCALE. */
 #define CHOICE_PILOT_SPP 8
@@ -81,6 +85,21 @@ static lvcl_error choose_paths(lvcl_session *s, const lvcl_render_request *req, 
     return e;
 }
 
+/* Goes on with the trace on the one device a time limit runs on, up to
+ * vs->particles or the deadline, then refills the guide table. */
+static lvcl_error trace_more(lvcl_session *s, const lvcl_volume_settings *vs, double deadline, lvcl_status *st)
+{
+    session_device *sd = &s->devices[0];
+    lvcl_volume_settings more = *vs;
+    more.first_particle = lvcl_volume_stats_of(sd->volume).particles;
+    more.deadline = deadline;
+    if (more.first_particle >= more.particles || lvcl_seconds() >= deadline) return LVCL_OK;
+    lvcl_error e = lvcl_volume_trace(sd->volume, &sd->program, &sd->device_scene, &more, st);
+    if (!e) e = lvcl_volume_adapt(sd->volume, 0, more.merge_tolerance, st);
+    if (!e) e = lvcl_volume_finish(sd->volume, &sd->program, st);
+    return e ? e : lvcl_volume_fill_guide(sd->volume, &sd->program, st);
+}
+
 lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
                                       lvcl_status *st)
 {
@@ -97,11 +116,15 @@ lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request
     double start = lvcl_seconds();
     if (pass.time_limit > 0) {
         if (!vs.particles) vs.particles = GUIDE_PARTICLES_MAX;
-        vs.deadline = start + GUIDE_TIME_SHARE * pass.time_limit;
+        vs.deadline = start + CHOICE_TRACE_PART * GUIDE_TIME_SHARE * pass.time_limit;
     }
     e = trace_guide(s, &vs, st);
     if (e == LVCL_ERR_CLUSTER || (e = lvcl_cluster_agree(s->cluster, e, st))) return e;
-    if (pass.time_limit > 0 && (e = choose_paths(s, req, &plain, &s->guided, st))) return e;
+    if (pass.time_limit > 0) {
+        e = choose_paths(s, req, &plain, &s->guided, st);
+        if (!e && !s->guided.plain) e = trace_more(s, &vs, start + GUIDE_TIME_SHARE * pass.time_limit, st);
+        if (e) return e;
+    }
     /* At least one sample is taken, however long the trace and pilots took. */
     if (pass.time_limit > 0) pass.time_limit = fmax(pass.time_limit - (lvcl_seconds() - start), 1e-3);
     return lvcl_session_camera_pass(s, s->guided.plain ? &plain : req, req->width, req->height, &pass, out, st);
