@@ -115,18 +115,20 @@ inline int lv_guide_prepare(lv_guide_vertex *gv, float share)
 
 /* The share the guide of a tally set of `bins` bins gets, from the sum and
  * the largest of their luminance in the guide table: over `rooms` entries,
- * as a set of fine bins takes four sets' room, each with its own. */
-inline float lv_guide_share(__global const float *stats, uint rooms, uint bins)
+ * as a set of fine bins takes four sets' room, each with its own. Their
+ * summed luminance comes back in *sum. */
+inline float lv_guide_share(__global const float *stats, uint rooms, uint bins, float *sum)
 {
-    float sum = 0.0f, top = 0.0f;
+    float top = 0.0f;
+    *sum = 0.0f;
     for (uint r = 0; r < rooms; r++) {
-        sum += stats[2 * r];
+        *sum += stats[2 * r];
         top = fmax(top, stats[2 * r + 1]);
     }
     /* Luminance weights add to 1, so the luminance counts pieces as one
      * channel does (pieces that lost power count as less than one). */
-    float pieces = sum * (1.0f / (LV_TALLY_SCALE * LV_PIECE_TALLY));
-    if (!(top * (float)bins >= LV_GUIDE_MIN_PEAK * sum) || !(sum > 0.0f)) return 0.0f;
+    float pieces = *sum * (1.0f / (LV_TALLY_SCALE * LV_PIECE_TALLY));
+    if (!(top * (float)bins >= LV_GUIDE_MIN_PEAK * *sum) || !(*sum > 0.0f)) return 0.0f;
     return LV_GUIDE_SHARE * pieces / (pieces + LV_GUIDE_TRUSTED_PIECES);
 }
 
@@ -134,14 +136,15 @@ inline float lv_guide_share(__global const float *stats, uint rooms, uint bins)
  * through glass (the guide's volume leaves the lights' own segments to
  * light samples), and a direction toward the light itself finds it better
  * than one uniform in its bin. Finds the bin of each of gv's candidate
- * lights (gv->bins where it cannot light the surface); returns the
- * share of the set's luminance, sum_luminance, in those bins (each bin
- * once, *distinct of them), a cheap first look over both hemispheres. */
-inline float lv_guide_light_bins(const lv_guide_vertex *gv, float sum_luminance, uint *bins, uint *distinct)
+ * lights (gv->bins where it cannot light the surface), and in *fresh a
+ * bit for each candidate that is the first in its bin; returns the share
+ * of the set's luminance, sum_luminance, in those bins (each bin once), a
+ * cheap first look over both hemispheres. */
+inline float lv_guide_light_bins(const lv_guide_vertex *gv, float sum_luminance, uint *bins, uint *fresh)
 {
     const lv_light_candidates *c = gv->lights;
     float mass = 0.0f;
-    *distinct = 0;
+    *fresh = 0u;
     for (uint k = 0; k < c->count; k++) {
         float3 d = c->v0[k] + (c->e1[k] + c->e2[k]) * (1.0f / 3.0f) - gv->p;
         bins[k] = gv->bins;
@@ -151,15 +154,16 @@ inline float lv_guide_light_bins(const lv_guide_vertex *gv, float sum_luminance,
         for (uint j = 0; j < k; j++) seen |= bins[j] == bins[k];
         if (!seen) {
             mass += gv->luminance[bins[k]];
-            *distinct += 1;
+            *fresh |= 1u << k;
         }
     }
     return mass / sum_luminance;
 }
 
 /* Once gv's bins are prepared: weighs each candidate by the guide's weight
- * of its bin and returns those bins' share of the guide (each bin once). */
-inline float lv_guide_light_mass(lv_guide_vertex *gv, const uint *bins)
+ * of its bin and returns those bins' share of the guide (each bin once:
+ * the candidates of lv_guide_light_bins's `fresh`). */
+inline float lv_guide_light_mass(lv_guide_vertex *gv, const uint *bins, uint fresh)
 {
     float w[LV_LIGHT_CANDIDATES], mass = 0.0f;
     for (uint k = 0; k < gv->lights->count; k++) {
@@ -167,9 +171,7 @@ inline float lv_guide_light_mass(lv_guide_vertex *gv, const uint *bins)
         if (bins[k] == gv->bins) continue;
         float3 centre = lv_bin_centre(gv->table, bins[k]);
         w[k] = lv_guide_weight(gv->luminance[bins[k]], -dot(centre, gv->ns), -dot(centre, gv->ng));
-        int seen = 0;
-        for (uint j = 0; j < k; j++) seen |= bins[j] == bins[k];
-        if (!seen) mass += w[k];
+        if (fresh & (1u << k)) mass += w[k];
     }
     return lv_light_odds_set(gv->lights, w, &gv->odds) ? fmin(mass / gv->total, 1.0f) : 0.0f;
 }
@@ -191,7 +193,7 @@ inline int lv_guide_at(const lv_guide *g, float3 p, float3 ns, float3 ng, lv_gui
     gv->bins = 2u * gv->n * gv->n;
     __global const float *stats = g->stats + 2 * (size_t)set;
     uint rooms = gv->bins / g->grid.g.bins;
-    float share = lv_guide_share(stats, rooms, gv->bins);
+    float sum, share = lv_guide_share(stats, rooms, gv->bins, &sum);
     if (!(share > 0.0f)) return 0; /* no guide: the cost of setting one up is saved too */
     gv->luminance = g->luminance + (size_t)set * g->grid.g.bins;
     gv->table = lv_bin_table_for(&g->tables, &g->grid, gv->n);
@@ -199,16 +201,15 @@ inline int lv_guide_at(const lv_guide *g, float3 p, float3 ns, float3 ng, lv_gui
     gv->ns = ns;
     gv->ng = ng;
     gv->lights = &g->lights;
-    float sum = 0.0f;
-    for (uint r = 0; r < rooms; r++) sum += stats[2 * r];
     /* The first look asks of the lights' bins what the peak test asks of
      * the brightest: LV_GUIDE_MIN_PEAK times the mean bin, each. (Where
      * the brightest fails, so do they, and no guide is set up.) */
-    uint bins[LV_LIGHT_CANDIDATES], distinct;
-    float first = lv_guide_light_bins(gv, sum, bins, &distinct);
+    uint bins[LV_LIGHT_CANDIDATES], fresh;
+    float first = lv_guide_light_bins(gv, sum, bins, &fresh);
+    uint distinct = popcount(fresh);
     int aim = distinct && first * (float)gv->bins >= LV_GUIDE_MIN_PEAK * (float)distinct;
     if (!lv_guide_prepare(gv, share)) return 0;
-    float m = aim ? lv_guide_light_mass(gv, bins) : 0.0f;
+    float m = aim ? lv_guide_light_mass(gv, bins, fresh) : 0.0f;
     gv->light_share = m >= LV_GUIDE_MIN_LIGHT_MASS ? share * m : 0.0f;
     gv->bin_share = share - gv->light_share;
     return 1;
