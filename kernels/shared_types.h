@@ -333,6 +333,7 @@ static inline lv_u32 lv_hash(lv_u32 x)
 /* lv_gather_pass's `flags`. */
 #define LV_GATHER_ALL 1u       /* the volume holds all light, emitted too: no shadow rays */
 #define LV_GATHER_INTEGRATE 2u /* integrate the BSDF over every bin instead of sampling one */
+#define LV_GATHER_SEE_THROUGH 4u /* shadow rays go on through glass; the volume leaves that light out */
 
 /* ======== The host/kernel contract ========
  *
@@ -482,6 +483,7 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
     X(lv_particle_trace, VALUE, lv_u32, first) SEP()         /* first particle of the batch */ \
     X(lv_particle_trace, VALUE, lv_u32, count) SEP()                                         \
     X(lv_particle_trace, VALUE, lv_u32, store_emitted) SEP() /* lv-all: tally the lights' own segments */ \
+    X(lv_particle_trace, VALUE, lv_u32, see_through) SEP() /* leave out lamps seen through glass */ \
     X(lv_particle_trace, BUFFER, const uint, subcells_seen) SEP() /* each slot's masks before the batch */ \
     X(lv_particle_trace, BUFFER, const float, bin_table) SEP()                                \
     X(lv_particle_trace, BUFFER, const float, fine_bin_table) SEP() /* the bin table of 2n x 2n */ \

@@ -187,5 +187,6 @@ lvcl_render_request harness_request(lvcl_mode mode, int size, int spp, int cells
         .pass = {.spp = spp},
         .volume = {.cells = cells, .dirs = 8, .subcells = 4, .particles = particles},
         .integrate = 1,
+        .see_through = 1,
     };
 }

@@ -175,6 +175,7 @@ static lvcl_error render(const lvcl_options *o, lvcl_cluster *cluster, lvcl_sess
                    .particles = (uint64_t)o->particles,
                    .progress = !o->quiet},
         .integrate = !strcmp(o->gather, "integrate"),
+        .see_through = !strcmp(o->see_through, "on"),
         .threshold = o->threshold,
     };
     stats->startup_seconds = lvcl_seconds() - stats->process_start;

@@ -107,6 +107,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
     o->merge_tolerance = LVCL_DEFAULT_MERGE_TOLERANCE;
     o->gather = "integrate";
     o->adaptive = "on";
+    o->see_through = "on";
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         /* Flags that take no value. */
@@ -158,6 +159,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
                                            "--threshold",
                                            "--gather",
                                            "--adaptive",
+                                           "--see-through",
                                            "--device-memory",
                                            "--visibility-rate",
                                            "--merge-tolerance",
@@ -226,6 +228,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
             o->threshold = x;
         } else if (!strcmp(a, "--gather")) o->gather = v;
         else if (!strcmp(a, "--adaptive")) o->adaptive = v;
+        else if (!strcmp(a, "--see-through")) o->see_through = v;
         else if (!strcmp(a, "--refine")) e = parse_switch(a, v, LVCL_REFINE_DENSITY, &o->refine_density, st);
         else if (!strcmp(a, "--refine-dirs")) e = parse_switch(a, v, LVCL_REFINE_PEAK, &o->refine_peak, st);
         else if (!strcmp(a, "--refine-memory")) {
@@ -243,6 +246,8 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown gather '%s' (expected sample or integrate)", o->gather);
     if (strcmp(o->adaptive, "on") && strcmp(o->adaptive, "off"))
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown --adaptive '%s' (expected on or off)", o->adaptive);
+    if (strcmp(o->see_through, "on") && strcmp(o->see_through, "off"))
+        return lvcl_fail(st, LVCL_ERR_USAGE, "unknown --see-through '%s' (expected on or off)", o->see_through);
     if ((o->refine_density > 0 || o->refine_peak > 0) && o->merge_tolerance > 0)
         return lvcl_fail(st, LVCL_ERR_USAGE, "--refine cannot be combined with --merge-tolerance");
     if (!o->scene) o->scene = DEFAULT_SCENE;
@@ -291,6 +296,9 @@ void lvcl_options_print_help(const char *program)
         "                       continue as paths (default half the cell diagonal)\n"
         "  --gather integrate|sample  lv: integrate the BSDF over all bins of the cell (default),\n"
         "                       or read the bin of one BSDF-sampled direction\n"
+        "  --see-through on|off lv: shadow rays blocked by glass go on through it, so lamps seen\n"
+        "                       through glass light rough surfaces sharply; the volume leaves that\n"
+        "                       light out (default on)\n"
         "  --spp N              samples per pixel (default 64; under --time-limit as many as fit)\n"
         "  --adaptive on|off    after the first 8 samples per pixel, give each further 8 (on average)\n"
         "                       to the pixels whose neighbours show the most error (default on)\n"

@@ -30,6 +30,7 @@ typedef struct {
     double threshold;         /* near-hit distance, 0 = half the cell diagonal */
     const char *gather;       /* "sample" or "integrate" */
     const char *adaptive;     /* "on" or "off": adaptive sampling */
+    const char *see_through;  /* "on" or "off": lv's gather finds lamps seen through glass */
     double device_memory_mib; /* cap on device memory, 0 = the device's own */
     double time_limit;
     int quiet;

@@ -47,6 +47,7 @@ typedef struct {
     double deadline;              /* lvcl_seconds() after which no batch starts; 0 = none */
     lvcl_particle_source *source; /* several devices: take batches from here; NULL: trace them all */
     int store_emitted;            /* lv-all: tally the segments leaving the lights too */
+    int see_through;              /* lv: leave out lamps seen through glass, which its gather finds */
     double merge_tolerance;       /* adaptive cells: see lvcl_volume_adapt; 0 = every cell keeps its tallies */
     double refine_density;        /* refined cells: see lvcl_volume_refine; 0 = no cell is split */
     double refine_peak;           /* refined directions: see lvcl_volume_refine; 0 = no fine bins */

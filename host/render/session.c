@@ -114,6 +114,11 @@ const lvcl_scene *lvcl_session_scene(const lvcl_session *s)
     return &s->scene;
 }
 
+int lvcl_session_sees_through(const lvcl_session *s, const lvcl_render_request *req)
+{
+    return req->mode == LVCL_MODE_LV && req->see_through && (s->features & LVCL_FEATURE_GLASS);
+}
+
 unsigned lvcl_session_features(const lvcl_session *s)
 {
     return s->features;

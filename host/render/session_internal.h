@@ -30,6 +30,10 @@ struct lvcl_session {
     lvcl_guided_report guided;
 };
 
+/* Whether req's render sees lamps through glass (kernels/integrator/
+ * see_through.h): lv mode, asked for, and a scene with glass. */
+int lvcl_session_sees_through(const lvcl_session *s, const lvcl_render_request *req);
+
 /* Replaces device d's light volume by a new, empty one of these settings. */
 lvcl_error lvcl_session_new_volume(lvcl_session *s, int d, const lvcl_volume_settings *settings, lvcl_status *st);
 

@@ -179,6 +179,7 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
     lvcl_particle_trace_args args = {.scene = &ds->buffers,
                                      .volume = &vol->buf,
                                      .store_emitted = s->store_emitted ? 1u : 0u,
+                                     .see_through = s->see_through ? 1u : 0u,
                                      .subcells_seen = seen,
                                      .bin_table = lvcl_volume_bin_table(vol),
                                      .fine_bin_table = lvcl_volume_fine_bin_table(vol),

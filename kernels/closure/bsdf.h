@@ -76,6 +76,8 @@ inline int lv_bsdf_sample_lobe(float3 wi, float3 fcos, float pdf, lv_bsdf_sample
 #define LV_TRAIT_TRANSMITS 4u        /* lets light through (opaque ones reflect only) */
 #define LV_TRAIT_GATHER 8u           /* the light volume may answer for the light it reflects */
 #define LV_TRAIT_GATHER_IF_ROUGH 16u /* the same from LV_GATHER_MIN_ALPHA on */
+#define LV_TRAIT_DELTA 32u           /* a delta lobe at any roughness */
+#define LV_TRAIT_DELTA_IF_SMOOTH 64u /* a delta lobe below LV_SMOOTH_ALPHA */
 
 /* Rough enough that the light volume answers for the light a coat or metal
  * reflects; smoother surfaces continue the path (paper section 5). Smooth
@@ -85,10 +87,10 @@ inline int lv_bsdf_sample_lobe(float3 wi, float3 fcos, float pdf, lv_bsdf_sample
 
 __constant uint lv_bsdf_traits[LV_BSDF_COUNT] = {
     [LV_BSDF_DIFFUSE] = LV_TRAIT_LOBE | LV_TRAIT_GATHER,
-    [LV_BSDF_PLASTIC] = LV_TRAIT_LOBE | LV_TRAIT_GATHER_IF_ROUGH,
-    [LV_BSDF_CONDUCTOR] = LV_TRAIT_LOBE_IF_ROUGH | LV_TRAIT_GATHER_IF_ROUGH,
-    [LV_BSDF_GLASS] = LV_TRAIT_LOBE_IF_ROUGH | LV_TRAIT_TRANSMITS,
-    [LV_BSDF_THIN_GLASS] = LV_TRAIT_TRANSMITS,
+    [LV_BSDF_PLASTIC] = LV_TRAIT_LOBE | LV_TRAIT_GATHER_IF_ROUGH | LV_TRAIT_DELTA_IF_SMOOTH,
+    [LV_BSDF_CONDUCTOR] = LV_TRAIT_LOBE_IF_ROUGH | LV_TRAIT_GATHER_IF_ROUGH | LV_TRAIT_DELTA_IF_SMOOTH,
+    [LV_BSDF_GLASS] = LV_TRAIT_LOBE_IF_ROUGH | LV_TRAIT_TRANSMITS | LV_TRAIT_DELTA_IF_SMOOTH,
+    [LV_BSDF_THIN_GLASS] = LV_TRAIT_TRANSMITS | LV_TRAIT_DELTA,
 };
 
 inline uint lv_bsdf_traits_of(uint type)
@@ -101,6 +103,13 @@ inline int lv_bsdf_has_lobe(const lv_bsdf *b)
 {
     uint t = lv_bsdf_traits_of(b->type);
     return (t & LV_TRAIT_LOBE) || ((t & LV_TRAIT_LOBE_IF_ROUGH) && b->alpha >= LV_SMOOTH_ALPHA);
+}
+
+/* True if the BSDF has a delta lobe, which a sample may pick. */
+inline int lv_bsdf_has_delta(const lv_bsdf *b)
+{
+    uint t = lv_bsdf_traits_of(b->type);
+    return (t & LV_TRAIT_DELTA) || ((t & LV_TRAIT_DELTA_IF_SMOOTH) && b->alpha < LV_SMOOTH_ALPHA);
 }
 
 inline int lv_bsdf_transmits(uint type)

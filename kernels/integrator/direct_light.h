@@ -15,6 +15,8 @@ typedef struct {
     float3 origin, d;
     uint inst, tri;
     float3 li;
+    float mis;  /* the MIS weight li carries */
+    uint light; /* the light sampled, an index into sc->lights */
 } lv_shadow_ray;
 
 /* Samples one light for surface s (hit h), MIS-weighted against BSDF
@@ -42,21 +44,14 @@ inline int lv_light_sample_ray(const lv_scene *sc, const lv_surface *s, lv_hit h
     out->tri = h.tri;
     float w = ls.delta ? 1.0f : lv_power_heuristic(ls.pdf, gv ? lv_guide_density(gv, pdf, ls.wi) : pdf);
     out->li = fcos * ls.li * (w / ls.pdf);
+    out->mis = w;
+    out->light = ls.light;
     return 1;
 }
 
 inline int lv_shadow_ray_blocked(const lv_scene *sc, const lv_shadow_ray *r)
 {
     return lv_occluded(sc, r->origin, r->d, 0.9999f, r->inst, r->tri);
-}
-
-/* Direct light at surface s (hit h) from one light sample, MIS-weighted
- * against BSDF sampling. Draws three numbers. */
-inline float3 lv_direct_light(const lv_scene *sc, const lv_surface *s, lv_hit h, const lv_shading *sh, lv_rng *rng)
-{
-    lv_shadow_ray r;
-    if (!lv_light_sample_ray(sc, s, h, sh, 0, rng, &r) || lv_shadow_ray_blocked(sc, &r)) return (float3)(0.0f);
-    return r.li;
 }
 
 /* The MIS weight of emission that a ray along dir found at h (front normal

@@ -1,9 +1,10 @@
 /* The final gather (paper section 5; docs/light-volume.md, "The final
  * gather"): camera paths that let the light volume answer at the first
  * rough surface. There shadow rays give direct light (unless the volume
- * holds all light) and the volume, read at a jittered point around the
- * surface, the rest. The paper's way (sampled) follows one BSDF ray: if it
- * meets a rough surface closer than the threshold the path goes on,
+ * holds all light), lamps seen through glass included (see_through.h),
+ * and the volume, read at a jittered point around the surface, the rest.
+ * The paper's way (sampled) follows one BSDF ray: if it meets a rough
+ * surface closer than the threshold the path goes on,
  * otherwise the volume's bin in its direction answers. The integrating way
  * sums the BSDF over every bin and still follows one BSDF ray: where that
  * ray hits close, the path's radiance replaces the volume's for its
@@ -14,7 +15,7 @@
 #define LV_INTEGRATOR_GATHER_H
 
 #include "../volume/lookup.h"
-#include "direct_light.h"
+#include "see_through.h"
 
 /* How the final gather reads the light volume. */
 typedef struct {
@@ -164,8 +165,10 @@ inline float3 lv_gather_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint
         int integrate = gather && (g->flags & LV_GATHER_INTEGRATE);
         int lit_here = gather && lv_lookup_point(&g->grid, sc, s.p, sh.ng_out, rng, &lookup_point);
 
-        if (depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b) && !all_light)
-            radiance += beta * lv_direct_light(sc, &s, h, &sh, rng);
+        if (depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b) && !all_light) {
+            int see_through = gather && (g->flags & LV_GATHER_SEE_THROUGH);
+            radiance += beta * lv_gather_direct_light(sc, &s, h, &sh, see_through, rng);
+        }
         if (integrate) {
             if (lit_here) radiance += beta * lv_gather_integrate(g, &sh, lookup_point);
             if (all_light) break; /* no threshold: the volume answers for every direction */

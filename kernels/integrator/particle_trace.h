@@ -9,7 +9,7 @@
 #include "../volume/direction_map.h"
 #include "../volume/segment.h"
 #include "../volume/subcells.h"
-#include "scatter.h"
+#include "see_through.h"
 
 /* Rays a particle cast, for the statistics. */
 typedef struct {
@@ -43,11 +43,14 @@ inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray 
 
 /* Traces one particle, drawing from rng, into grid (tables: its bin
  * tables). store_emitted: tally the first segment (emitted light) too,
- * which lv mode leaves to shadow rays. */
+ * which lv mode leaves to shadow rays. see_through: leave out light seen
+ * through glass (see_through.h), which lv mode's gather finds itself; its
+ * segments still mark the subcells they pass. */
 inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *grid, const lv_bin_tables *tables,
-                                          lv_rng *rng, uint store_emitted)
+                                          lv_rng *rng, uint store_emitted, uint see_through)
 {
     int specular_only = 1; /* every scatter so far a delta lobe: the light is still concentrated */
+    int through_glass = 1; /* and every one at a surface where no gather reads the volume */
     lv_particle_rays n = {0u, 0u};
     lv_emission_sample es;
     float2 ul = lv_rng_next2(rng), ud = lv_rng_next2(rng);
@@ -65,9 +68,12 @@ inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *gri
             __global const lv_material *m = &sc->materials[s.material];
             if (lv_inside_glass(m, &s)) sigma = LV_F3(m->attenuation);
         }
-        if (depth > 1 || store_emitted)
-            n.visibility_rays +=
-                lv_particle_deposit(sc, grid, r, h, &s, throughput, sigma, specular_only ? tables : 0, rng);
+        if (depth > 1 || store_emitted) {
+            int left_out = see_through && through_glass &&
+                           lv_seen_through(sc, es.light, es.dir, r.origin, r.dir, depth - 1u);
+            n.visibility_rays += lv_particle_deposit(sc, grid, r, h, &s, left_out ? (float3)(0.0f) : throughput, sigma,
+                                                     specular_only && !left_out ? tables : 0, rng);
+        }
         if (h.tri == LV_NO_HIT || depth == sc->info.max_depth) break;
         throughput *= exp(-sigma * h.t);
 
@@ -76,6 +82,8 @@ inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *gri
         lv_bsdf_sample bs;
         if (!lv_scatter(sc, &s, h, &sh, walk, depth, rng, &throughput, &r, &bs)) break;
         specular_only = specular_only && bs.delta;
+        __global const lv_material *m = &sc->materials[s.material];
+        through_glass = through_glass && bs.delta && !lv_bsdf_gathers(m->bsdf, m->alpha);
     }
     return n;
 }

@@ -84,16 +84,8 @@ inline float lv_light_candidate_density(const lv_light_candidates *c, uint k, fl
 {
     float facing = -dot(dir, c->n[k]); /* twice the area times the light's cosine */
     if (!(facing > 0.0f)) return 0.0f;
-    float3 pv = cross(dir, c->e2[k]);
-    float inv = 1.0f / dot(c->e1[k], pv);
-    float3 s = p - c->v0[k];
-    float b1 = dot(s, pv) * inv;
-    if (b1 < 0.0f || b1 > 1.0f) return 0.0f;
-    float3 qv = cross(s, c->e1[k]);
-    float b2 = dot(dir, qv) * inv;
-    if (b2 < 0.0f || b1 + b2 > 1.0f) return 0.0f;
-    float t = dot(c->e2[k], qv) * inv;
-    return t > 0.0f ? 2.0f * t * t / facing : 0.0f;
+    float t = lv_half_line_crossing(p, dir, c->v0[k], c->e1[k], c->e2[k]);
+    return 2.0f * t * t / facing;
 }
 
 /* The density of lv_light_directions_sample at unit direction dir from p,

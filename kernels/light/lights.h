@@ -12,6 +12,7 @@ typedef struct {
     float3 li;     /* incident radiance (area) or irradiance-like I / d^2 (punctual) */
     float pdf;     /* solid-angle density, including the selection probability */
     int delta;     /* punctual: no MIS, pdf holds only the selection probability */
+    uint light;    /* the light's index in sc->lights */
 } lv_light_sample;
 
 /* Index of the light whose cumulative-probability interval holds u. */
@@ -56,6 +57,7 @@ inline int lv_sample_light(const lv_scene *sc, float3 p, float3 u, lv_light_samp
     if (sc->info.light_count == 0) return 0;
     uint i = lv_pick_light(sc, u.z);
     lv_light light = sc->lights[i];
+    ls->light = i;
 #ifdef LV_FEATURE_PUNCTUAL
     if (light.kind == LV_LIGHT_PUNCTUAL) {
         lv_punctual_light l = sc->punctuals[light.index];
@@ -109,6 +111,7 @@ typedef struct {
     float3 weight;
     uint triangle; /* the emitting triangle, or LV_NO_HIT for punctual lights */
     uint instance; /* and its instance */
+    uint light;    /* the light's index in sc->lights */
 } lv_emission_sample;
 
 inline int lv_sample_emission(const lv_scene *sc, float2 u_light, float2 u_dir, float u_pick, lv_emission_sample *es)
@@ -116,6 +119,7 @@ inline int lv_sample_emission(const lv_scene *sc, float2 u_light, float2 u_dir, 
     if (sc->info.light_count == 0 || !(sc->info.total_light_power > 0.0f)) return 0;
     uint i = lv_pick_light(sc, u_pick);
     lv_light light = sc->lights[i];
+    es->light = i;
     float select_power = light.pdf_select * sc->info.total_light_power;
 #ifdef LV_FEATURE_PUNCTUAL
     if (light.kind == LV_LIGHT_PUNCTUAL) {

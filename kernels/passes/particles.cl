@@ -16,7 +16,7 @@ __kernel void lv_particle_trace(LV_KERNEL_PARAMS(LV_PARTICLE_TRACE_ARGS))
     grid.subcells_seen = subcells_seen;
     lv_rng rng = lv_rng_make(sc.info.seed ^ LV_PARTICLE_STREAM, first + id, 0u);
     lv_bin_tables tables = {bin_table, fine_bin_table};
-    lv_particle_rays n = lv_trace_particle(&sc, &grid, &tables, &rng, store_emitted);
+    lv_particle_rays n = lv_trace_particle(&sc, &grid, &tables, &rng, store_emitted, see_through);
     atomic_add(&ray_counts[0], n.segments);
     atomic_add(&ray_counts[1], n.visibility_rays);
 }

@@ -78,4 +78,21 @@ inline float3 lv_offset_origin(float3 p, float3 n, float scene_scale)
  * above them changes every image's bits, which tests/data/golden.txt pins. */
 #pragma OPENCL FP_CONTRACT OFF
 
+/* The distance t > 0 at which the half-line p + t dir crosses the triangle
+ * v0 + b1 e1 + b2 e2, either face (Moller and Trumbore's test), or 0 where
+ * it does not. */
+inline float lv_half_line_crossing(float3 p, float3 dir, float3 v0, float3 e1, float3 e2)
+{
+    float3 pv = cross(dir, e2);
+    float inv = 1.0f / dot(e1, pv);
+    float3 s = p - v0;
+    float b1 = dot(s, pv) * inv;
+    if (b1 < 0.0f || b1 > 1.0f) return 0.0f;
+    float3 qv = cross(s, e1);
+    float b2 = dot(dir, qv) * inv;
+    if (b2 < 0.0f || b1 + b2 > 1.0f) return 0.0f;
+    float t = dot(e2, qv) * inv;
+    return t > 0.0f ? t : 0.0f;
+}
+
 #endif
