@@ -50,7 +50,8 @@ inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *gri
                                           lv_rng *rng, uint store_emitted, uint see_through)
 {
     int specular_only = 1; /* every scatter so far a delta lobe: the light is still concentrated */
-    int through_glass = 1; /* and every one at a surface where no gather reads the volume */
+    int through_glass = 1; /* and every one at a surface where no gather reads the volume, turning light only
+                            * inside glass (see_through.h) */
     lv_particle_rays n = {0u, 0u};
     lv_emission_sample es;
     float2 ul = lv_rng_next2(rng), ud = lv_rng_next2(rng);
@@ -83,7 +84,8 @@ inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *gri
         if (!lv_scatter(sc, &s, h, &sh, walk, depth, rng, &throughput, &r, &bs)) break;
         specular_only = specular_only && bs.delta;
         __global const lv_material *m = &sc->materials[s.material];
-        through_glass = through_glass && bs.delta && !lv_bsdf_gathers(m->bsdf, m->alpha);
+        through_glass = through_glass && bs.delta && !lv_bsdf_gathers(m->bsdf, m->alpha) &&
+                        !lv_turned_outside_glass(m, &s, r.dir, es.dir);
     }
     return n;
 }

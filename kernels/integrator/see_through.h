@@ -18,6 +18,17 @@
  * arrives with (a slab's float refraction is good to about 1e-7). */
 #define LV_SEE_THROUGH_COS 0.99999f
 
+/* Whether a ray that set out along dir0 (either way along the light's
+ * path) and leaves surface s (material m) along dir has turned in the open:
+ * it travels outside solid glass and no longer along dir0. A slab turns
+ * light only inside itself, so such light is never seen through; both
+ * sides stop following it there (a curved glass or a mirror). */
+inline int lv_turned_outside_glass(__global const lv_material *m, const lv_surface *s, float3 dir, float3 dir0)
+{
+    int inside = m->bsdf == LV_BSDF_GLASS && dot(dir, s->ng) < 0.0f;
+    return !inside && dot(dir, dir0) < LV_SEE_THROUGH_COS;
+}
+
 /* Whether a particle's light that left area light `emitter` (an index into
  * sc->lights) along dir0, crossed `scatters` specular surfaces at which no
  * gather reads the volume, and now travels along dir from p is seen
@@ -67,7 +78,8 @@ inline float3 lv_light_seen_through(const lv_scene *sc, const lv_shadow_ray *r, 
         lv_shading sh;
         lv_bsdf_sample bs;
         if (!lv_shading_at(sc, &s, ray.dir, &sh) || !lv_bsdf_has_delta(&sh.b) ||
-            !lv_scatter(sc, &s, h, &sh, walk, 1u, rng, &beta, &ray, &bs) || !bs.delta)
+            !lv_scatter(sc, &s, h, &sh, walk, 1u, rng, &beta, &ray, &bs) || !bs.delta ||
+            lv_turned_outside_glass(m, &s, ray.dir, dir))
             return (float3)(0.0f);
     }
 }
