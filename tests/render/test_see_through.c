@@ -11,7 +11,7 @@
  * volume), grid offsets, cell counts and subcell settings:
  *
  * (a) smooth glass: the image mean within 2% of the path tracer's at 4,096
- *     samples; measured 0.4-0.9%, where lv with --see-through off is
+ *     samples; measured 0.2-0.9%, where lv with --see-through off is
  *     1.4-3.1% bright. Light counted twice or not at all would move it by
  *     a third: without the gather's part the image is 31-35% dark;
  * (b) smooth glass: 8 x 8 blocks, the RMS of their relative error against
