@@ -59,6 +59,7 @@ render "light volume, lights' own segments (lv-all)" 1e-6 --mode lv-all --cells 
 render "light volume, sampled gather" 1e-6 $lv --gather sample cornell
 render "light volume, refined cells and directions" 1e-6 $lv --refine 1 --refine-dirs 2 cornell
 render "light volume, adaptive cells" 1e-5 $lv --merge-tolerance 0.25 --subcells 2 kitchen
+render "light volume, lamps seen through glass" 1e-5 $lv "$scenes/glass-table.gltf"
 render "guided path tracer" 1e-6 --mode guided --cells 6 --particles 1500 cornell
 render "scene tables split over buffers" 1e-5 --mode pt --device-memory 0.3 kitchen
 render "adaptive sampling" 1e-6 --mode pt --spp 16 --adaptive on --width 4 cornell
