@@ -197,6 +197,7 @@ lvcl_volume_stats lvcl_volume_stats_of(const lvcl_light_volume *vol)
                                .merged_cells = vol->merged_cells,
                                .split_cells = vol->split_cells,
                                .fine_slots = vol->fine_slots,
+                               .see_through = vol->see_through,
                                .trace_seconds = vol->trace_seconds};
 }
 

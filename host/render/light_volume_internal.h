@@ -22,6 +22,7 @@ struct lvcl_light_volume {
     size_t merged_cells;       /* slots that share their block's tally set */
     int refined;               /* lvcl_volume_refine has run: the layout is fixed */
     size_t split_cells;        /* cells it split (volume_refine.c) */
+    int see_through;           /* its trace left out lamps seen through glass (lvcl_volume_settings) */
     size_t fine_slots;         /* slots it gave fine bins (LV_FINE_DIRS) */
     double split_from;         /* the particle count when it refined them */
     uint8_t *restarted;        /* per slot: 1 where its tallies hold the particles from split_from on */

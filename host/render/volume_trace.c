@@ -163,8 +163,12 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
     if (s->first_particle >= s->particles)
         return lvcl_fail(st, LVCL_ERR_USAGE, "no particles to trace from %llu to %llu",
                          (unsigned long long)s->first_particle, (unsigned long long)s->particles);
+    /* A pass adds to the volume: it must leave out what the first did. */
+    if (s->first_particle > 0 && !s->see_through != !vol->see_through)
+        return lvcl_fail(st, LVCL_ERR_USAGE, "a pass of the light volume cannot change whether it sees through glass");
     if ((s->first_particle == 0 && (e = clear_volume(vol, prog, st))) || (e = make_fine_bin_table(vol, prog, st)))
         return e;
+    vol->see_through = s->see_through != 0;
     cl_int err;
     /* Per batch: segments traced, visibility rays cast. */
     cl_mem counter = lvcl_buffer_create(dev, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint), NULL, &err);

@@ -72,6 +72,7 @@ done
 expect_error "device memory not a number" 2 --device-memory lots cornell
 expect_error "light volume over the device memory" 1 --device-memory 2 --mode lv --spp 1 --width 8 cornell
 expect_error "unknown adaptive setting" 2 --adaptive maybe cornell
+expect_error "unknown see-through setting" 2 --see-through maybe cornell
 expect_error "refine not on, off or a density" 2 --mode lv --refine lots cornell
 expect_error "refine density negative" 2 --mode lv --refine -1 cornell
 expect_error "refine memory below a MiB" 2 --mode lv --refine on --refine-memory 0 cornell
@@ -220,6 +221,20 @@ if grep -q '"particle_trace_seconds"' "$tmp/g1.json" 2>/dev/null && [ -s "$tmp/g
         "$tmp/g3.json"
 then pass "--mode guided renders, repeats its image, renders under --time-limit and reports its choice of paths"
 else fail "--mode guided renders, repeats its image, renders under --time-limit and reports its choice of paths" \
+    "$(cat "$tmp/err")"; fi
+
+# lv leaves lamps seen through glass to its gather where the scene has
+# glass and --see-through is on (the default), and the stats say so.
+glass="$(dirname "$0")/../../scenes/glass-table.gltf"
+see="--mode lv --particles 20000 --spp 1 --width 16"
+# shellcheck disable=SC2086 # $see holds flags
+"$lvcl" -q $see --stats "$tmp/st1.json" -o "$tmp/st1.exr" "$glass" 2>"$tmp/err" &&
+    "$lvcl" -q $see --see-through off --stats "$tmp/st2.json" -o "$tmp/st2.exr" "$glass" 2>>"$tmp/err" &&
+    "$lvcl" -q $see --stats "$tmp/st3.json" -o "$tmp/st3.exr" cornell 2>>"$tmp/err"
+if grep -q '"see_through": true' "$tmp/st1.json" && grep -q '"see_through": false' "$tmp/st2.json" &&
+    grep -q '"see_through": false' "$tmp/st3.json"
+then pass "lv sees lamps through glass where the scene has glass, unless --see-through off, and --stats says so"
+else fail "lv sees lamps through glass where the scene has glass, unless --see-through off, and --stats says so" \
     "$(cat "$tmp/err")"; fi
 
 # Refined cells and directions refine some and report them; the same
