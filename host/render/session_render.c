@@ -8,10 +8,9 @@
 
 /* Binds a camera pass kernel's arguments: the scene's (and the light
  * volume's, for the gather) and the camera; the pass binds the pixel range,
- * the sample and the sum (pd->pixel_args says where). see_through: the
- * volume left out lamps seen through glass (lvcl_session_sees_through). */
+ * the sample and the sum (pd->pixel_args says where). */
 static lvcl_error bind_pass_args(session_device *sd, lvcl_pass_device *pd, const lvcl_render_request *req,
-                                 int see_through, const lv_camera *camera, lvcl_status *st)
+                                 const lv_camera *camera, lvcl_status *st)
 {
     if (req->mode == LVCL_MODE_PT) {
         pd->pixel_args = LVCL_PIXEL_ARG_INDICES(lv_pt_pass);
@@ -42,7 +41,8 @@ static lvcl_error bind_pass_args(session_device *sd, lvcl_pass_device *pd, const
         .fine_bin_table = lvcl_volume_fine_bin_table(v),
         .axis_sums = axis_sums,
         .flags = (req->mode == LVCL_MODE_LV_ALL ? LV_GATHER_ALL : 0u) | (req->integrate ? LV_GATHER_INTEGRATE : 0u) |
-                 (see_through ? LV_GATHER_SEE_THROUGH : 0u),
+                 /* the gather finds what the volume left out, whatever the request says */
+                 (lvcl_volume_stats_of(v).see_through ? LV_GATHER_SEE_THROUGH : 0u),
         .threshold = (float)(req->threshold > 0 ? req->threshold : 0.5 * sqrt(3.0) * lvcl_volume_grid(v)->cell_size),
         .camera = *camera,
     };
@@ -74,7 +74,7 @@ lvcl_error lvcl_session_camera_pass(lvcl_session *s, const lvcl_render_request *
         session_device *sd = &s->devices[d];
         passes[d].device = &sd->device;
         if ((e = lvcl_kernel_create(&sd->program, pass_kernel_name(req->mode), &passes[d].kernel, st))) break;
-        e = bind_pass_args(sd, &passes[d], req, lvcl_session_sees_through(s, req), &cam, st);
+        e = bind_pass_args(sd, &passes[d], req, &cam, st);
     }
     if (!e) e = lvcl_image_pass(passes, s->device_count, &cam, s->cluster, pass, out, st);
     for (int d = 0; d < s->device_count; d++) {

@@ -63,10 +63,11 @@ inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *gri
         lv_hit h = lv_trace(sc, r, 0);
         n.segments++;
         lv_surface s;
+        __global const lv_material *m = 0;
         float3 sigma = (float3)(0.0f);
         if (h.tri != LV_NO_HIT) {
             s = lv_surface_at(sc, r, h);
-            __global const lv_material *m = &sc->materials[s.material];
+            m = &sc->materials[s.material];
             if (lv_inside_glass(m, &s)) sigma = LV_F3(m->attenuation);
         }
         if (depth > 1 || store_emitted) {
@@ -83,7 +84,6 @@ inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *gri
         lv_bsdf_sample bs;
         if (!lv_scatter(sc, &s, h, &sh, walk, depth, rng, &throughput, &r, &bs)) break;
         specular_only = specular_only && bs.delta;
-        __global const lv_material *m = &sc->materials[s.material];
         through_glass = through_glass && bs.delta && !lv_bsdf_gathers(m->bsdf, m->alpha) &&
                         !lv_turned_outside_glass(m, &s, r.dir, es.dir);
     }
