@@ -38,11 +38,14 @@ enum {
     WF_DEPTH,
     WF_RNG,
     WF_PIXEL,
+    WF_CHAIN_FROM,
+    WF_CHAIN_DIR,
     WF_HIT,
     WF_HIT_INST,
     WF_SHADOW_ORIGIN,
     WF_SHADOW_DIR,
     WF_SHADOW_LI,
+    WF_SHADOW_CHAIN,
     WF_QUEUE_A,
     WF_QUEUE_B,
     WF_SHADOW_QUEUE,
@@ -50,7 +53,7 @@ enum {
     WF_BUFFER_COUNT
 };
 /* Bytes per path of each buffer (the counters: two in all). */
-static const size_t wf_entry_bytes[WF_BUFFER_COUNT] = {16, 16, 4, 16, 16, 4, 16, 4, 16, 4, 16, 16, 16, 4, 4, 4, 0};
+static const size_t wf_entry_bytes[WF_BUFFER_COUNT] = {16, 16, 4, 16, 16, 4, 16, 4, 16, 16, 16, 4, 16, 16, 16, 16, 4, 4, 4, 0};
 
 typedef struct {
     options opt;
@@ -59,6 +62,7 @@ typedef struct {
     cl_kernel mega, generate, intersect, shade, shadow, finish;
     lv_camera camera;
     size_t pixels;
+    cl_uint see_through; /* as lvcl's default: light samples go on through the scene's glass, if any */
     cl_mem pixel_list, sum, sum_sq;
     cl_mem wf[WF_BUFFER_COUNT];
     double stage_seconds[STAGE_COUNT];
@@ -160,6 +164,7 @@ static lvcl_error clear_sums(bench_wf *b, lvcl_status *st)
 static lvcl_error megakernel_samples(bench_wf *b, int spp, lvcl_status *st)
 {
     lvcl_pt_pass_args a = {.scene = &lvcl_session_device_scene(b->s, 0)->buffers,
+                           .see_through = b->see_through,
                            .camera = b->camera,
                            .pixel_list = b->pixel_list,
                            .first_pixel = 0,
@@ -190,7 +195,8 @@ static lvcl_error wavefront_batch(bench_wf *b, size_t first, size_t n, lvcl_stat
     cl_mem *w = b->wf;
 #define WF_PATH(...)                                                                                \
     .ray_origin = w[WF_RAY_ORIGIN], .ray_dir = w[WF_RAY_DIR], .ray_skip_inst = w[WF_RAY_SKIP_INST], \
-    .beta = w[WF_BETA], .radiance = w[WF_RADIANCE], .depth = w[WF_DEPTH], .rng = w[WF_RNG], .pixel = w[WF_PIXEL]
+    .beta = w[WF_BETA], .radiance = w[WF_RADIANCE], .depth = w[WF_DEPTH], .rng = w[WF_RNG], .pixel = w[WF_PIXEL], \
+    .chain_from = w[WF_CHAIN_FROM], .chain_dir = w[WF_CHAIN_DIR]
     wf_generate_args g = {.scene = scene,
                           .camera = b->camera,
                           .pixel_list = b->pixel_list,
@@ -225,12 +231,14 @@ static lvcl_error wavefront_batch(bench_wf *b, size_t first, size_t n, lvcl_stat
         wf_shade_args sh = {.scene = scene,
                             .queue = queue,
                             .count = count,
+                            .see_through = b->see_through,
                             WF_PATH(),
                             .hit = w[WF_HIT],
                             .hit_inst = w[WF_HIT_INST],
                             .shadow_origin = w[WF_SHADOW_ORIGIN],
                             .shadow_dir = w[WF_SHADOW_DIR],
                             .shadow_li = w[WF_SHADOW_LI],
+                            .shadow_chain = w[WF_SHADOW_CHAIN],
                             .next_queue = next,
                             .shadow_queue = w[WF_SHADOW_QUEUE],
                             .counters = w[WF_COUNTERS]};
@@ -244,6 +252,7 @@ static lvcl_error wavefront_batch(bench_wf *b, size_t first, size_t n, lvcl_stat
                              .shadow_origin = w[WF_SHADOW_ORIGIN],
                              .shadow_dir = w[WF_SHADOW_DIR],
                              .shadow_li = w[WF_SHADOW_LI],
+                             .shadow_chain = w[WF_SHADOW_CHAIN],
                              .radiance = w[WF_RADIANCE]};
         if (!e && counters[1] && !(e = lvcl_bind_lv_wf_shadow(b->shadow, &sr, st)))
             e = stage(b, STAGE_SHADOW, b->shadow, counters[1], st);
@@ -309,6 +318,7 @@ static lvcl_error run(bench_wf *b, lvcl_status *st)
     const lvcl_packed_scene *p = lvcl_session_packed_scene(b->s);
     b->camera = lvcl_camera_make(&lvcl_session_scene(b->s)->camera, p->bounds_min, p->bounds_max, w, h);
     b->pixels = (size_t)w * h;
+    b->see_through = (lvcl_session_features(b->s) & LVCL_FEATURE_GLASS) != 0;
     float *mega = malloc(b->pixels * 3 * sizeof *mega), *wave = malloc(b->pixels * 3 * sizeof *wave);
     lvcl_error e = !mega || !wave ? lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory") : LVCL_OK;
     double mega_seconds = 0.0, wave_seconds = 0.0;
@@ -320,12 +330,13 @@ static lvcl_error run(bench_wf *b, lvcl_status *st)
         bench_json_string(scene, sizeof scene, b->opt.scene);
         bench_json_string(device, sizeof device, lvcl_session_device(b->s, 0)->name);
         printf("{\"bench\": \"wavefront\", \"scene\": %s, \"device\": %s, \"width\": %d, \"height\": %d, \"spp\": %d, "
-               "\"batch\": %zu, "
+               "\"batch\": %zu, \"see_through\": %s, "
                "\"kernel_build_seconds\": %.3f, \"megakernel_seconds\": %.4f, \"wavefront_seconds\": %.4f, "
                "\"wavefront_over_megakernel\": %.4f, \"megakernel_paths_per_second\": %.1f, "
                "\"wavefront_paths_per_second\": %.1f, \"path_vertices\": %llu, \"shadow_rays\": %llu, "
                "\"launches\": %llu, \"relmse_between\": %.3g",
                scene, device, w, h, b->opt.spp, b->opt.batch ? (size_t)b->opt.batch : b->pixels,
+               b->see_through ? "true" : "false",
                b->program.build_seconds, mega_seconds, wave_seconds, wave_seconds / mega_seconds,
                b->pixels * b->opt.spp / mega_seconds, b->pixels * b->opt.spp / wave_seconds,
                (unsigned long long)b->path_vertices, (unsigned long long)b->shadow_rays,

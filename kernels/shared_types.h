@@ -435,6 +435,7 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
 
 #define LV_PT_PASS_ARGS(X, SEP)                   \
     X(lv_pt_pass, SCENE, , scene) SEP()           \
+    X(lv_pt_pass, VALUE, lv_u32, see_through) SEP() /* light samples go on through glass */ \
     LV_PIXEL_ARGS(X, SEP, lv_pt_pass)
 
 #define LV_GATHER_PASS_ARGS(X, SEP)                                    \
@@ -453,6 +454,7 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
     X(lv_guided_pass, BUFFER, const float, bin_table) SEP()      \
     X(lv_guided_pass, BUFFER, const float, fine_bin_table) SEP() /* the bin table of 2n x 2n */ \
     X(lv_guided_pass, BUFFER, const float, guide_table) SEP()    /* lv_guide_table's */ \
+    X(lv_guided_pass, VALUE, lv_u32, see_through) SEP()          /* as lv_pt_pass's */ \
     LV_PIXEL_ARGS(X, SEP, lv_guided_pass)
 
 /* Fills the guide table: per tally set and bin, the luminance of its

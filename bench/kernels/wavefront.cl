@@ -11,10 +11,11 @@
 
 inline lv_path lv_wf_load(uint i, __global const float4 *ray_origin, __global const float4 *ray_dir,
                           __global const uint *ray_skip_inst, __global const float4 *beta,
-                          __global const float4 *radiance, __global const uint *depth)
+                          __global const float4 *radiance, __global const uint *depth,
+                          __global const float4 *chain_from, __global const float4 *chain_dir)
 {
     lv_path p;
-    float4 o = ray_origin[i], d = ray_dir[i], b = beta[i], l = radiance[i];
+    float4 o = ray_origin[i], d = ray_dir[i], b = beta[i], l = radiance[i], cf = chain_from[i], cd = chain_dir[i];
     p.ray = lv_ray_make(o.xyz, d.xyz, o.w, ray_skip_inst[i], as_uint(d.w));
     p.beta = b.xyz;
     p.prev_pdf = b.w;
@@ -22,12 +23,16 @@ inline lv_path lv_wf_load(uint i, __global const float4 *ray_origin, __global co
     p.prev_delta = as_int(l.w);
     p.depth = depth[i];
     p.rough = 0u; /* only guided paths count them */
+    p.chain.from = cf.xyz;
+    p.chain.pdf = cf.w;
+    p.chain.dir = cd.xyz;
+    p.chain.scatters = as_uint(cd.w);
     return p;
 }
 
 inline void lv_wf_store(uint i, const lv_path *p, __global float4 *ray_origin, __global float4 *ray_dir,
                         __global uint *ray_skip_inst, __global float4 *beta, __global float4 *radiance,
-                        __global uint *depth)
+                        __global uint *depth, __global float4 *chain_from, __global float4 *chain_dir)
 {
     ray_origin[i] = (float4)(p->ray.origin, p->ray.tmax);
     ray_dir[i] = (float4)(p->ray.dir, as_float(p->ray.skip));
@@ -35,6 +40,8 @@ inline void lv_wf_store(uint i, const lv_path *p, __global float4 *ray_origin, _
     beta[i] = (float4)(p->beta, p->prev_pdf);
     radiance[i] = (float4)(p->radiance, as_float(p->prev_delta));
     depth[i] = p->depth;
+    chain_from[i] = (float4)(p->chain.from, p->chain.pdf);
+    chain_dir[i] = (float4)(p->chain.dir, as_float(p->chain.scatters));
 }
 
 inline uint4 lv_wf_rng_pack(lv_rng r)
@@ -59,7 +66,7 @@ __kernel void lv_wf_generate(LV_KERNEL_PARAMS(LV_WF_GENERATE_ARGS))
     if (i >= pixel_count) return;
     lv_camera_sample cs = lv_camera_sample_next(camera, sc.info.seed, pixel_list, first_pixel, first_sample, sum);
     lv_path p = lv_path_start(cs.ray);
-    lv_wf_store(i, &p, ray_origin, ray_dir, ray_skip_inst, beta, radiance, depth);
+    lv_wf_store(i, &p, ray_origin, ray_dir, ray_skip_inst, beta, radiance, depth, chain_from, chain_dir);
     rng[i] = lv_wf_rng_pack(cs.rng);
     pixel[i] = cs.pixel;
     queue[i] = i;
@@ -102,7 +109,7 @@ __kernel void lv_wf_shade(LV_KERNEL_PARAMS(LV_WF_SHADE_ARGS))
     uint i = active ? queue[get_global_id(0)] : 0u;
     int more = 0, has_shadow = 0;
     if (active) {
-        lv_path p = lv_wf_load(i, ray_origin, ray_dir, ray_skip_inst, beta, radiance, depth);
+        lv_path p = lv_wf_load(i, ray_origin, ray_dir, ray_skip_inst, beta, radiance, depth, chain_from, chain_dir);
         lv_rng r = lv_wf_rng_unpack(rng[i]);
         float4 hv = hit[i];
         lv_hit h;
@@ -112,13 +119,14 @@ __kernel void lv_wf_shade(LV_KERNEL_PARAMS(LV_WF_SHADE_ARGS))
         h.tri = as_uint(hv.w);
         h.inst = hit_inst[i];
         lv_shadow_ray shadow;
-        more = lv_path_shade(&sc, 0, &p, h, &r, sc.info.max_depth, &shadow, &has_shadow);
-        lv_wf_store(i, &p, ray_origin, ray_dir, ray_skip_inst, beta, radiance, depth);
+        more = lv_path_shade(&sc, 0, &p, h, &r, sc.info.max_depth, see_through, &shadow, &has_shadow);
+        lv_wf_store(i, &p, ray_origin, ray_dir, ray_skip_inst, beta, radiance, depth, chain_from, chain_dir);
         rng[i] = lv_wf_rng_pack(r);
         if (has_shadow) {
             shadow_origin[i] = (float4)(shadow.origin, as_float(shadow.tri));
             shadow_dir[i] = (float4)(shadow.d, as_float(shadow.inst));
-            shadow_li[i] = (float4)(shadow.li, 0.0f);
+            shadow_li[i] = (float4)(shadow.li, shadow.mis);
+            shadow_chain[i] = (uint4)(shadow.light, shadow.see_through, shadow.chain_key, 0u);
         }
     }
     lv_wf_append(has_shadow, i, shadow_queue, &counters[1], &local_count, &local_base);
@@ -130,13 +138,19 @@ __kernel void lv_wf_shadow(LV_KERNEL_PARAMS(LV_WF_SHADOW_PASS_ARGS))
     LV_SCENE_OPEN(sc);
     if (get_global_id(0) >= count) return;
     uint i = shadow_queue[get_global_id(0)];
-    float4 o = shadow_origin[i], d = shadow_dir[i];
+    float4 o = shadow_origin[i], d = shadow_dir[i], li = shadow_li[i];
+    uint4 chain = shadow_chain[i];
     lv_shadow_ray r;
     r.origin = o.xyz;
     r.d = d.xyz;
     r.tri = as_uint(o.w);
     r.inst = as_uint(d.w);
-    if (!lv_shadow_ray_blocked(&sc, &r)) radiance[i].xyz += shadow_li[i].xyz;
+    r.li = li.xyz;
+    r.mis = li.w;
+    r.light = chain.x;
+    r.see_through = chain.y;
+    r.chain_key = chain.z;
+    radiance[i].xyz += lv_shadow_ray_light(&sc, &r);
 }
 
 __kernel void lv_wf_finish(LV_KERNEL_PARAMS(LV_WF_FINISH_ARGS))

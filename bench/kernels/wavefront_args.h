@@ -5,9 +5,12 @@
  * A path's state is kept structure-of-arrays, one entry per path:
  *   ray_origin (origin.xyz, tmax), ray_dir (dir.xyz, as_float(skip)),
  *   ray_skip_inst, beta (beta.xyz, prev_pdf),
- *   radiance (radiance.xyz, as_float(prev_delta)), depth, rng, pixel.
+ *   radiance (radiance.xyz, as_float(prev_delta)), depth, rng, pixel,
+ *   chain_from (chain.from, chain.pdf), chain_dir (chain.dir,
+ *   as_float(chain.scatters)).
  * A shadow ray is kept at its path's index: shadow_origin (origin.xyz,
- * as_float(tri)), shadow_dir (d.xyz, as_float(inst)), shadow_li. */
+ * as_float(tri)), shadow_dir (d.xyz, as_float(inst)), shadow_li (li, mis),
+ * shadow_chain (light, see_through, chain_key, 0). */
 #ifndef LV_BENCH_WAVEFRONT_ARGS_H
 #define LV_BENCH_WAVEFRONT_ARGS_H
 
@@ -24,12 +27,15 @@
     X(kernel, BUFFER, float4, radiance) SEP()      \
     X(kernel, BUFFER, uint, depth) SEP()           \
     X(kernel, BUFFER, uint4, rng) SEP()            \
-    X(kernel, BUFFER, uint, pixel)
+    X(kernel, BUFFER, uint, pixel) SEP()           \
+    X(kernel, BUFFER, float4, chain_from) SEP()    \
+    X(kernel, BUFFER, float4, chain_dir)
 
 #define LV_WF_SHADOW_ARGS(X, SEP, kernel)          \
     X(kernel, BUFFER, float4, shadow_origin) SEP() \
     X(kernel, BUFFER, float4, shadow_dir) SEP()    \
-    X(kernel, BUFFER, float4, shadow_li)
+    X(kernel, BUFFER, float4, shadow_li) SEP()     \
+    X(kernel, BUFFER, uint4, shadow_chain)
 
 /* A camera ray for each pixel of the list; queue[i] = i. */
 #define LV_WF_GENERATE_ARGS(X, SEP)                \
@@ -56,6 +62,7 @@
     X(lv_wf_shade, SCENE, , scene) SEP()                  \
     X(lv_wf_shade, BUFFER, const uint, queue) SEP()       \
     X(lv_wf_shade, VALUE, lv_u32, count) SEP()            \
+    X(lv_wf_shade, VALUE, lv_u32, see_through) SEP()      \
     LV_WF_PATH_ARGS(X, SEP, lv_wf_shade) SEP()            \
     X(lv_wf_shade, BUFFER, const float4, hit) SEP()       \
     X(lv_wf_shade, BUFFER, const uint, hit_inst) SEP()    \

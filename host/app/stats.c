@@ -51,9 +51,10 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
             lvcl_session_bvh_build_seconds(ss), s->startup_seconds, r->first_launch_seconds, r->render_seconds);
     fprintf(f,
             "  \"width\": %d,\n  \"height\": %d,\n  \"spp\": %d,\n  \"interrupted\": %s,\n  \"adaptive\": %s,\n"
-            "  \"samples_per_second\": %.1f,\n  \"seed\": %u,\n  \"max_depth\": %d",
+            "  \"samples_per_second\": %.1f,\n  \"seed\": %u,\n  \"max_depth\": %d,\n  \"see_through\": %s",
             r->width, r->height, r->samples, s->interrupted_by ? "true" : "false", r->adaptive ? "true" : "false",
-            r->render_seconds > 0 ? pixel_samples / r->render_seconds : 0.0, s->options->seed, s->options->max_depth);
+            r->render_seconds > 0 ? pixel_samples / r->render_seconds : 0.0, s->options->seed, s->options->max_depth,
+            r->see_through ? "true" : "false");
     /* The light volume: the grid is every device's; the work adds up,
      * over every rank's devices where several shared it. */
     int devices = lvcl_session_device_count(ss);
@@ -92,14 +93,13 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
                 "%llu,\n  \"particle_trace_seconds\": %.4f,\n"
                 "  \"particles_per_second\": %.1f,\n  \"segments\": %llu,\n  \"segments_per_second\": %.1f,\n"
                 "  \"subcells\": %u,\n  \"visibility_rays\": %llu,\n  \"light_volume_buffers\": %d,\n"
-                "  \"see_through\": %s,\n  \"light_volume_checksum\": \"%016llx\"",
+                "  \"light_volume_checksum\": \"%016llx\"",
                 g->dims[0], g->dims[1], g->dims[2], g->cell_size, g->dirs, g->slot_count, g->tally_sets,
                 vw.merged_cells, vw.split_cells, vw.fine_slots, vw.device_bytes, vw.axis_sums_bytes,
                 (unsigned long long)particles,
                 trace_seconds, trace_seconds > 0 ? (double)particles / trace_seconds : 0.0,
                 (unsigned long long)segments, trace_seconds > 0 ? (double)segments / trace_seconds : 0.0, g->subcells,
-                (unsigned long long)visibility_rays, vw.tally_buffers, vw.see_through ? "true" : "false",
-                (unsigned long long)checksum);
+                (unsigned long long)visibility_rays, vw.tally_buffers, (unsigned long long)checksum);
     }
     const lvcl_budget_report *b = lvcl_session_budget(ss);
     if (b->used)

@@ -22,6 +22,7 @@ typedef struct {
     int width, height;
     int samples;                 /* samples per pixel actually taken */
     int adaptive;                /* the samples were placed by adaptive sampling (one device, past one epoch) */
+    int see_through;             /* light samples went on through glass (kernels/integrator/see_through.h) */
     double first_launch_seconds; /* first launch, which may compile machine code */
     double render_seconds;
 } lvcl_render_result;

@@ -116,7 +116,12 @@ const lvcl_scene *lvcl_session_scene(const lvcl_session *s)
 
 int lvcl_session_sees_through(const lvcl_session *s, const lvcl_render_request *req)
 {
-    return req->mode == LVCL_MODE_LV && req->see_through && (s->features & LVCL_FEATURE_GLASS);
+    return req->mode != LVCL_MODE_LV_ALL && req->see_through && (s->features & LVCL_FEATURE_GLASS);
+}
+
+int lvcl_session_volume_sees_through(const lvcl_session *s, const lvcl_render_request *req)
+{
+    return req->mode == LVCL_MODE_LV && lvcl_session_sees_through(s, req);
 }
 
 unsigned lvcl_session_features(const lvcl_session *s)

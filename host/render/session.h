@@ -39,7 +39,7 @@ typedef struct {
     lvcl_pass_settings pass;
     lvcl_volume_settings volume;
     int integrate;    /* the gather integrates over all bins instead of sampling one */
-    int see_through;  /* lv: the gather finds lamps seen through glass, which the volume leaves out */
+    int see_through;  /* light samples find lamps seen through glass (lv: the volume leaves that light out) */
     double threshold; /* near-hit distance in metres; 0 = half the cell diagonal */
 } lvcl_render_request;
 

@@ -262,7 +262,7 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
     session_device *sd = &s->devices[0];
     lvcl_volume_settings vs = req->volume;
     vs.store_emitted = req->mode == LVCL_MODE_LV_ALL;
-    vs.see_through = lvcl_session_sees_through(s, req);
+    vs.see_through = lvcl_session_volume_sees_through(s, req);
     vs.source = NULL;
     lvcl_error e = lvcl_session_new_volume(s, 0, &vs, st);
     if (e) return e;

@@ -105,6 +105,7 @@ lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request
 {
     lvcl_volume_settings vs = req->volume;
     vs.store_emitted = 0;
+    vs.see_through = 0; /* the guide keeps all light; the paths' light samples see through glass */
     /* The guide reads bins only: no subcells, so no lit points or
      * visibility rays (a quarter of the trace's time). */
     vs.subcells = 0;

@@ -31,8 +31,11 @@ struct lvcl_session {
 };
 
 /* Whether req's render sees lamps through glass (kernels/integrator/
- * see_through.h): lv mode, asked for, and a scene with glass. */
+ * see_through.h): asked for, a scene with glass, and any mode but lv-all
+ * (whose volume holds all light). In lv mode the volume then leaves that
+ * light out (lvcl_session_volume_sees_through). */
 int lvcl_session_sees_through(const lvcl_session *s, const lvcl_render_request *req);
+int lvcl_session_volume_sees_through(const lvcl_session *s, const lvcl_render_request *req);
 
 /* Replaces device d's light volume by a new, empty one of these settings. */
 lvcl_error lvcl_session_new_volume(lvcl_session *s, int d, const lvcl_volume_settings *settings, lvcl_status *st);

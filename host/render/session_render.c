@@ -6,15 +6,25 @@
 
 #include "session_internal.h"
 
+/* Whether the pass's light samples go on through glass: as asked for pt
+ * and guided paths; for the gather, as the volume left that light out,
+ * whatever the request says. */
+static int pass_sees_through(const lvcl_session *s, const session_device *sd, const lvcl_render_request *req)
+{
+    if (req->mode == LVCL_MODE_PT || req->mode == LVCL_MODE_GUIDED) return lvcl_session_sees_through(s, req);
+    return lvcl_volume_stats_of(sd->volume).see_through;
+}
+
 /* Binds a camera pass kernel's arguments: the scene's (and the light
  * volume's, for the gather) and the camera; the pass binds the pixel range,
  * the sample and the sum (pd->pixel_args says where). */
-static lvcl_error bind_pass_args(session_device *sd, lvcl_pass_device *pd, const lvcl_render_request *req,
-                                 const lv_camera *camera, lvcl_status *st)
+static lvcl_error bind_pass_args(const lvcl_session *s, session_device *sd, lvcl_pass_device *pd,
+                                 const lvcl_render_request *req, const lv_camera *camera, lvcl_status *st)
 {
     if (req->mode == LVCL_MODE_PT) {
         pd->pixel_args = LVCL_PIXEL_ARG_INDICES(lv_pt_pass);
-        lvcl_pt_pass_args a = {.scene = &sd->device_scene.buffers, .camera = *camera};
+        lvcl_pt_pass_args a = {
+            .scene = &sd->device_scene.buffers, .see_through = pass_sees_through(s, sd, req), .camera = *camera};
         return lvcl_bind_lv_pt_pass(pd->kernel, &a, st);
     }
     const lvcl_light_volume *v = sd->volume;
@@ -26,6 +36,7 @@ static lvcl_error bind_pass_args(session_device *sd, lvcl_pass_device *pd, const
             .bin_table = lvcl_volume_bin_table(v),
             .fine_bin_table = lvcl_volume_fine_bin_table(v),
             .guide_table = lvcl_volume_guide_table(v),
+            .see_through = pass_sees_through(s, sd, req),
             .camera = *camera,
         };
         return lvcl_bind_lv_guided_pass(pd->kernel, &a, st);
@@ -41,8 +52,7 @@ static lvcl_error bind_pass_args(session_device *sd, lvcl_pass_device *pd, const
         .fine_bin_table = lvcl_volume_fine_bin_table(v),
         .axis_sums = axis_sums,
         .flags = (req->mode == LVCL_MODE_LV_ALL ? LV_GATHER_ALL : 0u) | (req->integrate ? LV_GATHER_INTEGRATE : 0u) |
-                 /* the gather finds what the volume left out, whatever the request says */
-                 (lvcl_volume_stats_of(v).see_through ? LV_GATHER_SEE_THROUGH : 0u),
+                 (pass_sees_through(s, sd, req) ? LV_GATHER_SEE_THROUGH : 0u),
         .threshold = (float)(req->threshold > 0 ? req->threshold : 0.5 * sqrt(3.0) * lvcl_volume_grid(v)->cell_size),
         .camera = *camera,
     };
@@ -74,9 +84,10 @@ lvcl_error lvcl_session_camera_pass(lvcl_session *s, const lvcl_render_request *
         session_device *sd = &s->devices[d];
         passes[d].device = &sd->device;
         if ((e = lvcl_kernel_create(&sd->program, pass_kernel_name(req->mode), &passes[d].kernel, st))) break;
-        e = bind_pass_args(sd, &passes[d], req, &cam, st);
+        e = bind_pass_args(s, sd, &passes[d], req, &cam, st);
     }
     if (!e) e = lvcl_image_pass(passes, s->device_count, &cam, s->cluster, pass, out, st);
+    if (!e) out->see_through = pass_sees_through(s, &s->devices[0], req);
     for (int d = 0; d < s->device_count; d++) {
         if (passes[d].kernel) clReleaseKernel(passes[d].kernel);
         passes[d].kernel = NULL;
@@ -129,7 +140,7 @@ lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, 
     if (req->pass.time_limit > 0) return lvcl_session_render_budget(s, req, out, st);
     lvcl_volume_settings vs = req->volume;
     vs.store_emitted = req->mode == LVCL_MODE_LV_ALL;
-    vs.see_through = lvcl_session_sees_through(s, req);
+    vs.see_through = lvcl_session_volume_sees_through(s, req);
     if ((e = lvcl_session_trace_volume(s, &vs, st))) return e;
     return lvcl_session_camera_pass(s, req, req->width, req->height, &req->pass, out, st);
 }

@@ -17,6 +17,10 @@ typedef struct {
     float3 li;
     float mis;  /* the MIS weight li carries */
     uint light; /* the light sampled, an index into sc->lights */
+    /* A camera path's ray, where blocked, goes on through at most this
+     * many delta scatters (see_through.h; 0: not), drawing from the
+     * stream keyed chain_key. */
+    uint see_through, chain_key;
 } lv_shadow_ray;
 
 /* Samples one light for surface s (hit h), MIS-weighted against BSDF
@@ -46,6 +50,7 @@ inline int lv_light_sample_ray(const lv_scene *sc, const lv_surface *s, lv_hit h
     out->li = fcos * ls.li * (w / ls.pdf);
     out->mis = w;
     out->light = ls.light;
+    out->see_through = 0u;
     return 1;
 }
 

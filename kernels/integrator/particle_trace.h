@@ -84,8 +84,7 @@ inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *gri
         lv_bsdf_sample bs;
         if (!lv_scatter(sc, &s, h, &sh, walk, depth, rng, &throughput, &r, &bs)) break;
         specular_only = specular_only && bs.delta;
-        through_glass = through_glass && bs.delta && !lv_bsdf_gathers(m->bsdf, m->alpha) &&
-                        !lv_turned_outside_glass(m, &s, r.dir, es.dir);
+        through_glass = through_glass && lv_still_seen_through(m, &s, bs.delta, r.dir, es.dir);
     }
     return n;
 }

@@ -1,11 +1,11 @@
 /* The reference path tracer: unidirectional, next-event estimation with
- * MIS (direct_light.h), Russian roulette, Beer-Lambert absorption inside
- * glass. Depth counts path segments as Mitsuba's max_depth does: 1 shows
+ * MIS (direct_light.h), lamps seen through glass by both (see_through.h),
+ * Russian roulette, Beer-Lambert absorption inside glass. Depth counts path segments as Mitsuba's max_depth does: 1 shows
  * only emitters seen directly, 2 adds direct lighting. */
 #ifndef LV_INTEGRATOR_PATH_TRACER_H
 #define LV_INTEGRATOR_PATH_TRACER_H
 
-#include "direct_light.h"
+#include "see_through.h"
 
 /* A path between two segments: all a wavefront keeps of it from one
  * kernel to the next. */
@@ -17,6 +17,7 @@ typedef struct {
     int prev_delta;  /* ray came from a delta lobe or the camera: no MIS */
     uint depth;      /* ray's number among the segments, from 1 */
     uint rough;      /* rough surfaces passed (guided paths' guide serves the first LV_GUIDE_VERTICES) */
+    lv_glass_chain chain; /* the delta scatters since the last vertex that sampled lights */
 } lv_path;
 
 inline lv_path lv_path_start(lv_ray r)
@@ -29,21 +30,23 @@ inline lv_path lv_path_start(lv_ray r)
     p.prev_delta = 1; /* the camera ray counts as a delta sample */
     p.depth = 1u;
     p.rough = 0u;
+    p.chain = lv_glass_chain_start((float3)(0.0f), r.dir, 0.0f, 0);
     return p;
 }
 
 /* One vertex of path p at hit h of its ray: the emission found there, the
  * absorption on the way, a light sample (*shadow, where it returns with
- * *has_shadow set; its light counts, times the beta it carries, once its
- * ray is found clear) and the next ray. Returns whether the path goes on.
+ * *has_shadow set; lv_shadow_ray_light says what it brings, beta
+ * included) and the next ray. Returns whether the path goes on.
+ * see_through: light samples go on through glass (see_through.h).
  * With a guide (not null: --mode guided) the next ray at a rough surface
  * comes from the mixture of BSDF and guide. Always inlined, so that a null
  * guide folds away and each caller keeps its own copy (with a second
  * caller in its program, Intel's compiler stopped inlining it and the
  * megakernel ran 4x slower: bench/wavefront.c). */
 __attribute__((always_inline)) inline int lv_path_shade(const lv_scene *sc, const lv_guide *guide, lv_path *p, lv_hit h,
-                                                        lv_rng *rng, uint max_depth, lv_shadow_ray *shadow,
-                                                        int *has_shadow)
+                                                        lv_rng *rng, uint max_depth, int see_through,
+                                                        lv_shadow_ray *shadow, int *has_shadow)
 {
     const lv_walk walk = {LV_RADIANCE, LV_ROULETTE_BETA, (float3)(1.0f)};
     *has_shadow = 0;
@@ -52,7 +55,9 @@ __attribute__((always_inline)) inline int lv_path_shade(const lv_scene *sc, cons
     __global const lv_material *m = &sc->materials[s.material];
     float3 le = LV_F3(m->emission);
     if (s.front && lv_max3(le) > 0.0f)
-        p->radiance += p->beta * le * lv_emission_weight(sc, h, p->ray.dir, s.ng, p->prev_pdf, p->prev_delta);
+        p->radiance += p->beta * le *
+                       (p->prev_delta ? lv_glass_chain_weight(sc, &p->chain, h, p->ray.dir, s.ng)
+                                      : lv_emission_weight(sc, h, p->ray.dir, s.ng, p->prev_pdf, 0));
     if (lv_inside_glass(m, &s)) p->beta *= exp(-LV_F3(m->attenuation) * h.t);
     if (p->depth == max_depth) return 0;
 
@@ -67,6 +72,9 @@ __attribute__((always_inline)) inline int lv_path_shade(const lv_scene *sc, cons
     if (p->depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b) &&
         lv_light_sample_ray(sc, &s, h, &sh, guided ? &gv : 0, rng, shadow)) {
         shadow->li = p->beta * shadow->li;
+        /* The light reached through glass must stay within max_depth. */
+        shadow->see_through = see_through ? min((uint)LV_SEE_THROUGH_MAX, max_depth - p->depth - 1u) : 0u;
+        shadow->chain_key = lv_rng_fork_key(rng);
         *has_shadow = 1;
     }
     lv_bsdf_sample bs;
@@ -75,21 +83,25 @@ __attribute__((always_inline)) inline int lv_path_shade(const lv_scene *sc, cons
         return 0;
     p->prev_pdf = bs.pdf;
     p->prev_delta = bs.delta;
+    if (bs.delta) lv_glass_chain_step(&p->chain, m, &s, p->ray.dir);
+    else p->chain = lv_glass_chain_start(s.p, p->ray.dir, bs.pdf, see_through);
     p->depth++;
     return 1;
 }
 
 /* Radiance arriving along r at its origin: the megakernel, one path from
- * start to end in one work-item; guide as lv_path_shade's. */
-inline float3 lv_path_trace(const lv_scene *sc, const lv_guide *guide, lv_ray r, lv_rng *rng, uint max_depth)
+ * start to end in one work-item; guide and see_through as lv_path_shade's. */
+inline float3 lv_path_trace(const lv_scene *sc, const lv_guide *guide, lv_ray r, lv_rng *rng, uint max_depth,
+                            int see_through)
 {
     lv_path p = lv_path_start(r);
     int more = 1;
     while (more) {
         lv_shadow_ray shadow;
         int has_shadow;
-        more = lv_path_shade(sc, guide, &p, lv_trace(sc, p.ray, 0), rng, max_depth, &shadow, &has_shadow);
-        if (has_shadow && !lv_shadow_ray_blocked(sc, &shadow)) p.radiance += shadow.li;
+        more = lv_path_shade(sc, guide, &p, lv_trace(sc, p.ray, 0), rng, max_depth, see_through, &shadow,
+                             &has_shadow);
+        if (has_shadow) p.radiance += lv_shadow_ray_light(sc, &shadow);
     }
     return lv_finite3(p.radiance) ? p.radiance : (float3)(0.0f);
 }

@@ -29,6 +29,18 @@ inline int lv_turned_outside_glass(__global const lv_material *m, const lv_surfa
     return !inside && dot(dir, dir0) < LV_SEE_THROUGH_COS;
 }
 
+/* Whether light that set out along dir0 is still seen through after a
+ * scatter at surface s (material m) that sampled a delta lobe or not
+ * (delta) and left along dir: the lobe was a delta one, at a surface
+ * where no gather reads the volume, and the light did not turn outside
+ * glass. The particle trace, the gather's chains and camera paths all
+ * test this, so they agree on what is seen through. */
+inline int lv_still_seen_through(__global const lv_material *m, const lv_surface *s, int delta, float3 dir,
+                                 float3 dir0)
+{
+    return delta && !lv_bsdf_gathers(m->bsdf, m->alpha) && !lv_turned_outside_glass(m, s, dir, dir0);
+}
+
 /* Whether a particle's light that left area light `emitter` (an index into
  * sc->lights) along dir0, crossed `scatters` specular surfaces at which no
  * gather reads the volume, and now travels along dir from p is seen
@@ -50,20 +62,19 @@ inline int lv_seen_through(const lv_scene *sc, uint emitter, float3 dir0, float3
 }
 
 /* What the light sample of shadow ray r, found blocked, brings through
- * glass: the ray goes on through specular surfaces (sampled as a path
- * would; numbers are drawn only where a surface has a delta lobe) and
- * counts if it meets the sampled triangle's front face after at most
- * LV_SEE_THROUGH_MAX of them, going the way it set out. Without MIS
- * weight: a gather point's BSDF rays stop at glass and read the volume, so
- * they never find this light. */
-inline float3 lv_light_seen_through(const lv_scene *sc, const lv_shadow_ray *r, lv_rng *rng)
+ * glass, starting from weight beta: the ray goes on through specular
+ * surfaces (sampled as a path would; numbers are drawn only where a
+ * surface has a delta lobe) and counts if it meets the sampled triangle's
+ * front face after 1 to max_scatters of them, going the way it set out. */
+inline float3 lv_light_seen_through(const lv_scene *sc, const lv_shadow_ray *r, float3 beta, uint max_scatters,
+                                    lv_rng *rng)
 {
     lv_light light = sc->lights[r->light];
 #ifdef LV_FEATURE_PUNCTUAL
     if (light.kind == LV_LIGHT_PUNCTUAL) return (float3)(0.0f);
 #endif
     if (!(r->mis > 0.0f)) return (float3)(0.0f);
-    float3 dir = normalize(r->d), beta = r->li / r->mis;
+    float3 dir = normalize(r->d);
     lv_ray ray = lv_ray_make(r->origin, dir, LV_FAR, r->inst, r->tri);
     const lv_walk walk = {LV_RADIANCE, LV_ROULETTE_NONE, (float3)(1.0f)};
     for (uint scatters = 0u;; scatters++) {
@@ -73,15 +84,86 @@ inline float3 lv_light_seen_through(const lv_scene *sc, const lv_shadow_ray *r, 
         if (h.inst == light.instance && h.tri == light.index)
             return s.front && scatters >= 1u && dot(ray.dir, dir) >= LV_SEE_THROUGH_COS ? beta : (float3)(0.0f);
         __global const lv_material *m = &sc->materials[s.material];
-        if (scatters == LV_SEE_THROUGH_MAX || lv_bsdf_gathers(m->bsdf, m->alpha)) return (float3)(0.0f);
+        if (scatters >= max_scatters || lv_bsdf_gathers(m->bsdf, m->alpha)) return (float3)(0.0f);
         if (lv_inside_glass(m, &s)) beta *= exp(-LV_F3(m->attenuation) * h.t);
         lv_shading sh;
         lv_bsdf_sample bs;
         if (!lv_shading_at(sc, &s, ray.dir, &sh) || !lv_bsdf_has_delta(&sh.b) ||
-            !lv_scatter(sc, &s, h, &sh, walk, 1u, rng, &beta, &ray, &bs) || !bs.delta ||
-            lv_turned_outside_glass(m, &s, ray.dir, dir))
+            !lv_scatter(sc, &s, h, &sh, walk, 1u, rng, &beta, &ray, &bs) ||
+            !lv_still_seen_through(m, &s, bs.delta, ray.dir, dir))
             return (float3)(0.0f);
     }
+}
+
+/* ---- Camera paths (pt and guided): the same light found two ways ----
+ *
+ * At a vertex x that samples lights, a light sample toward triangle T whose
+ * shadow ray glass blocks goes on through it (lv_light_seen_through), and a
+ * path that leaves x along w, crosses the same glass and hits T finds the
+ * same light. Both weigh it by the power heuristic between x's density of
+ * w and the light sample's density of the straight half-line from x along
+ * w, which must meet T's front face; both follow the delta lobes alike, so
+ * those choices' odds cancel, and the two weights sum to 1 wherever both
+ * can find the light. Where only the path can (the straight half-line
+ * misses T, the chain turns, or is too long) its weight stays 1. */
+
+/* A camera path's chain of delta scatters since its last vertex x that
+ * sampled lights. */
+#define LV_CHAIN_NONE 0xffffffffu
+typedef struct {
+    float3 from;   /* x */
+    float3 dir;    /* the way the path left x */
+    float pdf;     /* that direction's density at x, as x's light sample weighs it */
+    uint scatters; /* delta scatters since x that light is still seen through, or LV_CHAIN_NONE */
+} lv_glass_chain;
+
+/* The chain of a path that left x along dir with density pdf, where
+ * lights are sampled and seen through glass (on) or not. */
+inline lv_glass_chain lv_glass_chain_start(float3 x, float3 dir, float pdf, int on)
+{
+    lv_glass_chain c;
+    c.from = x;
+    c.dir = dir;
+    c.pdf = pdf;
+    c.scatters = on ? 0u : LV_CHAIN_NONE;
+    return c;
+}
+
+/* The chain after a delta scatter at surface s (material m) that left
+ * along dir. */
+inline void lv_glass_chain_step(lv_glass_chain *c, __global const lv_material *m, const lv_surface *s, float3 dir)
+{
+    c->scatters = c->scatters < LV_SEE_THROUGH_MAX && lv_still_seen_through(m, s, 1, dir, c->dir) ? c->scatters + 1u
+                                                                                                 : LV_CHAIN_NONE;
+}
+
+/* The MIS weight of emission that a path arriving along dir right after a
+ * delta scatter found at h (front normal ng): the power heuristic against
+ * the light sample at the chain's start where that sample could have seen
+ * the same point through the glass, else 1. */
+inline float lv_glass_chain_weight(const lv_scene *sc, const lv_glass_chain *c, lv_hit h, float3 dir, float3 ng)
+{
+    if (c->scatters < 1u || c->scatters > LV_SEE_THROUGH_MAX || dot(dir, c->dir) < LV_SEE_THROUGH_COS ||
+        !(dot(c->dir, ng) < 0.0f))
+        return 1.0f;
+    float3 v0, v1, v2;
+    lv_triangle_world(sc, h.inst, h.tri, &v0, &v1, &v2);
+    lv_hit straight = h;
+    straight.t = lv_half_line_crossing(c->from, c->dir, v0, v1 - v0, v2 - v0);
+    if (!(straight.t > 0.0f)) return 1.0f;
+    return lv_power_heuristic(c->pdf, lv_light_pdf(sc, straight, c->dir, ng));
+}
+
+/* The light a camera path's shadow ray r brings: its own where nothing
+ * blocks it, else what it finds through glass within r->see_through
+ * scatters, on a random stream of its own (r->chain_key), so that a
+ * wavefront's shadow kernel draws the same numbers as the megakernel. */
+inline float3 lv_shadow_ray_light(const lv_scene *sc, const lv_shadow_ray *r)
+{
+    if (!lv_shadow_ray_blocked(sc, r)) return r->li;
+    if (!r->see_through) return (float3)(0.0f);
+    lv_rng chain = lv_rng_keyed(r->chain_key);
+    return lv_light_seen_through(sc, r, r->li, r->see_through, &chain);
 }
 
 /* Direct light at a gather point (surface s, hit h) from one light sample,
@@ -94,7 +176,9 @@ inline float3 lv_gather_direct_light(const lv_scene *sc, const lv_surface *s, lv
     lv_shadow_ray r;
     if (!lv_light_sample_ray(sc, s, h, sh, 0, rng, &r)) return (float3)(0.0f);
     if (!lv_shadow_ray_blocked(sc, &r)) return r.li;
-    return see_through ? lv_light_seen_through(sc, &r, rng) : (float3)(0.0f);
+    /* Without MIS weight: a gather point's BSDF rays stop at glass and
+     * read the volume, so they never find this light. */
+    return see_through ? lv_light_seen_through(sc, &r, r.li / r.mis, LV_SEE_THROUGH_MAX, rng) : (float3)(0.0f);
 }
 
 #endif

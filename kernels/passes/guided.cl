@@ -59,6 +59,6 @@ __kernel void lv_guided_pass(LV_KERNEL_PARAMS(LV_GUIDED_PASS_ARGS))
     g.stats = guide_table + LV_GUIDE_STATS_AT(grid_info);
     lv_light_candidates_pick(&sc, &g.lights);
     lv_camera_sample cs = lv_camera_sample_next(camera, sc.info.seed, pixel_list, first_pixel, first_sample, sum);
-    float3 l = lv_path_trace(&sc, &g, cs.ray, &cs.rng, sc.info.max_depth);
+    float3 l = lv_path_trace(&sc, &g, cs.ray, &cs.rng, sc.info.max_depth, see_through);
     lv_camera_sample_add(sum, sum_sq, cs.pixel, l);
 }

@@ -45,6 +45,24 @@ inline lv_rng lv_rng_make_lattice(uint seed, uint pixel, uint sample)
     return r;
 }
 
+/* The key of a stream forked from r where it stands, for a side walk that
+ * must not move r's numbers (a shadow ray's way on through glass, which a
+ * wavefront walks in another kernel than the path's next scatter). */
+inline uint lv_rng_fork_key(const lv_rng *r)
+{
+    return lv_hash(r->key ^ lv_hash(r->counter + 0x2545f491u));
+}
+
+inline lv_rng lv_rng_keyed(uint key)
+{
+    lv_rng r;
+    r.key = key;
+    r.counter = 0;
+    r.shift = 0;
+    r.sample = 0;
+    return r;
+}
+
 /* Uniform in [0, 1): the top 24 bits, so 1 is never returned. */
 inline float lv_rng_next(lv_rng *r)
 {
