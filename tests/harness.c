@@ -155,10 +155,16 @@ double harness_uniform(harness_rng *r)
 lvcl_error harness_render(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_render_request *req,
                           lvcl_render_result *out, lvcl_status *st)
 {
-    lvcl_session *s = NULL;
     lvcl_session_config cfg = {.device = device, .seed = seed, .max_depth = 64, .fast_math = 1};
+    return harness_render_with(scene, &cfg, req, out, st);
+}
+
+lvcl_error harness_render_with(lvcl_scene *scene, const lvcl_session_config *cfg, const lvcl_render_request *req,
+                               lvcl_render_result *out, lvcl_status *st)
+{
+    lvcl_session *s = NULL;
     memset(out, 0, sizeof *out);
-    lvcl_error e = lvcl_session_open(scene, &cfg, &s, st);
+    lvcl_error e = lvcl_session_open(scene, cfg, &s, st);
     if (!e) e = lvcl_session_render(s, req, out, st);
     lvcl_session_close(s);
     return e;

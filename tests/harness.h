@@ -57,6 +57,10 @@ lvcl_session *harness_session(const char *name, unsigned seed);
 lvcl_error harness_render(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_render_request *req,
                           lvcl_render_result *out, lvcl_status *st);
 
+/* The same with a session configuration of the caller's. */
+lvcl_error harness_render_with(lvcl_scene *scene, const lvcl_session_config *cfg, const lvcl_render_request *req,
+                               lvcl_render_result *out, lvcl_status *st);
+
 /* harness_render on the first device, and the mean of the image's values
  * (*mean -1 on an error). */
 lvcl_error harness_render_mean(lvcl_scene *scene, unsigned seed, const lvcl_render_request *req, double *mean,
