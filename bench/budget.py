@@ -16,8 +16,9 @@ pilot images and gather), else render_seconds plus particle_trace_seconds
 image included).  Before the first budget each lvcl build renders every mode
 once under a 2-second limit, image thrown away: a build whose kernels
 changed would otherwise spend up to 3 s of its first budget on PoCL's
-first-launch compiles (the program build is not counted, those are).  --before runs the lv mode of another build as well (for
-error against time before and after a change).
+first-launch compiles (the program build is not counted, those are).  --before runs each of --modes with another build
+(or the same build with other --before-args) as well, labelled lvcl-before (for error against time before and after a
+change).
 
 Mitsuba 3 (llvm_ad_rgb where it loads, else scalar_rgb; unidirectional path
 tracer, max depth 64, Russian roulette from depth 5, as
@@ -224,12 +225,12 @@ def main():
         warm = os.path.join(workdir, "warm.exr")
         for m in a.modes:
             run_lvcl(a, m, 2, a.seed, warm)
-        if a.before:
-            run_lvcl(a, "lv", 2, a.seed, warm, a.before, a.before_args)
+        for m in a.modes if a.before else []:
+            run_lvcl(a, m, 2, a.seed, warm, a.before, a.before_args)
         for budget in a.budgets:
             for rep in range(a.repeats):
                 seed = a.seed + rep
-                runs = ([("lvcl", m) for m in a.modes] + [("lvcl-before", "lv")] * bool(a.before) +
+                runs = ([("lvcl", m) for m in a.modes] + [("lvcl-before", m) for m in a.modes if a.before] +
                         [("mitsuba", "pt")])
                 for renderer, mode in runs:
                     image = os.path.join(a.out, f"budget_{stem}_{renderer}_{mode}_{budget:g}s_{rep}.exr")

@@ -6,6 +6,7 @@ and their ratio are printed.
 
     build/venv/bin/python bench/vs_mitsuba.py [--spp 256] [--width 256 --height 256]
         [--scenes cornell,glass-table,kitchen] [--build build] [--out DIR] [--seed S]
+        [--lvcl-args "--see-through off"]
 
 lvcl: `lvcl -q --mode pt --spp N`; "seconds" is its --stats render_seconds
 (the kernels are built and warmed by a 1-spp render first, not counted).
@@ -16,8 +17,10 @@ is timed, image readback included.  The scenes are scenes/NAME.gltf and their
 references tests/reference/NAME.exr, rendered at the reference's size unless
 --width and --height say otherwise.
 
-One JSON object per scene: both times, both errors, and
-"speed_ratio" = mitsuba seconds / lvcl seconds (above 1: lvcl is faster).
+One JSON object per scene: both times, both errors,
+"speed_ratio" = mitsuba seconds / lvcl seconds (above 1: lvcl is faster), and
+"equal_error_ratio" = (mitsuba seconds x relMSE) / (lvcl seconds x relMSE):
+how much faster lvcl reaches the same error, as relMSE falls as 1/spp for both.
 """
 import argparse
 import json
@@ -42,6 +45,7 @@ def run_lvcl(a, scene, spp, image):
     stats = image + ".stats.json"
     cmd = [os.path.join(a.build, "lvcl"), "-q", "--mode", "pt", "--spp", str(spp), "--width", str(a.width),
            "--height", str(a.height), "--seed", str(a.seed), "--stats", stats, "-o", image, scene]
+    cmd[1:1] = a.lvcl_args.split()
     subprocess.run(cmd, check=True)
     with open(stats) as f:
         return json.load(f)["render_seconds"]
@@ -68,6 +72,7 @@ def main():
     p.add_argument("--out", default=None, help="folder for the images (default: a temporary one)")
     p.add_argument("--seed", type=int, default=4)
     p.add_argument("--variant", default=None, help="Mitsuba variant (default: llvm_ad_rgb if it loads)")
+    p.add_argument("--lvcl-args", default="", help="more lvcl flags, e.g. \"--see-through off\"")
     a = p.parse_args()
     if a.spp < 1 or (a.width or 1) < 1 or (a.height or 1) < 1:
         fail("--spp, --width and --height must be positive")
@@ -99,7 +104,8 @@ def main():
         print(json.dumps({"scene": name, "spp": a.spp, "width": a.width, "height": a.height,
                           "lvcl_seconds": round(lv_s, 3), "mitsuba_seconds": round(mi_s, 3),
                           "mitsuba_variant": variant, "lvcl_relmse": lv_e, "mitsuba_relmse": mi_e,
-                          "speed_ratio": round(mi_s / lv_s, 3)}), flush=True)
+                          "speed_ratio": round(mi_s / lv_s, 3),
+                          "equal_error_ratio": round(mi_s * mi_e / (lv_s * lv_e), 3)}), flush=True)
 
 
 if __name__ == "__main__":
