@@ -18,6 +18,15 @@
  * arrives with (a slab's float refraction is good to about 1e-7). */
 #define LV_SEE_THROUGH_COS 0.99999f
 
+/* Whether directions a and b agree within LV_SEE_THROUGH_COS, whatever
+ * their lengths: fast math may leave a direction 1e-4 off unit length
+ * (Intel's runtime did, in the wavefront benchmark's kernels), which alone
+ * would fail the test. */
+inline int lv_same_direction(float3 a, float3 b)
+{
+    return dot(a, b) >= LV_SEE_THROUGH_COS * sqrt(dot(a, a) * dot(b, b));
+}
+
 /* Whether a ray that set out along dir0 (either way along the light's
  * path) and leaves surface s (material m) along dir has turned in the open:
  * it travels outside solid glass and no longer along dir0. A slab turns
@@ -26,7 +35,7 @@
 inline int lv_turned_outside_glass(__global const lv_material *m, const lv_surface *s, float3 dir, float3 dir0)
 {
     int inside = m->bsdf == LV_BSDF_GLASS && dot(dir, s->ng) < 0.0f;
-    return !inside && dot(dir, dir0) < LV_SEE_THROUGH_COS;
+    return !inside && !lv_same_direction(dir, dir0);
 }
 
 /* Whether light that set out along dir0 is still seen through after a
@@ -49,7 +58,7 @@ inline int lv_still_seen_through(__global const lv_material *m, const lv_surface
  * face would. */
 inline int lv_seen_through(const lv_scene *sc, uint emitter, float3 dir0, float3 p, float3 dir, uint scatters)
 {
-    if (scatters < 1u || scatters > LV_SEE_THROUGH_MAX || dot(dir, dir0) < LV_SEE_THROUGH_COS) return 0;
+    if (scatters < 1u || scatters > LV_SEE_THROUGH_MAX || !lv_same_direction(dir, dir0)) return 0;
     lv_light light = sc->lights[emitter];
 #ifdef LV_FEATURE_PUNCTUAL
     if (light.kind == LV_LIGHT_PUNCTUAL) return 0; /* a point cannot be met again */
@@ -82,7 +91,7 @@ inline float3 lv_light_seen_through(const lv_scene *sc, const lv_shadow_ray *r, 
         if (h.tri == LV_NO_HIT) return (float3)(0.0f);
         lv_surface s = lv_surface_at(sc, ray, h);
         if (h.inst == light.instance && h.tri == light.index)
-            return s.front && scatters >= 1u && dot(ray.dir, dir) >= LV_SEE_THROUGH_COS ? beta : (float3)(0.0f);
+            return s.front && scatters >= 1u && lv_same_direction(ray.dir, dir) ? beta : (float3)(0.0f);
         __global const lv_material *m = &sc->materials[s.material];
         if (scatters >= max_scatters || lv_bsdf_gathers(m->bsdf, m->alpha)) return (float3)(0.0f);
         if (lv_inside_glass(m, &s)) beta *= exp(-LV_F3(m->attenuation) * h.t);
@@ -143,7 +152,7 @@ inline void lv_glass_chain_step(lv_glass_chain *c, __global const lv_material *m
  * the same point through the glass, else 1. */
 inline float lv_glass_chain_weight(const lv_scene *sc, const lv_glass_chain *c, lv_hit h, float3 dir, float3 ng)
 {
-    if (c->scatters < 1u || c->scatters > LV_SEE_THROUGH_MAX || dot(dir, c->dir) < LV_SEE_THROUGH_COS ||
+    if (c->scatters < 1u || c->scatters > LV_SEE_THROUGH_MAX || !lv_same_direction(dir, c->dir) ||
         !(dot(c->dir, ng) < 0.0f))
         return 1.0f;
     float3 v0, v1, v2;

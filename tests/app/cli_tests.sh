@@ -280,9 +280,11 @@ else fail "time-limited lv render equals the fixed render of its particles and s
 
 # lvcl-bench wavefront runs the path tracer as wavefront kernels and as the
 # megakernel on the same random streams: the images must agree (PoCL gives
-# the same bits; another compiler may round the split code differently,
-# Intel's measured up to 1e-5 on the kitchen). The glass table adds
-# specular chains and absorption; the kitchen, instances.
+# the same bits; another compiler may round the split code differently:
+# Intel's measured 1e-5 on the kitchen, and 2.5e-4 since light samples see
+# through glass, where rounding at a lamp's seams moves light between the
+# light sample and the path). The glass table adds specular chains,
+# absorption and lamps seen through glass; the kitchen, instances.
 for scene in cornell "$(dirname "$0")/../../scenes/glass-table.gltf" kitchen; do
     name="wavefront image equals the megakernel's ($(basename "$scene"))"
     if "$build/lvcl-bench" wavefront --spp 2 --width 32 --batch 300 "$scene" >"$tmp/wf.json" 2>"$tmp/err" &&
