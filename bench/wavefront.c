@@ -53,7 +53,8 @@ enum {
     WF_BUFFER_COUNT
 };
 /* Bytes per path of each buffer (the counters: two in all). */
-static const size_t wf_entry_bytes[WF_BUFFER_COUNT] = {16, 16, 4, 16, 16, 4, 16, 4, 16, 16, 16, 4, 16, 16, 16, 16, 4, 4, 4, 0};
+static const size_t wf_entry_bytes[WF_BUFFER_COUNT] = {16, 16, 4, 16, 16, 4,  16, 4, 16, 16,
+                                                       16, 4,  16, 16, 16, 16, 4,  4, 4,  0};
 
 typedef struct {
     options opt;

@@ -1,7 +1,8 @@
 /* The reference path tracer: unidirectional, next-event estimation with
  * MIS (direct_light.h), lamps seen through glass by both (see_through.h),
- * Russian roulette, Beer-Lambert absorption inside glass. Depth counts path segments as Mitsuba's max_depth does: 1 shows
- * only emitters seen directly, 2 adds direct lighting. */
+ * Russian roulette, Beer-Lambert absorption inside glass. Depth counts
+ * path segments as Mitsuba's max_depth does: 1 shows only emitters seen
+ * directly, 2 adds direct lighting. */
 #ifndef LV_INTEGRATOR_PATH_TRACER_H
 #define LV_INTEGRATOR_PATH_TRACER_H
 

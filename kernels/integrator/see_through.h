@@ -6,7 +6,9 @@
  * the final gather finds it at the point, as its shadow rays find direct
  * light, and the particle trace leaves it out of the volume, which would
  * blur it over a cell. Both sides sort light by the same test, so each
- * piece is counted once, by one of them. */
+ * piece is counted once, by one of them. Camera paths (pt, guided) find it
+ * both by light samples and by the paths themselves, weighted by MIS (the
+ * second half of this file). */
 #ifndef LV_INTEGRATOR_SEE_THROUGH_H
 #define LV_INTEGRATOR_SEE_THROUGH_H
 
