@@ -27,7 +27,7 @@
  * (d) smooth glass, pt and guided at 256 samples (other random numbers
  *     than the reference's): the image mean within 1% of the reference's;
  *     measured within 0.4%. A path that finds the lamp through glass
- *     weighted 1 instead of by MIS makes it 40-55% bright; a light sample
+ *     weighted 1 instead of by MIS makes it 47-57% bright; a light sample
  *     through glass without its MIS weight, guided 1.2-2.4% bright;
  * (e) smooth glass, pt at 256 samples: the blocks' RMS relative error
  *     against the reference at most 0.75 of pt's with the feature off;
