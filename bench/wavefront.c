@@ -319,7 +319,8 @@ static lvcl_error run(bench_wf *b, lvcl_status *st)
     const lvcl_packed_scene *p = lvcl_session_packed_scene(b->s);
     b->camera = lvcl_camera_make(&lvcl_session_scene(b->s)->camera, p->bounds_min, p->bounds_max, w, h);
     b->pixels = (size_t)w * h;
-    b->see_through = (lvcl_session_features(b->s) & LVCL_FEATURE_GLASS) != 0;
+    lvcl_render_request as_lvcl = {.mode = LVCL_MODE_PT, .see_through = 1};
+    b->see_through = lvcl_session_sees_through(b->s, &as_lvcl) != 0;
     float *mega = malloc(b->pixels * 3 * sizeof *mega), *wave = malloc(b->pixels * 3 * sizeof *wave);
     lvcl_error e = !mega || !wave ? lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory") : LVCL_OK;
     double mega_seconds = 0.0, wave_seconds = 0.0;

@@ -110,6 +110,10 @@ const lvcl_light_volume *lvcl_session_volume(const lvcl_session *s, int d);
 lvcl_pass_share lvcl_session_pass_share(const lvcl_session *s, int d);
 const lvcl_scene *lvcl_session_scene(const lvcl_session *s);
 unsigned lvcl_session_features(const lvcl_session *s); /* LVCL_FEATURE_* the scene uses */
+/* Whether req's render sees lamps through glass (kernels/integrator/
+ * see_through.h): asked for, a scene with glass, and any mode but lv-all
+ * (whose volume holds all light). */
+int lvcl_session_sees_through(const lvcl_session *s, const lvcl_render_request *req);
 const lvcl_accel *lvcl_session_accel(const lvcl_session *s);
 const lvcl_packed_scene *lvcl_session_packed_scene(const lvcl_session *s);
 double lvcl_session_bvh_build_seconds(const lvcl_session *s);

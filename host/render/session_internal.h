@@ -30,11 +30,8 @@ struct lvcl_session {
     lvcl_guided_report guided;
 };
 
-/* Whether req's render sees lamps through glass (kernels/integrator/
- * see_through.h): asked for, a scene with glass, and any mode but lv-all
- * (whose volume holds all light). In lv mode the volume then leaves that
- * light out (lvcl_session_volume_sees_through). */
-int lvcl_session_sees_through(const lvcl_session *s, const lvcl_render_request *req);
+/* Whether req's lv render's volume leaves out lamps seen through glass,
+ * which its gather finds (lvcl_session_sees_through in lv mode). */
 int lvcl_session_volume_sees_through(const lvcl_session *s, const lvcl_render_request *req);
 
 /* Replaces device d's light volume by a new, empty one of these settings. */
