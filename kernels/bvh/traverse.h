@@ -108,9 +108,9 @@ inline int lv_intersect_group(const lv_sheared_ray *s, __global const float4 *co
     /* Fast math lets the compiler reassociate, and it then evaluated the
      * four lanes' edge functions so that two triangles sharing an edge no
      * longer agreed on it: rays slipped between them far from the origin
-     * (tests/accel/test_watertight.c). Clang-based compilers (PoCL,
-     * Intel's runtime) take this pragma; others must not reassociate here. */
-#ifdef __clang__
+     * (tests/accel/test_watertight.c). Clang 12 and later (PoCL, Intel's
+     * runtime) take this pragma; others must not reassociate here. */
+#if LV_HAS_FP_REASSOCIATE_PRAGMA
 #pragma clang fp reassociate(off)
 #endif
     float4 az = corners[s->kz] - s->oz;

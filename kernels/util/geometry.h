@@ -78,6 +78,16 @@ inline float3 lv_offset_origin(float3 p, float3 n, float scene_scale)
  * above them changes every image's bits, which tests/data/golden.txt pins. */
 #pragma OPENCL FP_CONTRACT OFF
 
+/* Code that fast math must not reassociate says so with "#pragma clang fp
+ * reassociate(off)", which clang 12 and later take (PoCL, Intel's runtime,
+ * Oclgrind). NVIDIA's OpenCL compiler is an older clang that rejects it and
+ * fails the whole build. */
+#if defined(__clang__) && __clang_major__ >= 12
+#define LV_HAS_FP_REASSOCIATE_PRAGMA 1
+#else
+#define LV_HAS_FP_REASSOCIATE_PRAGMA 0
+#endif
+
 /* The distance t > 0 at which the half-line p + t dir crosses the triangle
  * v0 + b1 e1 + b2 e2, either face (Moller and Trumbore's test), or 0 where
  * it does not. */

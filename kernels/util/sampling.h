@@ -10,7 +10,7 @@
  * general argument reduction that took 6% of a path trace. */
 inline float2 lv_cos_sin(float phi)
 {
-#ifdef __clang__
+#if LV_HAS_FP_REASSOCIATE_PRAGMA
 #pragma clang fp reassociate(off) /* fast math would fold the two parts of pi/2 */
 #endif
     float q = rint(phi * (2.0f / LV_PI));
