@@ -303,10 +303,11 @@ typedef struct {
 
 /* Numbers of a camera sample drawn from the pixel's lattice, and the
  * lattice's generator in 32-bit fixed point (kernels/util/rng.h). */
-#define LV_LATTICE_DIMS 8
-#define LV_LATTICE_GENERATORS                                                                                  \
-    {                                                                                                          \
-        0xebedeed9u, 0xd96eb1a8u, 0xc862b36du, 0xb8acd90cu, 0xaa324f90u, 0x9cda5e69u, 0x908e3d2cu, 0x8538ecb5u \
+#define LV_LATTICE_DIMS 12
+#define LV_LATTICE_GENERATORS                                                                                   \
+    {                                                                                                           \
+        0xf22eecf6u, 0xe51cc09bu, 0xd8bf2d50u, 0xcd0c73d0u, 0xc1fb5b84u, 0xb7832b3bu, 0xad9ba24du, 0xa43cf216u, \
+            0x9b5fb7d3u, 0x92fcf6cau, 0x8b0e12ceu, 0x838ccb04u                                                  \
     }
 
 /* A 32-bit integer hash with good avalanche (a xorshift-multiply chain):
@@ -331,8 +332,8 @@ static inline lv_u32 lv_hash(lv_u32 x)
 #define LV_LUMINANCE(r, g, b) (0.2126f * (r) + 0.7152f * (g) + 0.0722f * (b))
 
 /* lv_gather_pass's `flags`. */
-#define LV_GATHER_ALL 1u       /* the volume holds all light, emitted too: no shadow rays */
-#define LV_GATHER_INTEGRATE 2u /* integrate the BSDF over every bin instead of sampling one */
+#define LV_GATHER_ALL 1u         /* the volume holds all light, emitted too: no shadow rays */
+#define LV_GATHER_INTEGRATE 2u   /* integrate the BSDF over every bin instead of sampling one */
 #define LV_GATHER_SEE_THROUGH 4u /* shadow rays go on through glass; the volume leaves that light out */
 
 /* ======== The host/kernel contract ========

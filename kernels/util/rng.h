@@ -26,16 +26,18 @@ inline lv_rng lv_rng_make(uint seed, uint item, uint sample)
     return r;
 }
 
-/* A camera sample's first LV_LATTICE_DIMS numbers (its pixel jitter and
- * its first vertex's lookup and light sample) come from a rank-1 lattice
- * over the pixel's samples: sample s, dimension d is s g_d + u_d mod 1,
- * with g the 8-dimensional R sequence's generator (Roberts 2018) and u a
- * random shift per pixel and dimension (Cranley and Patterson 1976). Every
- * sample is still uniform in the unit cube, so each is unbiased; a pixel's
- * samples are correlated along the lattice instead of independent, which
- * lowers the images' error (docs/design.md, "Sampling"). In 32-bit
- * integers, so every device computes the same numbers. LV_LATTICE_DIMS and
- * the generator are in shared_types.h, for the tests. */
+/* A camera sample's first LV_LATTICE_DIMS numbers (its pixel jitter, then
+ * in a path its first vertex's samples and its second's light sample, in
+ * the gather its lookup, light sample and what follows) come from a
+ * rank-1 lattice over the pixel's samples: sample s, dimension d is
+ * s g_d + u_d mod 1, with g the 12-dimensional R sequence's generator
+ * (Roberts 2018) and u a random shift per pixel and dimension (Cranley and
+ * Patterson 1976). Every sample is still uniform in the unit cube, so each
+ * is unbiased; a pixel's samples are correlated along the lattice instead
+ * of independent, which lowers the images' error (docs/design.md,
+ * "Sampling"). In 32-bit integers, so every device computes the same
+ * numbers. LV_LATTICE_DIMS and the generator are in shared_types.h, for
+ * the tests. */
 __constant uint lv_lattice_generators[LV_LATTICE_DIMS] = LV_LATTICE_GENERATORS;
 
 inline lv_rng lv_rng_make_lattice(uint seed, uint pixel, uint sample)
