@@ -33,7 +33,7 @@ inline int lv_light_sample_ray(const lv_scene *sc, const lv_surface *s, lv_hit h
                                const lv_guide_vertex *gv, lv_rng *rng, lv_shadow_ray *out)
 {
     lv_light_sample ls;
-    float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
+    float3 u = lv_rng_next3(rng);
     if (!lv_sample_light(sc, s->p, u, &ls)) return 0;
     float3 wi = lv_to_local(sh->f, ls.wi);
     float pdf;

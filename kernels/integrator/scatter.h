@@ -96,7 +96,7 @@ __attribute__((always_inline)) inline int lv_scatter(const lv_scene *sc, const l
                                                      const lv_shading *sh, lv_walk w, uint depth, lv_rng *rng,
                                                      float3 *beta, lv_ray *r, lv_bsdf_sample *bs)
 {
-    float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
+    float3 u = lv_rng_next3(rng);
     if (!lv_bsdf_sample_dir(&sh->b, sh->wo, u, w.mode, bs)) return 0;
     return lv_scatter_along(sc, s, h, sh, w, depth, rng, beta, r, bs);
 }
@@ -111,7 +111,7 @@ __attribute__((always_inline)) inline int lv_guided_scatter(const lv_scene *sc, 
                                                             lv_bsdf_sample *bs)
 {
     float pick = lv_rng_next(rng);
-    float3 u = (float3)(lv_rng_next2(rng), lv_rng_next(rng));
+    float3 u = lv_rng_next3(rng);
     float bsdf_pdf, bin_pdf, light_pdf;
     float3 fcos;
     if (pick < gv->share) {

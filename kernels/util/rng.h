@@ -75,10 +75,20 @@ inline float lv_rng_next(lv_rng *r)
     return (float)(h >> 8) * 0x1p-24f;
 }
 
+/* Two and three numbers in stream order. A vector literal's components
+ * are not sequenced in C, so each draw is a statement of its own: a
+ * compiler that evaluated (float3)(next2, next) right to left would give
+ * another image. */
 inline float2 lv_rng_next2(lv_rng *r)
 {
     float a = lv_rng_next(r);
     return (float2)(a, lv_rng_next(r));
+}
+
+inline float3 lv_rng_next3(lv_rng *r)
+{
+    float2 a = lv_rng_next2(r);
+    return (float3)(a, lv_rng_next(r));
 }
 
 #endif

@@ -51,7 +51,7 @@ inline float3 lv_front_point(const lv_grid *grid, float3 p, float3 n)
 inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, float3 n, lv_rng *rng)
 {
     float h = grid->g.cell_size;
-    float3 offset = ((float3)(lv_rng_next2(rng), lv_rng_next(rng)) - 0.5f) * h;
+    float3 offset = (lv_rng_next3(rng) - 0.5f) * h;
     float behind = dot(offset, n);
     if (behind < 0.0f) offset -= 2.0f * behind * n;
     return p + offset;

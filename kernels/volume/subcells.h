@@ -68,7 +68,7 @@ inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
     if (slot == LV_EMPTY_CELL) return 0u;
     float3 cell, sub;
     uint i = lv_subcell_at(grid, q, &cell, &sub);
-    float3 x = lv_subcell_point(grid, cell, sub, (float3)(lv_rng_next2(rng), lv_rng_next(rng)));
+    float3 x = lv_subcell_point(grid, cell, sub, lv_rng_next3(rng));
     /* In a cut cell the point must lie in q's region: a few tries, then q. */
     __global const lv_slot_region *r = grid->regions + slot;
     if (r->layout) {
@@ -80,7 +80,7 @@ inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
                 x = q;
                 break;
             }
-            x = lv_subcell_point(grid, cell, sub, (float3)(lv_rng_next2(rng), lv_rng_next(rng)));
+            x = lv_subcell_point(grid, cell, sub, lv_rng_next3(rng));
         }
     }
     __global uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;

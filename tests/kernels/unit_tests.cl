@@ -92,7 +92,7 @@ __kernel void t_guide_sampling(LV_KERNEL_PARAMS(T_GUIDE_SAMPLING_ARGS))
     float integral = 0.0f, mismatches = 0.0f, none = 0.0f;
     for (uint k = 0; k < per_item; k++) {
         integral += lv_guide_pdf(&gv, uniform_sphere(lv_rng_next2(&rng))) * 4.0f * LV_PI;
-        float3 u = (float3)(lv_rng_next2(&rng), lv_rng_next(&rng)), wi;
+        float3 u = lv_rng_next3(&rng), wi;
         float pdf;
         if (!lv_guide_sample(&gv, u, &wi, &pdf)) {
             none += 1.0f;
@@ -131,7 +131,7 @@ __kernel void t_light_directions(LV_KERNEL_PARAMS(T_LIGHT_DIRECTIONS_ARGS))
         sum += d;
         sum_sq += d * d;
         support += d > 0.0f ? 1.0f : 0.0f;
-        float3 u = (float3)(lv_rng_next2(&rng), lv_rng_next(&rng)), dir;
+        float3 u = lv_rng_next3(&rng), dir;
         float pdf;
         if (!lv_light_directions_sample(&c, &odds, point[0].xyz, u, &dir, &pdf)) {
             failed += 1.0f;
@@ -205,7 +205,7 @@ __kernel void t_bsdf_moments(LV_KERNEL_PARAMS(T_BSDF_MOMENTS_ARGS))
     float ok = 0.0f, smooth_weight = 0.0f, all_weight = 0.0f, weight_err = 0.0f, pdf_err = 0.0f;
     for (uint k = 0; k < samples; k++) {
         lv_bsdf_sample s;
-        float3 u = (float3)(lv_rng_next2(&rng), lv_rng_next(&rng));
+        float3 u = lv_rng_next3(&rng);
         if (!lv_bsdf_sample_dir(&b, wo, u, mode, &s)) continue;
         float wl = lv_luminance(s.weight);
         all_weight += wl;
