@@ -110,8 +110,10 @@ __attribute__((always_inline)) inline int lv_guided_scatter(const lv_scene *sc, 
                                                             uint depth, lv_rng *rng, float3 *beta, lv_ray *r,
                                                             lv_bsdf_sample *bs)
 {
-    float pick = lv_rng_next(rng);
+    /* The direction's numbers first, in the lattice dimensions a plain
+     * path's BSDF sample takes (docs/design.md, "Sampling"). */
     float3 u = lv_rng_next3(rng);
+    float pick = lv_rng_next(rng);
     float bsdf_pdf, bin_pdf, light_pdf;
     float3 fcos;
     if (pick < gv->share) {
