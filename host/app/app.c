@@ -60,7 +60,8 @@ static lvcl_error write_outputs(const lvcl_options *o, const lvcl_render_result 
 static lvcl_error check_writable(const char *path, const char *what, lvcl_status *st)
 {
     if (!access(path, F_OK)) {
-        if (access(path, W_OK)) return lvcl_fail(st, LVCL_ERR_IO, "cannot write %s %s: %s", what, path, strerror(errno));
+        if (access(path, W_OK))
+            return lvcl_fail(st, LVCL_ERR_IO, "cannot write %s %s: %s", what, path, strerror(errno));
         return LVCL_OK;
     }
     char folder[4096];
@@ -79,8 +80,7 @@ static lvcl_error check_outputs(const lvcl_options *o, lvcl_status *st)
 {
     lvcl_error e;
     if (o->output) {
-        if ((e = lvcl_image_format_check(o->output, st)) || (e = check_writable(o->output, "the image", st)))
-            return e;
+        if ((e = lvcl_image_format_check(o->output, st)) || (e = check_writable(o->output, "the image", st))) return e;
     } else if (access("out", F_OK) ? access(".", W_OK | X_OK) : access("out", W_OK | X_OK)) {
         /* out/ itself is made once there is an image to put in it. */
         return lvcl_fail(st, LVCL_ERR_IO, "cannot write the image to out/: %s", strerror(errno));
@@ -147,7 +147,8 @@ static lvcl_error render(const lvcl_options *o, lvcl_cluster *cluster, lvcl_sess
                                .build_flags =
                                    getenv("LVCL_EMULATE_INT64_ATOMICS") ? LVCL_BUILD_EMULATED_INT64_ATOMICS : 0,
                                .device_memory = (uint64_t)(o->device_memory_mib * 1048576.0),
-                               .cluster = cluster};
+                               .cluster = cluster,
+                               .announce_builds = !o->quiet};
     if ((e = lvcl_cluster_agree(cluster, lvcl_session_open(&scene, &cfg, s, st), st))) return e;
     stats->session = *s;
 
@@ -188,11 +189,10 @@ static lvcl_error render(const lvcl_options *o, lvcl_cluster *cluster, lvcl_sess
     *talked_out = 1;
     if (stats->interrupted_by && speaks_for_all(cluster))
         fprintf(stderr, "lvcl: %s: sampling stopped after %d of %d samples per pixel; writing the image so far\n",
-                stats->interrupted_by == SIGINT    ? "interrupted (SIGINT)"
-                : stats->interrupted_by == SIGTERM ? "terminated (SIGTERM)"
-                                                   : "stopped (SIGUSR2)",
-                res->samples,
-                o->spp);
+                stats->interrupted_by == SIGINT        ? "interrupted (SIGINT)"
+                    : stats->interrupted_by == SIGTERM ? "terminated (SIGTERM)"
+                                                       : "stopped (SIGUSR2)",
+                res->samples, o->spp);
     int devices = lvcl_session_device_count(*s);
     if (req.pass.adaptive && !res->adaptive && res->samples > LVCL_EPOCH_SPP && !o->quiet &&
         (devices > 1 || lvcl_cluster_shared(cluster)))

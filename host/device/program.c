@@ -101,17 +101,26 @@ static int preloads_tallies(const lvcl_device *dev)
     return (dev->type & CL_DEVICE_TYPE_CPU) && !lvcl_device_is_simulator(dev);
 }
 
-lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math, lvcl_program *prog,
-                              lvcl_status *st)
+static lvcl_error build(const lvcl_device *dev, const unsigned char *source, size_t source_size, const char *defines,
+                        int fast_math, int announce, lvcl_program *prog, lvcl_status *st);
+
+lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math, int announce,
+                              lvcl_program *prog, lvcl_status *st)
 {
     char defines[192];
     lvcl_program_feature_defines(features, defines, sizeof defines);
     if (preloads_tallies(dev)) strncat(defines, " -DLV_PRELOAD_TALLIES", sizeof defines - strlen(defines) - 1);
-    return lvcl_program_build_source(dev, lvcl_kernel_source, lvcl_kernel_source_size, defines, fast_math, prog, st);
+    return build(dev, lvcl_kernel_source, lvcl_kernel_source_size, defines, fast_math, announce, prog, st);
 }
 
 lvcl_error lvcl_program_build_source(const lvcl_device *dev, const unsigned char *source, size_t source_size,
                                      const char *defines, int fast_math, lvcl_program *prog, lvcl_status *st)
+{
+    return build(dev, source, source_size, defines, fast_math, 0, prog, st);
+}
+
+static lvcl_error build(const lvcl_device *dev, const unsigned char *source, size_t source_size, const char *defines,
+                        int fast_math, int announce, lvcl_program *prog, lvcl_status *st)
 {
     memset(prog, 0, sizeof *prog);
     /* -w: some PoCL builds print clang's "N warnings generated." to stderr
@@ -141,6 +150,7 @@ lvcl_error lvcl_program_build_source(const lvcl_device *dev, const unsigned char
         prog->program = NULL;
     }
 
+    if (announce) fprintf(stderr, "lvcl: compiling the kernels for %s (cached for later runs)\n", dev->name);
     const char *src = (const char *)source;
     prog->program = clCreateProgramWithSource(dev->context, 1, &src, &source_size, &err);
     if (err != CL_SUCCESS)

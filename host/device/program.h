@@ -20,9 +20,11 @@ typedef struct {
 } lvcl_program;
 
 /* Builds (or loads from the cache) the program with the given features.
- * fast_math selects -cl-fast-relaxed-math. */
-lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math, lvcl_program *prog,
-                              lvcl_status *st);
+ * fast_math selects -cl-fast-relaxed-math. announce: say on stderr before
+ * compiling from source, which takes seconds on PoCL and half a minute on
+ * NVIDIA's driver, so that a first run does not seem to hang. */
+lvcl_error lvcl_program_build(const lvcl_device *dev, unsigned features, int fast_math, int announce,
+                              lvcl_program *prog, lvcl_status *st);
 
 /* The -D options that turn on the kernels' code for `features`. */
 void lvcl_program_feature_defines(unsigned features, char *defines, size_t size);

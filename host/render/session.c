@@ -15,7 +15,8 @@ static lvcl_error open_device(lvcl_session *s, const char *spec, const lvcl_sess
     if ((e = lvcl_device_open(spec, &sd->device, st))) return e;
     if (cfg->device_memory) lvcl_device_limit_memory(&sd->device, cfg->device_memory);
     if ((e = lvcl_device_scene_upload(&sd->device, &s->scene, &s->packed, &sd->device_scene, st))) return e;
-    return lvcl_program_build(&sd->device, s->features | cfg->build_flags, cfg->fast_math, &sd->program, st);
+    return lvcl_program_build(&sd->device, s->features | cfg->build_flags, cfg->fast_math, cfg->announce_builds,
+                              &sd->program, st);
 }
 
 static lvcl_error open_devices(lvcl_session *s, const lvcl_session_config *cfg, lvcl_status *st)

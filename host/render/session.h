@@ -27,6 +27,7 @@ typedef struct {
     uint64_t device_memory; /* act as a device of this many bytes (a quarter in one buffer); 0 = the device's own */
     unsigned build_flags;   /* LVCL_BUILD_* switches for the kernels, besides the scene's features */
     lvcl_cluster *cluster;  /* other processes sharing every render (lvcl-mpi); NULL: alone */
+    int announce_builds;    /* say on stderr when a device's kernels compile from source */
 } lvcl_session_config;
 
 /* pt: path tracing; lv, lv-all: the light volume answers for indirect or
@@ -45,25 +46,25 @@ typedef struct {
 
 /* How an lv render under a time limit spent it (session_budget.c). */
 typedef struct {
-    int used;                    /* the last render ran under a time budget */
-    double volume_noise;         /* A: the volume's share of the image's relMSE, times particles */
-    double gather_noise;         /* B0: the gather's share, times samples per pixel, sampling uniformly */
+    int used;                         /* the last render ran under a time budget */
+    double volume_noise;              /* A: the volume's share of the image's relMSE, times particles */
+    double gather_noise;              /* B0: the gather's share, times samples per pixel, sampling uniformly */
     double gather_noise_per_particle; /* B1: the gather's noise is B0 + B1 / N over a volume of N particles */
-    double adaptive_share;       /* of B, what adaptive sampling leaves (1: off or not measured) */
-    double seconds_per_particle; /* measured on the second pass, then on the trace as it runs */
-    double seconds_per_sample;   /* one sample per pixel of the image, measured on the pilots */
-    double warm_up_seconds;      /* first launches before the clock started (not counted) */
-    double measure_seconds;      /* the two first passes and the pilot images */
-    uint64_t planned_particles;  /* what the split chose (or --particles) */
-    double spent_seconds;        /* the whole render: trace, pilots and gather */
+    double adaptive_share;            /* of B, what adaptive sampling leaves (1: off or not measured) */
+    double seconds_per_particle;      /* measured on the second pass, then on the trace as it runs */
+    double seconds_per_sample;        /* one sample per pixel of the image, measured on the pilots */
+    double warm_up_seconds;           /* first launches before the clock started (not counted) */
+    double measure_seconds;           /* the two first passes and the pilot images */
+    uint64_t planned_particles;       /* what the split chose (or --particles) */
+    double spent_seconds;             /* the whole render: trace, pilots and gather */
 } lvcl_budget_report;
 
 /* How a guided render under a time limit chose its paths (session_guided.c). */
 typedef struct {
-    int used;            /* the last render was guided, under a time limit */
-    double guided_cost;  /* the guided pilots' noise times their time (relMSE per sample x seconds per sample) */
-    double plain_cost;   /* the same for the path tracer's pilots */
-    int plain;           /* the path tracer's paths rendered the image: its cost was the lower */
+    int used;             /* the last render was guided, under a time limit */
+    double guided_cost;   /* the guided pilots' noise times their time (relMSE per sample x seconds per sample) */
+    double plain_cost;    /* the same for the path tracer's pilots */
+    int plain;            /* the path tracer's paths rendered the image: its cost was the lower */
     double pilot_seconds; /* the four pilots */
 } lvcl_guided_report;
 

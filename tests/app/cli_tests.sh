@@ -157,6 +157,15 @@ if grep -q '"kernel_from_cache": true' "$tmp/s2.json" 2>/dev/null; then pass "se
 else fail "second run loads kernels from cache" "$(grep cache "$tmp/s2.json")"; fi
 if "$build/lvcl-compare" "$tmp/a.exr" "$tmp/b.exr" | grep -q '"rmse": 0,'; then pass "same seed, same image"
 else fail "same seed, same image" "the pixels differ"; fi
+# A build from source says so (half a minute of silence on some GPU
+# drivers would look like a hang); a cached one and -q do not.
+for run in 1 2; do
+    LVCL_CACHE_DIR="$tmp/cache" "$lvcl" --mode pt --spp 1 --width 8 -o "$tmp/c.exr" cornell 2>"$tmp/build$run.err"
+done
+LVCL_CACHE_DIR="$tmp/quiet-cache" "$lvcl" -q --mode pt --spp 1 --width 8 -o "$tmp/c.exr" cornell 2>"$tmp/build3.err"
+if grep -q '^lvcl: compiling the kernels for ' "$tmp/build1.err" && ! grep -q compiling "$tmp/build2.err" &&
+    [ ! -s "$tmp/build3.err" ]; then pass "a kernel build from source is announced, a cached one is not"
+else fail "a kernel build from source is announced, a cached one is not" "$(cat "$tmp"/build?.err | head -5)"; fi
 
 # A device just big enough for the kitchen (--device-memory gives a quarter
 # of it to one buffer) splits the large scene tables and renders the same.
