@@ -48,8 +48,10 @@ TEST_SOURCES := $(wildcard tests/*/test_*.c)
 TEST_BINS := $(addprefix $(BUILD)/tests/,$(basename $(notdir $(TEST_SOURCES))))
 
 .PHONY: all run test test-asan deps references clean format
-# Keep generated sources (kernel and scene arrays) between builds.
-.SECONDARY:
+# Keep the generated scene arrays, which only pattern rules name, between
+# builds. (A bare .SECONDARY: would make every target secondary, and make
+# then skipped a missing stamp such as bench-embree-yes.)
+.SECONDARY: $(GEN_C)
 all: $(BUILD)/lvcl $(BUILD)/lvcl-mpi $(BUILD)/lvcl-compare $(BUILD)/lvcl-bench $(TEST_BINS) $(VENDORS)/.stamp $(FUZZERS)
 	@# A test program whose source has gone or moved would still run.
 	@rm -f $(filter-out $(TEST_BINS),$(wildcard $(BUILD)/tests/test_*))
