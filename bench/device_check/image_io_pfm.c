@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "../../host/io/image_io.h"
+#include "pfm.h"
 
 static int is_pfm(const char *path)
 {
@@ -19,20 +20,12 @@ lvcl_error lvcl_image_format_check(const char *path, lvcl_status *st)
     return is_pfm(path) ? LVCL_OK : lvcl_fail(st, LVCL_ERR_IO, "cannot write %s: this build writes .pfm only", path);
 }
 
-/* PFM stores rows bottom first; a negative scale says little-endian. */
 lvcl_error lvcl_image_write(const char *path, const float *rgb, int width, int height, float exposure, lvcl_status *st)
 {
     (void)exposure;
     lvcl_error e = lvcl_image_format_check(path, st);
     if (e) return e;
-    FILE *f = fopen(path, "wb");
-    if (!f) return lvcl_fail(st, LVCL_ERR_IO, "cannot write %s", path);
-    fprintf(f, "PF\n%d %d\n-1.0\n", width, height);
-    size_t row = (size_t)width * 3;
-    int ok = 1;
-    for (int y = height - 1; y >= 0; y--) ok &= fwrite(rgb + (size_t)y * row, sizeof(float), row, f) == row;
-    ok &= fclose(f) == 0;
-    return ok ? LVCL_OK : lvcl_fail(st, LVCL_ERR_IO, "cannot write %s", path);
+    return pfm_write(path, rgb, width, height) ? LVCL_OK : lvcl_fail(st, LVCL_ERR_IO, "cannot write %s", path);
 }
 
 lvcl_error lvcl_image_read(const char *path, float **rgb, int *width, int *height, lvcl_status *st)

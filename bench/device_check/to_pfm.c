@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "../../host/io/image_io.h"
+#include "pfm.h"
 
 int main(int argc, char **argv)
 {
@@ -18,14 +19,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "to_pfm: error: %s\n", st.message);
         return 1;
     }
-    FILE *f = fopen(argv[2], "wb");
-    int ok = f != NULL;
-    if (ok) {
-        fprintf(f, "PF\n%d %d\n-1.0\n", w, h);
-        for (int y = h - 1; y >= 0; y--)
-            ok &= fwrite(rgb + (size_t)y * w * 3, sizeof(float), (size_t)w * 3, f) == (size_t)w * 3;
-        ok &= fclose(f) == 0;
-    }
+    int ok = pfm_write(argv[2], rgb, w, h);
     free(rgb);
     if (!ok) fprintf(stderr, "to_pfm: error: cannot write %s\n", argv[2]);
     return ok ? 0 : 1;
