@@ -53,7 +53,7 @@ enum {
     WF_BUFFER_COUNT
 };
 /* Bytes per path of each buffer (the counters: two in all). */
-static const size_t wf_entry_bytes[WF_BUFFER_COUNT] = {16, 16, 4, 16, 16, 4,  16, 4, 16, 16,
+static const size_t wf_entry_bytes[WF_BUFFER_COUNT] = {16, 16, 4,  16, 16, 8,  16, 4, 16, 16,
                                                        16, 4,  16, 16, 16, 16, 4,  4, 4,  0};
 
 typedef struct {
@@ -194,8 +194,8 @@ static lvcl_error wavefront_batch(bench_wf *b, size_t first, size_t n, lvcl_stat
 {
     const lvcl_scene_buffers *scene = &lvcl_session_device_scene(b->s, 0)->buffers;
     cl_mem *w = b->wf;
-#define WF_PATH(...)                                                                                \
-    .ray_origin = w[WF_RAY_ORIGIN], .ray_dir = w[WF_RAY_DIR], .ray_skip_inst = w[WF_RAY_SKIP_INST], \
+#define WF_PATH(...)                                                                                              \
+    .ray_origin = w[WF_RAY_ORIGIN], .ray_dir = w[WF_RAY_DIR], .ray_skip_inst = w[WF_RAY_SKIP_INST],               \
     .beta = w[WF_BETA], .radiance = w[WF_RADIANCE], .depth = w[WF_DEPTH], .rng = w[WF_RNG], .pixel = w[WF_PIXEL], \
     .chain_from = w[WF_CHAIN_FROM], .chain_dir = w[WF_CHAIN_DIR]
     wf_generate_args g = {.scene = scene,
@@ -338,11 +338,11 @@ static lvcl_error run(bench_wf *b, lvcl_status *st)
                "\"wavefront_paths_per_second\": %.1f, \"path_vertices\": %llu, \"shadow_rays\": %llu, "
                "\"launches\": %llu, \"relmse_between\": %.3g",
                scene, device, w, h, b->opt.spp, b->opt.batch ? (size_t)b->opt.batch : b->pixels,
-               b->see_through ? "true" : "false",
-               b->program.build_seconds, mega_seconds, wave_seconds, wave_seconds / mega_seconds,
-               b->pixels * b->opt.spp / mega_seconds, b->pixels * b->opt.spp / wave_seconds,
-               (unsigned long long)b->path_vertices, (unsigned long long)b->shadow_rays,
-               (unsigned long long)b->launches, lvcl_relmse(wave, mega, b->pixels * 3));
+               b->see_through ? "true" : "false", b->program.build_seconds, mega_seconds, wave_seconds,
+               wave_seconds / mega_seconds, b->pixels * b->opt.spp / mega_seconds,
+               b->pixels * b->opt.spp / wave_seconds, (unsigned long long)b->path_vertices,
+               (unsigned long long)b->shadow_rays, (unsigned long long)b->launches,
+               lvcl_relmse(wave, mega, b->pixels * 3));
         for (int i = 0; i < STAGE_COUNT; i++) printf(", \"%s_seconds\": %.4f", stage_names[i], b->stage_seconds[i]);
         printf("}\n");
     }

@@ -1,5 +1,6 @@
 #include "harness.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -81,6 +82,58 @@ void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *s)
     m->base_color_texture = -1;
     m->ior = 1.5f;
     m->double_sided = 1;
+}
+
+size_t harness_add_quad(float *t, size_t n, const float a[3], const float u[3], const float v[3])
+{
+    float p[4][3];
+    for (int k = 0; k < 3; k++) {
+        p[0][k] = a[k];
+        p[1][k] = a[k] + u[k];
+        p[2][k] = a[k] + u[k] + v[k];
+        p[3][k] = a[k] + v[k];
+    }
+    const int order[6] = {0, 1, 2, 0, 2, 3};
+    for (int i = 0; i < 6; i++) memcpy(t + 9 * n + 3 * (i % 3) + (i / 3) * 9, p[order[i]], sizeof p[0]);
+    return n + 2;
+}
+
+size_t harness_add_box(float *t, size_t n, const float lo[3], const float hi[3])
+{
+    for (int axis = 0; axis < 3; axis++) {
+        int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+        for (int side = 0; side < 2; side++) {
+            float corner[3] = {lo[0], lo[1], lo[2]}, u[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+            corner[axis] = side ? hi[axis] : lo[axis];
+            /* e1 x e2 = e0 faces +axis; swapped, -axis. */
+            int first = side ? a1 : a2, second = side ? a2 : a1;
+            u[first] = hi[first] - lo[first];
+            v[second] = hi[second] - lo[second];
+            n = harness_add_quad(t, n, corner, u, v);
+        }
+    }
+    return n;
+}
+
+void harness_look_at(lvcl_scene *s, const float eye[3], const float target[3], float yfov_deg)
+{
+    lvcl_camera_desc *cam = &s->camera;
+    cam->present = 1;
+    memcpy(cam->position, eye, 3 * sizeof(float));
+    float l = 0;
+    for (int k = 0; k < 3; k++) {
+        cam->back[k] = eye[k] - target[k];
+        l += cam->back[k] * cam->back[k];
+    }
+    for (int k = 0; k < 3; k++) cam->back[k] /= sqrtf(l);
+    /* right = up_world x back, up = back x right */
+    float rl = sqrtf(cam->back[2] * cam->back[2] + cam->back[0] * cam->back[0]);
+    cam->right[0] = cam->back[2] / rl, cam->right[1] = 0, cam->right[2] = -cam->back[0] / rl;
+    cam->up[0] = cam->back[1] * cam->right[2] - cam->back[2] * cam->right[1];
+    cam->up[1] = cam->back[2] * cam->right[0] - cam->back[0] * cam->right[2];
+    cam->up[2] = cam->back[0] * cam->right[1] - cam->back[1] * cam->right[0];
+    cam->yfov = yfov_deg * 3.14159265f / 180.0f;
+    cam->aspect = 1.0f;
 }
 
 void harness_run(const lvcl_device *dev, cl_kernel k, size_t global)

@@ -19,6 +19,16 @@ void harness_build(const lvcl_device *dev, lvcl_program *prog);
  * material; the scene owns copies. */
 void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *scene);
 
+/* Appends to the triangle list t (9 floats each, n so far) the quad from
+ * corner a along edges u and v, facing u x v, or the box lo..hi with its
+ * faces facing out; returns the new count. */
+size_t harness_add_quad(float *t, size_t n, const float a[3], const float u[3], const float v[3]);
+size_t harness_add_box(float *t, size_t n, const float lo[3], const float hi[3]);
+
+/* Points the scene's camera from eye at target, the world's y up, with a
+ * vertical field of view of yfov_deg and a square image. */
+void harness_look_at(lvcl_scene *s, const float eye[3], const float target[3], float yfov_deg);
+
 /* The arguments of the test program's ray kernels (t_trace, t_surface and
  * t_trace_brute_force take T_TRACE_ARGS, t_offset_rays T_OFFSET_RAYS_ARGS:
  * tests/kernels/test_args.h) as host structs, and their binders. */

@@ -11,7 +11,7 @@
 
 inline lv_path lv_wf_load(uint i, __global const float4 *ray_origin, __global const float4 *ray_dir,
                           __global const uint *ray_skip_inst, __global const float4 *beta,
-                          __global const float4 *radiance, __global const uint *depth,
+                          __global const float4 *radiance, __global const uint2 *depth,
                           __global const float4 *chain_from, __global const float4 *chain_dir)
 {
     lv_path p;
@@ -21,7 +21,8 @@ inline lv_path lv_wf_load(uint i, __global const float4 *ray_origin, __global co
     p.prev_pdf = b.w;
     p.radiance = l.xyz;
     p.prev_delta = as_int(l.w);
-    p.depth = depth[i];
+    p.depth = depth[i].x;
+    p.eta_scale = as_float(depth[i].y);
     p.rough = 0u; /* only guided paths count them */
     p.chain.from = cf.xyz;
     p.chain.pdf = cf.w;
@@ -32,14 +33,14 @@ inline lv_path lv_wf_load(uint i, __global const float4 *ray_origin, __global co
 
 inline void lv_wf_store(uint i, const lv_path *p, __global float4 *ray_origin, __global float4 *ray_dir,
                         __global uint *ray_skip_inst, __global float4 *beta, __global float4 *radiance,
-                        __global uint *depth, __global float4 *chain_from, __global float4 *chain_dir)
+                        __global uint2 *depth, __global float4 *chain_from, __global float4 *chain_dir)
 {
     ray_origin[i] = (float4)(p->ray.origin, p->ray.tmax);
     ray_dir[i] = (float4)(p->ray.dir, as_float(p->ray.skip));
     ray_skip_inst[i] = p->ray.skip_inst;
     beta[i] = (float4)(p->beta, p->prev_pdf);
     radiance[i] = (float4)(p->radiance, as_float(p->prev_delta));
-    depth[i] = p->depth;
+    depth[i] = (uint2)(p->depth, as_uint(p->eta_scale));
     chain_from[i] = (float4)(p->chain.from, p->chain.pdf);
     chain_dir[i] = (float4)(p->chain.dir, as_float(p->chain.scatters));
 }

@@ -5,7 +5,8 @@
  * A path's state is kept structure-of-arrays, one entry per path:
  *   ray_origin (origin.xyz, tmax), ray_dir (dir.xyz, as_float(skip)),
  *   ray_skip_inst, beta (beta.xyz, prev_pdf),
- *   radiance (radiance.xyz, as_float(prev_delta)), depth, rng, pixel,
+ *   radiance (radiance.xyz, as_float(prev_delta)), depth (depth,
+ *   as_uint(eta_scale)), rng, pixel,
  *   chain_from (chain.from, chain.pdf), chain_dir (chain.dir,
  *   as_float(chain.scatters)).
  * A shadow ray is kept at its path's index: shadow_origin (origin.xyz,
@@ -25,7 +26,7 @@
     X(kernel, BUFFER, uint, ray_skip_inst) SEP()   \
     X(kernel, BUFFER, float4, beta) SEP()          \
     X(kernel, BUFFER, float4, radiance) SEP()      \
-    X(kernel, BUFFER, uint, depth) SEP()           \
+    X(kernel, BUFFER, uint2, depth) SEP()          \
     X(kernel, BUFFER, uint4, rng) SEP()            \
     X(kernel, BUFFER, uint, pixel) SEP()           \
     X(kernel, BUFFER, float4, chain_from) SEP()    \

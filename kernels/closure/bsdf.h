@@ -41,6 +41,7 @@ typedef struct {
     float3 weight;
     float pdf;
     int delta;
+    float eta_scale; /* the factor 1/eta'^2 that weight holds where radiance refracts, else 1 (roulette undoes it) */
 } lv_bsdf_sample;
 
 inline int lv_bsdf_sample_delta(float3 wi, float3 weight, lv_bsdf_sample *s)
@@ -49,6 +50,7 @@ inline int lv_bsdf_sample_delta(float3 wi, float3 weight, lv_bsdf_sample *s)
     s->weight = weight;
     s->pdf = 0.0f;
     s->delta = 1;
+    s->eta_scale = 1.0f;
     return 1;
 }
 
@@ -60,6 +62,7 @@ inline int lv_bsdf_sample_lobe(float3 wi, float3 fcos, float pdf, lv_bsdf_sample
     s->delta = 0;
     s->pdf = pdf;
     s->weight = fcos / pdf;
+    s->eta_scale = 1.0f;
     return 1;
 }
 
@@ -150,6 +153,7 @@ inline float3 lv_bsdf_eval(const lv_bsdf *b, float3 wo, float3 wi, int mode, flo
 /* u: three uniform numbers. Returns 0 if no direction was produced. */
 inline int lv_bsdf_sample_dir(const lv_bsdf *b, float3 wo, float3 u, int mode, lv_bsdf_sample *s)
 {
+    s->eta_scale = 1.0f; /* only a dielectric's refraction changes it */
     switch (b->type) {
     case LV_BSDF_DIFFUSE:
         return lv_diffuse_sample(b, wo, u.xy, s);

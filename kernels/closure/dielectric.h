@@ -73,10 +73,13 @@ inline int lv_dielectric_sample(const lv_bsdf *b, float3 wo, float3 u, int mode,
         if (u.z < fr) return lv_bsdf_sample_delta(lv_mirror(wo), (float3)(1.0f), s);
         if (!lv_refract(wo, (float3)(0.0f, 0.0f, 1.0f), b->ior, &wi, &etap)) return 0;
         float scale = mode == LV_RADIANCE ? 1.0f / (etap * etap) : 1.0f;
-        return lv_bsdf_sample_delta(wi, (float3)(scale), s);
+        lv_bsdf_sample_delta(wi, (float3)(scale), s);
+        s->eta_scale = scale;
+        return 1;
     }
     float3 m = lv_ggx_sample_visible(wo, b->alpha, u.xy);
     float fr = lv_fresnel_dielectric(dot(wo, m), b->ior);
+    etap = 1.0f;
     if (u.z < fr) {
         wi = lv_reflect(wo, m);
         if (wi.z * wo.z <= 0.0f) return 0;
@@ -84,7 +87,9 @@ inline int lv_dielectric_sample(const lv_bsdf *b, float3 wo, float3 u, int mode,
         if (!lv_refract(wo, m, b->ior, &wi, &etap) || wi.z * wo.z >= 0.0f) return 0;
     }
     float pdf = lv_dielectric_pdf(b, wo, wi);
-    return pdf > 0.0f && lv_bsdf_sample_lobe(wi, lv_dielectric_value(b, wo, wi, mode), pdf, s);
+    if (!(pdf > 0.0f) || !lv_bsdf_sample_lobe(wi, lv_dielectric_value(b, wo, wi, mode), pdf, s)) return 0;
+    s->eta_scale = mode == LV_RADIANCE ? 1.0f / (etap * etap) : 1.0f;
+    return 1;
 }
 
 #endif

@@ -22,8 +22,8 @@ typedef struct {
     lv_grid grid;
     lv_bin_tables tables;
     __global const float *axis_sums; /* lv_axis_sums's, per slot */
-    uint flags;      /* LV_GATHER_* (shared_types.h) */
-    float threshold; /* a BSDF ray hitting closer than this continues as a path */
+    uint flags;                      /* LV_GATHER_* (shared_types.h) */
+    float threshold;                 /* a BSDF ray hitting closer than this continues as a path */
 } lv_gather;
 
 /* The sum of a tally set's bins (RGB), each weighted by its exact mean
@@ -66,8 +66,8 @@ inline float3 lv_axis_sum(const lv_grid *grid, const lv_bin_tables *tables, uint
 {
     uint n = lv_slot_dirs(grid, slot);
     float3 normal = lv_axis_normal(a);
-    float3 sum = lv_cosine_weighted_tallies(lv_bin_table_for(tables, grid, n), lv_tally_bin(grid, slot, 0u),
-                                            2u * n * n, normal, normal);
+    float3 sum = lv_cosine_weighted_tallies(lv_bin_table_for(tables, grid, n), lv_tally_bin(grid, slot, 0u), 2u * n * n,
+                                            normal, normal);
     float binned = lv_luminance(sum), exact = binned + (float)lv_axis_corrections(grid, slot)[a];
     return binned > 0.0f ? sum * (fmax(exact, 0.0f) / binned) : (float3)(0.0f);
 }
@@ -119,6 +119,7 @@ inline float3 lv_gather_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint
     int all_light = (g->flags & LV_GATHER_ALL) != 0u;
     float3 radiance = (float3)(0.0f);
     float3 beta = (float3)(1.0f);
+    float eta_scale = 1.0f; /* roulette's reference (scatter.h) */
     lv_bsdf_sample bs;
     bs.pdf = 0.0f;
     bs.delta = 1; /* the camera ray counts as a delta sample: no MIS */
@@ -175,8 +176,9 @@ inline float3 lv_gather_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint
         }
 
         /* The ray a gather point sends on only settles the lookup. */
-        lv_walk walk = {LV_RADIANCE, gather ? LV_ROULETTE_NONE : LV_ROULETTE_BETA, (float3)(1.0f)};
+        lv_walk walk = {LV_RADIANCE, gather ? LV_ROULETTE_NONE : LV_ROULETTE_ON, (float3)(eta_scale)};
         if (!lv_scatter(sc, &s, h, &sh, walk, depth, rng, &beta, &r, &bs)) break;
+        eta_scale *= bs.eta_scale;
         if (gather) {
             if (all_light) { /* no threshold: the volume answers at once */
                 if (lit_here) radiance += beta * lv_volume_radiance(&g->grid, lookup_point, -r.dir);

@@ -56,7 +56,7 @@ inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *gri
     lv_emission_sample es;
     float2 ul = lv_rng_next2(rng), ud = lv_rng_next2(rng);
     if (!lv_sample_emission(sc, ul, ud, lv_rng_next(rng), &es)) return n;
-    const lv_walk walk = {LV_IMPORTANCE, LV_ROULETTE_RELATIVE, es.weight};
+    const lv_walk walk = {LV_IMPORTANCE, LV_ROULETTE_ON, es.weight};
     float3 throughput = es.weight;
     lv_ray r = lv_ray_make(es.origin, es.dir, LV_FAR, es.instance, es.triangle);
     for (uint depth = 1; depth <= sc->info.max_depth; depth++) {

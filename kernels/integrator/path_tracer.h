@@ -11,13 +11,14 @@
 /* A path between two segments: all a wavefront keeps of it from one
  * kernel to the next. */
 typedef struct {
-    lv_ray ray;      /* the next segment */
-    float3 beta;     /* throughput up to its origin */
-    float3 radiance; /* gathered so far */
-    float prev_pdf;  /* density of the BSDF sample that made ray */
-    int prev_delta;  /* ray came from a delta lobe or the camera: no MIS */
-    uint depth;      /* ray's number among the segments, from 1 */
-    uint rough;      /* rough surfaces passed (guided paths' guide serves the first LV_GUIDE_VERTICES) */
+    lv_ray ray;           /* the next segment */
+    float3 beta;          /* throughput up to its origin */
+    float3 radiance;      /* gathered so far */
+    float prev_pdf;       /* density of the BSDF sample that made ray */
+    float eta_scale;      /* the 1/eta'^2 of the refractions so far (roulette's reference, scatter.h) */
+    int prev_delta;       /* ray came from a delta lobe or the camera: no MIS */
+    uint depth;           /* ray's number among the segments, from 1 */
+    uint rough;           /* rough surfaces passed (guided paths' guide serves the first LV_GUIDE_VERTICES) */
     lv_glass_chain chain; /* the delta scatters since the last vertex that sampled lights */
 } lv_path;
 
@@ -28,6 +29,7 @@ inline lv_path lv_path_start(lv_ray r)
     p.beta = (float3)(1.0f);
     p.radiance = (float3)(0.0f);
     p.prev_pdf = 0.0f;
+    p.eta_scale = 1.0f;
     p.prev_delta = 1; /* the camera ray counts as a delta sample */
     p.depth = 1u;
     p.rough = 0u;
@@ -49,7 +51,7 @@ __attribute__((always_inline)) inline int lv_path_shade(const lv_scene *sc, cons
                                                         lv_rng *rng, uint max_depth, int see_through,
                                                         lv_shadow_ray *shadow, int *has_shadow)
 {
-    const lv_walk walk = {LV_RADIANCE, LV_ROULETTE_BETA, (float3)(1.0f)};
+    const lv_walk walk = {LV_RADIANCE, LV_ROULETTE_ON, (float3)(p->eta_scale)};
     *has_shadow = 0;
     if (h.tri == LV_NO_HIT) return 0;
     lv_surface s = lv_surface_at(sc, p->ray, h);
@@ -57,8 +59,8 @@ __attribute__((always_inline)) inline int lv_path_shade(const lv_scene *sc, cons
     float3 le = LV_F3(m->emission);
     if (s.front && lv_max3(le) > 0.0f)
         p->radiance += p->beta * le *
-                       (p->prev_delta ? lv_glass_chain_weight(sc, &p->chain, h, p->ray.dir, s.ng)
-                                      : lv_emission_weight(sc, h, p->ray.dir, s.ng, p->prev_pdf, 0));
+            (p->prev_delta ? lv_glass_chain_weight(sc, &p->chain, h, p->ray.dir, s.ng)
+                           : lv_emission_weight(sc, h, p->ray.dir, s.ng, p->prev_pdf, 0));
     if (lv_inside_glass(m, &s)) p->beta *= exp(-LV_F3(m->attenuation) * h.t);
     if (p->depth == max_depth) return 0;
 
@@ -83,6 +85,7 @@ __attribute__((always_inline)) inline int lv_path_shade(const lv_scene *sc, cons
                : !lv_scatter(sc, &s, h, &sh, walk, p->depth, rng, &p->beta, &p->ray, &bs))
         return 0;
     p->prev_pdf = bs.pdf;
+    p->eta_scale *= bs.eta_scale;
     p->prev_delta = bs.delta;
     if (bs.delta) lv_glass_chain_step(&p->chain, m, &s, p->ray.dir);
     else p->chain = lv_glass_chain_start(s.p, p->ray.dir, bs.pdf, see_through);
@@ -100,8 +103,7 @@ inline float3 lv_path_trace(const lv_scene *sc, const lv_guide *guide, lv_ray r,
     while (more) {
         lv_shadow_ray shadow;
         int has_shadow;
-        more = lv_path_shade(sc, guide, &p, lv_trace(sc, p.ray, 0), rng, max_depth, see_through, &shadow,
-                             &has_shadow);
+        more = lv_path_shade(sc, guide, &p, lv_trace(sc, p.ray, 0), rng, max_depth, see_through, &shadow, &has_shadow);
         if (has_shadow) p.radiance += lv_shadow_ray_light(sc, &shadow);
     }
     return lv_finite3(p.radiance) ? p.radiance : (float3)(0.0f);

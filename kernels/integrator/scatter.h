@@ -13,15 +13,22 @@
 /* Walks longer than this many segments may end by Russian roulette. */
 #define LV_RR_DEPTH 5
 
-#define LV_ROULETTE_NONE 0     /* none: the gather path, where the light volume answers next */
-#define LV_ROULETTE_BETA 1     /* q = min(max(beta), 0.95), as Mitsuba does (camera paths) */
-#define LV_ROULETTE_RELATIVE 2 /* the same relative to the starting weight (particles) */
+#define LV_ROULETTE_NONE 0 /* none: the gather path, where the light volume answers next */
+/* Survival q = min(max(beta) / max(reference), 0.95). A particle's
+ * reference is the weight it started with, so that bright lights'
+ * particles are not culled for being bright. A camera path's is the
+ * product of the 1/eta'^2 its refractions put in beta (lv_bsdf_sample's
+ * eta_scale), as Mitsuba's eta^2 rule: inside glass radiance is scaled by
+ * 1/eta^2 until the way out gives it back, and a q taken from the scaled
+ * beta would end paths in glass for nothing and return the survivors
+ * eta^2 times too bright (fireflies, docs/design.md). */
+#define LV_ROULETTE_ON 1
 
 /* How a walk scatters. */
 typedef struct {
-    int mode;     /* LV_RADIANCE (camera paths) or LV_IMPORTANCE (particles) */
-    int roulette; /* LV_ROULETTE_* */
-    float3 start; /* LV_ROULETTE_RELATIVE: the weight the walk started with */
+    int mode;         /* LV_RADIANCE (camera paths) or LV_IMPORTANCE (particles) */
+    int roulette;     /* LV_ROULETTE_* */
+    float3 reference; /* LV_ROULETTE_ON: what beta is measured against (times this scatter's eta_scale) */
 } lv_walk;
 
 /* What a walk needs to scatter at a surface it arrived at. */
@@ -71,11 +78,7 @@ __attribute__((always_inline)) inline int lv_scatter_along(const lv_scene *sc, c
     else *beta *= bs->weight;
     if (!lv_finite3(*beta) || lv_max3(*beta) <= 0.0f) return 0;
     if (w.roulette != LV_ROULETTE_NONE && depth >= LV_RR_DEPTH) {
-        /* Particles' roulette is relative to their starting power, so that
-         * bright lights' particles are not culled for being bright. */
-        float lead = lv_max3(*beta);
-        if (w.roulette == LV_ROULETTE_RELATIVE) lead /= lv_max3(w.start);
-        float q = fmin(lead, 0.95f);
+        float q = fmin(lv_max3(*beta) / (lv_max3(w.reference) * bs->eta_scale), 0.95f);
         if (lv_rng_next(rng) >= q) return 0;
         *beta /= q;
     }

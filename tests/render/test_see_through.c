@@ -66,39 +66,6 @@ typedef struct {
     int max_depth;     /* segments per path; 0: 64 */
 } setup;
 
-/* A quad from corner a along edges u and v, facing u x v. */
-static size_t add_quad(float *t, size_t n, const float a[3], const float u[3], const float v[3])
-{
-    float p[4][3];
-    for (int k = 0; k < 3; k++) {
-        p[0][k] = a[k];
-        p[1][k] = a[k] + u[k];
-        p[2][k] = a[k] + u[k] + v[k];
-        p[3][k] = a[k] + v[k];
-    }
-    const int order[6] = {0, 1, 2, 0, 2, 3};
-    for (int i = 0; i < 6; i++) memcpy(t + 9 * n + 3 * (i % 3) + (i / 3) * 9, p[order[i]], sizeof p[0]);
-    return n + 2;
-}
-
-/* The box lo..hi with its faces facing out. */
-static size_t add_box(float *t, size_t n, const float lo[3], const float hi[3])
-{
-    for (int axis = 0; axis < 3; axis++) {
-        int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-        for (int side = 0; side < 2; side++) {
-            float corner[3] = {lo[0], lo[1], lo[2]}, u[3] = {0, 0, 0}, v[3] = {0, 0, 0};
-            corner[axis] = side ? hi[axis] : lo[axis];
-            /* e1 x e2 = e0 faces +axis; swapped, -axis. */
-            int first = side ? a1 : a2, second = side ? a2 : a1;
-            u[first] = hi[first] - lo[first];
-            v[second] = hi[second] - lo[second];
-            n = add_quad(t, n, corner, u, v);
-        }
-    }
-    return n;
-}
-
 /* Turns triangles [from, n) by deg degrees about the z axis through (0, cy, 0). */
 static void tilt(float *t, size_t from, size_t n, float deg, float cy)
 {
@@ -116,12 +83,12 @@ static void make_scene(const setup *u, lvcl_scene *s)
     uint32_t material[MAX_TRIS];
     size_t n = 0, from;
     const float room_lo[3] = {-1, 0, -1}, room_hi[3] = {1, 2, 1};
-    n = add_box(tris, n, room_lo, room_hi); /* double-sided: its faces' winding does not matter */
+    n = harness_add_box(tris, n, room_lo, room_hi); /* double-sided: its faces' winding does not matter */
     for (size_t i = 0; i < n; i++) material[i] = WALLS;
     /* The lamp, 0.8 m square, just under the ceiling, facing down. */
     const float lamp[3] = {-0.4f, 1.999f, -0.4f}, lu[3] = {0.8f, 0, 0}, lv[3] = {0, 0, 0.8f};
     from = n;
-    n = add_quad(tris, n, lamp, lu, lv);
+    n = harness_add_quad(tris, n, lamp, lu, lv);
     for (size_t i = from; i < n; i++) material[i] = LAMP;
     /* The slabs, 1.4 m square, the first's top at 1.1 m. */
     from = n;
@@ -129,17 +96,17 @@ static void make_scene(const setup *u, lvcl_scene *s)
         float top = 1.1f - 0.1f * (float)k;
         if (u->thickness > 0) {
             const float lo[3] = {-0.7f, top - u->thickness, -0.7f}, hi[3] = {0.7f, top, 0.7f};
-            n = add_box(tris, n, lo, hi);
+            n = harness_add_box(tris, n, lo, hi);
         } else {
             const float a[3] = {-0.7f, top, -0.7f}, e1[3] = {0, 0, 1.4f}, e2[3] = {1.4f, 0, 0};
-            n = add_quad(tris, n, a, e1, e2);
+            n = harness_add_quad(tris, n, a, e1, e2);
         }
     }
     for (size_t i = from; i < n; i++) material[i] = GLASS;
     /* An opaque block on the top slab. */
     size_t glass_end = n;
     const float blo[3] = {-0.15f, 1.1f, -0.1f}, bhi[3] = {0.05f, 1.3f, 0.1f};
-    n = add_box(tris, n, blo, bhi);
+    n = harness_add_box(tris, n, blo, bhi);
     for (size_t i = glass_end; i < n; i++) material[i] = BLOCKER;
     tilt(tris, from, n, u->tilt_deg, 1.1f);
 
@@ -173,24 +140,8 @@ static void make_scene(const setup *u, lvcl_scene *s)
     m[GLASS].attenuation_distance = INFINITY;
     for (int c = 0; c < 3; c++) m[GLASS].attenuation_color[c] = 1.0f;
 
-    lvcl_camera_desc *cam = &s->camera;
     const float eye[3] = {0.95f, 0.55f, 0.95f}, target[3] = {-0.1f, 0.0f, -0.1f};
-    cam->present = 1;
-    memcpy(cam->position, eye, sizeof eye);
-    float l = 0;
-    for (int k = 0; k < 3; k++) {
-        cam->back[k] = eye[k] - target[k];
-        l += cam->back[k] * cam->back[k];
-    }
-    for (int k = 0; k < 3; k++) cam->back[k] /= sqrtf(l);
-    /* right = up_world x back, up = back x right */
-    float rl = sqrtf(cam->back[2] * cam->back[2] + cam->back[0] * cam->back[0]);
-    cam->right[0] = cam->back[2] / rl, cam->right[1] = 0, cam->right[2] = -cam->back[0] / rl;
-    cam->up[0] = cam->back[1] * cam->right[2] - cam->back[2] * cam->right[1];
-    cam->up[1] = cam->back[2] * cam->right[0] - cam->back[0] * cam->right[2];
-    cam->up[2] = cam->back[0] * cam->right[1] - cam->back[1] * cam->right[0];
-    cam->yfov = 70.0f * 3.14159265f / 180.0f;
-    cam->aspect = 1.0f;
+    harness_look_at(s, eye, target, 70.0f);
 }
 
 /* Renders u's scene in mode at spp, with see_through on or off and the
@@ -249,8 +200,8 @@ static void check_lv(const setup *u, const float *ref, const float *on, const fl
     char name[240];
     double m_ref = mean_of(ref), m_on = mean_of(on), m_off = mean_of(off);
     double e_on = block_error(on, ref), e_off = block_error(off, ref);
-    printf("   %s, lv: mean %.5f, off %.5f, reference %.5f; block error %.4f, off %.4f\n", u->name, m_on, m_off,
-           m_ref, e_on, e_off);
+    printf("   %s, lv: mean %.5f, off %.5f, reference %.5f; block error %.4f, off %.4f\n", u->name, m_on, m_off, m_ref,
+           e_on, e_off);
     snprintf(name, sizeof name, "see-through, %s: lv image mean within 2%% of the reference's", u->name);
     CHECK(name, fabs(m_on / m_ref - 1) < 0.02, "lv %.5f (see-through off %.5f), reference %.5f", m_on, m_off, m_ref);
     snprintf(name, sizeof name, "see-through, %s: lv 8x8 blocks closer to the reference than with it off", u->name);
