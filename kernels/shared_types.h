@@ -207,7 +207,13 @@ typedef struct {
  * is not, and the corrections make a Lambertian surface facing along an
  * axis gather its luminance exactly (docs/light-volume.md, "Axis corrections"). */
 #define LV_AXES 6
-#define LV_SET_LONGS(bins) (3 * (size_t)(bins) + LV_AXES)
+/* Then the set's lobe of concentrated light, LV_LOBE_LONGS after the axis
+ * corrections: over the same pieces, their luminance times their direction
+ * of travel (x, y, z; signed), and their luminance. Its mean direction and
+ * spread give guided paths a narrow lobe toward a lamp's image in a mirror
+ * or through glass, far smaller than a bin (docs/guided.md, "The lobe"). */
+#define LV_LOBE_LONGS 4
+#define LV_SET_LONGS(bins) (3 * (size_t)(bins) + LV_AXES + LV_LOBE_LONGS)
 /* Largest single contribution accepted, in tally units of 1 (2^36 units):
  * 2^32 particles of weight below 32 cannot overflow a bin (see
  * docs/light-volume.md). */
@@ -461,9 +467,13 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
 /* Fills the guide table: per tally set and bin, the luminance of its
  * tallies (volume/guide.h), laid out as the tallies are, then
  * LV_BIN_GROUP floats of padding, then per tally set the sum and the
- * largest of its bins' (from LV_GUIDE_STATS_AT). */
+ * largest of its bins' (from LV_GUIDE_STATS_AT), then per tally set its
+ * lobe (from LV_GUIDE_LOBES_AT): the mean direction of travel of its
+ * concentrated light (its length the mean resultant length) and that
+ * light's luminance. */
 #define LV_GUIDE_STATS_AT(info) ((size_t)(info).tally_sets * (info).bins + LV_BIN_GROUP)
-#define LV_GUIDE_TABLE_FLOATS(info) (LV_GUIDE_STATS_AT(info) + 2 * (size_t)(info).tally_sets)
+#define LV_GUIDE_LOBES_AT(info) (LV_GUIDE_STATS_AT(info) + 2 * (size_t)(info).tally_sets)
+#define LV_GUIDE_TABLE_FLOATS(info) (LV_GUIDE_LOBES_AT(info) + 4 * (size_t)(info).tally_sets)
 #define LV_GUIDE_TABLE_ARGS(X, SEP)              \
     X(lv_guide_table, VOLUME, , volume) SEP()    \
     X(lv_guide_table, VALUE, lv_u32, fine_pass) SEP() /* the second pass: slots of fine bins */ \

@@ -65,7 +65,7 @@ static int add_middle_planes(lvcl_cell_planes *c)
 static size_t slot_bytes(const lv_grid_info *g)
 {
     return LV_SET_LONGS(g->bins) * sizeof(int64_t) + (LV_SUBCELL_STRIDE + 2) * sizeof(uint32_t) +
-           sizeof(lv_slot_region);
+        sizeof(lv_slot_region);
 }
 
 static size_t share_bytes(const lv_grid_info *g)
@@ -80,7 +80,8 @@ static double pieces(const int64_t *tallies, size_t per_set, uint32_t base, uint
 {
     double sum = 0;
     for (size_t s = base; s < end; s++)
-        for (size_t t = s * per_set; t < s * per_set + per_set - LV_AXES; t++) sum += (double)tallies[t];
+        for (size_t t = s * per_set; t < s * per_set + per_set - LV_AXES - LV_LOBE_LONGS; t++)
+            sum += (double)tallies[t];
     return sum / (3.0 * LV_TALLY_SCALE * LV_PIECE_TALLY) / particles;
 }
 

@@ -20,14 +20,15 @@ typedef struct {
 /* Adds segment r, which carried `weight` (power over total power) up to
  * hit h (surface s, if any) through a medium of absorption sigma, to the
  * volume (its light concentrated where `concentrated`, the bin tables, is
- * not null: lv_tally_segment); at a hit also offers a lit point and may
- * cast a visibility ray. Returns the visibility rays cast. */
+ * not null, and in the lobes where `lobe`: lv_tally_segment); at a hit
+ * also offers a lit point and may cast a visibility ray. Returns the
+ * visibility rays cast. */
 inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray r, lv_hit h, const lv_surface *s,
-                                float3 weight, float3 sigma, const lv_bin_tables *concentrated, lv_rng *rng)
+                                float3 weight, float3 sigma, const lv_bin_tables *concentrated, int lobe, lv_rng *rng)
 {
     uint fine = lv_direction_bin(r.dir, 2u * grid->g.dirs);
     lv_tally_segment(grid, r.origin, r.dir, 0.0f, h.t, (uint2)(lv_coarse_bin(fine, grid->g.dirs), fine), weight, sigma,
-                     concentrated);
+                     concentrated, lobe);
     if (!grid->g.subcells || h.tri == LV_NO_HIT) return 0u;
     /* Just off the hit on the side the particle came from, its light
      * reached: off along the normal, by more than a lit point's rounding
@@ -71,10 +72,13 @@ inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *gri
             if (lv_inside_glass(m, &s)) sigma = LV_F3(m->attenuation);
         }
         if (depth > 1 || store_emitted) {
-            int left_out = see_through && through_glass &&
-                           lv_seen_through(sc, es.light, es.dir, r.origin, r.dir, depth - 1u);
-            n.visibility_rays += lv_particle_deposit(sc, grid, r, h, &s, left_out ? (float3)(0.0f) : throughput, sigma,
-                                                     specular_only && !left_out ? tables : 0, rng);
+            /* Light seen through glass is light samples' to find (with
+             * see_through) or the guide's lights' share's: never a lobe's. */
+            int seen = through_glass && lv_seen_through(sc, es.light, es.dir, r.origin, r.dir, depth - 1u);
+            int left_out = see_through && seen;
+            n.visibility_rays +=
+                lv_particle_deposit(sc, grid, r, h, &s, left_out ? (float3)(0.0f) : throughput, sigma,
+                                    specular_only && !left_out ? tables : 0, specular_only && !seen, rng);
         }
         if (h.tri == LV_NO_HIT || depth == sc->info.max_depth) break;
         throughput *= exp(-sigma * h.t);

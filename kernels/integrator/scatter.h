@@ -117,18 +117,25 @@ __attribute__((always_inline)) inline int lv_guided_scatter(const lv_scene *sc, 
      * path's BSDF sample takes (docs/design.md, "Sampling"). */
     float3 u = lv_rng_next3(rng);
     float pick = lv_rng_next(rng);
-    float bsdf_pdf, bin_pdf, light_pdf;
+    float bsdf_pdf, bin_pdf, light_pdf, lobe_pdf;
     float3 fcos;
     if (pick < gv->share) {
-        /* From the bins or toward the lights: the sample brings its own
-         * density, the other is evaluated. */
+        /* From the bins, the lobe or toward the lights: the sample brings
+         * its own density, the others are evaluated. */
         float3 wiw;
         if (pick < gv->bin_share) {
             if (!lv_guide_sample(gv, u, &wiw, &bin_pdf)) return 0;
             light_pdf = lv_guide_light_pdf(gv, wiw);
+            lobe_pdf = lv_guide_lobe_pdf(gv, wiw);
+        } else if (gv->lobe_share > 0.0f && pick >= gv->bin_share + gv->light_share) {
+            wiw = lv_guide_lobe_sample(gv, u.xy);
+            lobe_pdf = lv_guide_lobe_pdf(gv, wiw);
+            bin_pdf = lv_guide_pdf(gv, wiw);
+            light_pdf = lv_guide_light_pdf(gv, wiw);
         } else {
             if (!lv_light_directions_sample(gv->lights, &gv->odds, gv->p, u, &wiw, &light_pdf)) return 0;
             bin_pdf = lv_guide_pdf(gv, wiw);
+            lobe_pdf = lv_guide_lobe_pdf(gv, wiw);
         }
         bs->wi = lv_to_local(sh->f, wiw);
         fcos = lv_bsdf_eval(&sh->b, sh->wo, bs->wi, w.mode, &bsdf_pdf);
@@ -141,8 +148,9 @@ __attribute__((always_inline)) inline int lv_guided_scatter(const lv_scene *sc, 
         float3 wiw = lv_to_world(sh->f, bs->wi);
         bin_pdf = lv_guide_pdf(gv, wiw);
         light_pdf = lv_guide_light_pdf(gv, wiw);
+        lobe_pdf = lv_guide_lobe_pdf(gv, wiw);
     }
-    float pdf = lv_guide_mix(gv, bsdf_pdf, bin_pdf, light_pdf);
+    float pdf = lv_guide_mix(gv, bsdf_pdf, bin_pdf, light_pdf, lobe_pdf);
     if (!(pdf > 0.0f) || lv_max3(fcos) <= 0.0f) return 0;
     lv_bsdf_sample_lobe(bs->wi, fcos, pdf, bs);
     return lv_scatter_along(sc, s, h, sh, w, depth, rng, beta, r, bs);

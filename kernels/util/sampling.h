@@ -48,6 +48,28 @@ inline float3 lv_sample_cosine_hemisphere(float2 u)
     return (float3)(d.x, d.y, z);
 }
 
+/* A direction from the von Mises-Fisher distribution about unit mu of
+ * concentration kappa > 0, density kappa exp(kappa (mu . w - 1)) /
+ * (2 pi (1 - exp(-2 kappa))). The angle from mu comes from inverting its
+ * cdf for 1 - cos, which keeps the precision that 1 + log(..) / kappa
+ * loses near mu when kappa is large. */
+inline float3 lv_sample_vmf(float3 mu, float kappa, float2 u)
+{
+    float below = fmax(u.x + (1.0f - u.x) * exp(-2.0f * kappa), 1e-30f);
+    float t = clamp(-log(below) / kappa, 0.0f, 2.0f); /* 1 - cos theta */
+    float s = sqrt(fmax(0.0f, t * (2.0f - t)));
+    float2 cs = lv_cos_sin(2.0f * LV_PI * u.y);
+    return lv_to_world(lv_frame_make(mu), (float3)(s * cs.x, s * cs.y, 1.0f - t));
+}
+
+/* lv_sample_vmf's density at unit w; mu . w - 1 as -|w - mu|^2 / 2, exact
+ * where they are close. */
+inline float lv_vmf_pdf(float3 mu, float kappa, float3 w)
+{
+    float3 d = w - mu;
+    return kappa / (2.0f * LV_PI * -expm1(-2.0f * kappa)) * exp(-0.5f * kappa * dot(d, d));
+}
+
 /* Uniform barycentrics (b1, b2) on a triangle (the square-root warp); the
  * point is (1 - b1 - b2) v0 + b1 v1 + b2 v2. */
 inline float2 lv_sample_triangle(float2 u)

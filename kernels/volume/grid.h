@@ -52,6 +52,12 @@ inline __global long *lv_axis_corrections(const lv_grid *grid, uint slot)
     return lv_tally_bin(grid, slot, 2u * n * n);
 }
 
+/* The LV_LOBE_LONGS sums of slot's lobe of concentrated light (shared_types.h). */
+inline __global long *lv_lobe_sums(const lv_grid *grid, uint slot)
+{
+    return lv_axis_corrections(grid, slot) + LV_AXES;
+}
+
 /* The bin tables (shared_types.h has their layout) of the passes that
  * visit every bin of a cell and of the trace's axis corrections: one for
  * n x n bins per hemisphere, one for the 2n x 2n of slots with fine bins

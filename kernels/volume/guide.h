@@ -32,6 +32,13 @@
 /* The bins toward the lights must hold this much of a guide's light before
  * directions toward the lights get a share of their own (lv_guide_at). */
 #define LV_GUIDE_MIN_LIGHT_MASS 0.02f
+/* A set's lobe of concentrated light (lv_guide_lobe) is sampled where it
+ * holds this many particle pieces, with a mean resultant length (how
+ * closely their directions agree; 1: all alike) of at least this, and at
+ * most this concentration (a cone of about 0.02 rad). */
+#define LV_GUIDE_LOBE_MIN_PIECES 1.0f
+#define LV_GUIDE_LOBE_MIN_LENGTH 0.6f
+#define LV_GUIDE_LOBE_MAX_KAPPA 5000.0f
 
 /* The weight of a tally set's bin before the cosine: its luminance (the
  * guide table, one float per bin, filled once after the trace). */
@@ -46,6 +53,7 @@ typedef struct {
     lv_bin_tables tables;
     __global const float *luminance; /* per tally set and bin (lv_guide_luminance), as the tallies are laid out */
     __global const float *stats;     /* per tally set: its bins' summed and largest luminance */
+    __global const float *lobes;     /* per tally set: its lobe's mean direction of travel and luminance */
     lv_light_candidates lights;      /* the lights that guided paths may aim at (lv_guide_at) */
 } lv_guide;
 
@@ -61,6 +69,9 @@ typedef struct {
     float share;       /* probability of sampling the guide (lv_guide_prepare), 0 where it holds no light */
     float bin_share;   /* the part of it that samples the bins */
     float light_share; /* and the part that aims at the lights */
+    float lobe_share;  /* and the part that samples the lobe of concentrated light */
+    float3 lobe_mu;    /* the lobe's mean direction of travel (light arrives from -lobe_mu) */
+    float lobe_kappa;  /* and its concentration (lv_sample_vmf) */
     const lv_light_candidates *lights;
     lv_light_odds odds; /* the lights' odds here */
 } lv_guide_vertex;
@@ -117,7 +128,7 @@ inline int lv_guide_prepare(lv_guide_vertex *gv, float share)
  * the largest of their luminance in the guide table: over `rooms` entries,
  * as a set of fine bins takes four sets' room, each with its own. Their
  * summed luminance comes back in *sum. */
-inline float lv_guide_share(__global const float *stats, uint rooms, uint bins, float *sum)
+inline float lv_guide_share(__global const float *stats, uint rooms, uint bins, float *sum, int *peaked)
 {
     float top = 0.0f;
     *sum = 0.0f;
@@ -128,8 +139,41 @@ inline float lv_guide_share(__global const float *stats, uint rooms, uint bins, 
     /* Luminance weights add to 1, so the luminance counts pieces as one
      * channel does (pieces that lost power count as less than one). */
     float pieces = *sum * (1.0f / (LV_TALLY_SCALE * LV_PIECE_TALLY));
-    if (!(top * (float)bins >= LV_GUIDE_MIN_PEAK * *sum) || !(*sum > 0.0f)) return 0.0f;
+    *peaked = top * (float)bins >= LV_GUIDE_MIN_PEAK * *sum;
+    if (!(*sum > 0.0f)) return 0.0f;
     return LV_GUIDE_SHARE * pieces / (pieces + LV_GUIDE_TRUSTED_PIECES);
+}
+
+/* The lobe of concentrated light of tally set `set` (light that reached
+ * the cell from a lamp through glass or off mirrors only: a lamp's image,
+ * often far smaller than a bin), as a von Mises-Fisher lobe about its
+ * pieces' mean direction, its concentration from their mean resultant
+ * length r (Banerjee et al.'s estimate r (3 - r^2) / (1 - r^2)), for a
+ * surface with normals ns and ng on the side light arrives from. Returns
+ * the part of the guide's share `trusted` it gets, 0 where it has too few
+ * pieces, is too spread or lies behind the surface. A lobe holding a share
+ * m of the light the surface gathers gets sqrt(m) of the share (twice
+ * that, at most all): a one-sample mixture's variance is least with a
+ * share near m sqrt(K) / (m sqrt(K) + 1 - m) for a lobe K times narrower
+ * than what BSDF sampling spreads over, and K is large and unknown. */
+inline float lv_guide_lobe(const lv_guide *g, uint set, float sum, float trusted, float3 ns, float3 ng,
+                           lv_guide_vertex *gv)
+{
+    __global const float *lobe = g->lobes + 4 * (size_t)set;
+    float3 v = vload3(0, lobe);
+    float luminance = lobe[3], r = length(v);
+    if (!(luminance >= LV_GUIDE_LOBE_MIN_PIECES * LV_TALLY_SCALE * LV_PIECE_TALLY) || !(r >= LV_GUIDE_LOBE_MIN_LENGTH))
+        return 0.0f;
+    float3 mu = v / r;
+    float cs = -dot(mu, ns), cg = -dot(mu, ng);
+    if (!(cs > 0.0f) || !(cg > 0.0f)) return 0.0f;
+    /* A surface gathers about a quarter of what the set's two hemispheres
+     * hold (half of them lie in front, at a mean cosine of a half). */
+    float m = fmin(1.0f, 4.0f * luminance * cs / sum);
+    r = fmin(r, 0.9999f);
+    gv->lobe_mu = mu;
+    gv->lobe_kappa = fmin(r * (3.0f - r * r) / (1.0f - r * r), LV_GUIDE_LOBE_MAX_KAPPA);
+    return trusted * fmin(1.0f, sqrt(m));
 }
 
 /* Light that the bins hold from the directions of the lights has come
@@ -176,16 +220,26 @@ inline float lv_guide_light_mass(lv_guide_vertex *gv, const uint *bins, uint fre
     return lv_light_odds_set(gv->lights, w, &gv->odds) ? fmin(mass / gv->total, 1.0f) : 0.0f;
 }
 
+/* A guide of the lobe alone: where the bins get no share. */
+inline int lv_guide_lobe_only(lv_guide_vertex *gv, float lobe)
+{
+    gv->share = gv->lobe_share = lobe;
+    gv->bin_share = gv->light_share = 0.0f;
+    return lobe > 0.0f;
+}
+
 /* Sets up the guide at surface point p, with shading normal ns and
  * geometric normal ng on the side light arrives from. Reads the region of
- * the cell in front of p, where that side's light is tallied. Where the
- * bins toward the lights hold a share m of its light (at least
+ * the cell in front of p, where that side's light is tallied. Its lobe of
+ * concentrated light takes its part of the guide's share first
+ * (lv_guide_lobe), the bins the rest where their peak test passes. Where
+ * the bins toward the lights hold a share m of its light (at least
  * LV_GUIDE_MIN_LIGHT_MASS), directions toward the lights get m of the
- * guide's share and the bins the rest. Returns 0 (share 0) where the
- * volume holds no light there, or none worth a guide. */
+ * bins' share. Returns 0 (share 0) where the volume holds no light there,
+ * or none worth a guide. */
 inline int lv_guide_at(const lv_guide *g, float3 p, float3 ns, float3 ng, lv_guide_vertex *gv)
 {
-    gv->share = 0.0f;
+    gv->share = gv->lobe_share = 0.0f;
     uint slot = lv_grid_slot_at(&g->grid, lv_front_point(&g->grid, p, ng));
     if (slot == LV_EMPTY_CELL) return 0;
     uint set = g->grid.tally_slot[slot] & ~LV_FINE_DIRS;
@@ -193,13 +247,16 @@ inline int lv_guide_at(const lv_guide *g, float3 p, float3 ns, float3 ng, lv_gui
     gv->bins = 2u * gv->n * gv->n;
     __global const float *stats = g->stats + 2 * (size_t)set;
     uint rooms = gv->bins / g->grid.g.bins;
-    float sum, share = lv_guide_share(stats, rooms, gv->bins, &sum);
-    if (!(share > 0.0f)) return 0; /* no guide: the cost of setting one up is saved too */
-    gv->luminance = g->luminance + (size_t)set * g->grid.g.bins;
-    gv->table = lv_bin_table_for(&g->tables, &g->grid, gv->n);
+    int peaked;
+    float sum, trusted = lv_guide_share(stats, rooms, gv->bins, &sum, &peaked);
+    if (!(trusted > 0.0f)) return 0; /* no guide: the cost of setting one up is saved too */
+    float lobe = lv_guide_lobe(g, set, sum, trusted, ns, ng, gv), share = trusted - lobe;
     gv->p = p;
     gv->ns = ns;
     gv->ng = ng;
+    if (!peaked) return lv_guide_lobe_only(gv, lobe); /* the bins' light is even: no bins */
+    gv->luminance = g->luminance + (size_t)set * g->grid.g.bins;
+    gv->table = lv_bin_table_for(&g->tables, &g->grid, gv->n);
     gv->lights = &g->lights;
     /* The first look asks of the lights' bins what the peak test asks of
      * the brightest: LV_GUIDE_MIN_PEAK times the mean bin, each. (Where
@@ -208,10 +265,12 @@ inline int lv_guide_at(const lv_guide *g, float3 p, float3 ns, float3 ng, lv_gui
     float first = lv_guide_light_bins(gv, sum, bins, &fresh);
     uint distinct = popcount(fresh);
     int aim = distinct && first * (float)gv->bins >= LV_GUIDE_MIN_PEAK * (float)distinct;
-    if (!lv_guide_prepare(gv, share)) return 0;
+    if (!lv_guide_prepare(gv, share)) return lv_guide_lobe_only(gv, lobe);
     float m = aim ? lv_guide_light_mass(gv, bins, fresh) : 0.0f;
     gv->light_share = m >= LV_GUIDE_MIN_LIGHT_MASS ? share * m : 0.0f;
     gv->bin_share = share - gv->light_share;
+    gv->lobe_share = lobe;
+    gv->share = share + lobe;
     return 1;
 }
 
@@ -265,17 +324,31 @@ inline float lv_guide_light_pdf(const lv_guide_vertex *gv, float3 wi)
     return gv->light_share > 0.0f ? lv_light_directions_pdf(gv->lights, &gv->odds, gv->p, wi) : 0.0f;
 }
 
-/* The density of the one-sample mixture of BSDF sampling, the bins and the
- * lights, from each one's density. */
-inline float lv_guide_mix(const lv_guide_vertex *gv, float bsdf_pdf, float bin_pdf, float light_pdf)
+/* The density of gv's lobe at world direction wi (light arriving from wi
+ * travels along -wi). */
+inline float lv_guide_lobe_pdf(const lv_guide_vertex *gv, float3 wi)
 {
-    return (1.0f - gv->share) * bsdf_pdf + gv->bin_share * bin_pdf + gv->light_share * light_pdf;
+    return gv->lobe_share > 0.0f ? lv_vmf_pdf(gv->lobe_mu, gv->lobe_kappa, -wi) : 0.0f;
+}
+
+/* Draws a world direction light arrives from by gv's lobe. */
+inline float3 lv_guide_lobe_sample(const lv_guide_vertex *gv, float2 u)
+{
+    return -lv_sample_vmf(gv->lobe_mu, gv->lobe_kappa, u);
+}
+
+/* The density of the one-sample mixture of BSDF sampling, the bins, the
+ * lights and the lobe, from each one's density. */
+inline float lv_guide_mix(const lv_guide_vertex *gv, float bsdf_pdf, float bin_pdf, float light_pdf, float lobe_pdf)
+{
+    return (1.0f - gv->share) * bsdf_pdf + gv->bin_share * bin_pdf + gv->light_share * light_pdf +
+        gv->lobe_share * lobe_pdf;
 }
 
 /* The mixture's density at world direction wi, whose BSDF density is bsdf_pdf. */
 inline float lv_guide_density(const lv_guide_vertex *gv, float bsdf_pdf, float3 wi)
 {
-    return lv_guide_mix(gv, bsdf_pdf, lv_guide_pdf(gv, wi), lv_guide_light_pdf(gv, wi));
+    return lv_guide_mix(gv, bsdf_pdf, lv_guide_pdf(gv, wi), lv_guide_light_pdf(gv, wi), lv_guide_lobe_pdf(gv, wi));
 }
 
 #endif

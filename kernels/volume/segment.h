@@ -40,20 +40,20 @@ inline uint2 lv_new_subcells(const lv_grid *grid, uint slot, float3 entry, float
 /* Tallies the piece [a, b] (cell units along dir from `corner`, the
  * segment's origin relative to the cell's corner) into region slot `slot`
  * and marks the subcells it passes there; concentrated light (tables in
- * `concentrated`) also corrects the axis sums. Always inlined: called apart,
+ * `concentrated`) also corrects the axis sums, and adds to the lobe where `lobe`. Always inlined: called apart,
  * -cl-fast-relaxed-math rounded the amounts in glass differently on PoCL,
  * and the volumes changed against the recorded goldens. */
 __attribute__((always_inline)) inline void lv_tally_piece(const lv_grid *grid, lv_tally_batch *batch, uint slot,
-                                                         float3 corner, float3 dir, float a, float b, float h,
-                                                         float t0, uint2 bins, float3 weight, float3 sigma,
-                                                         const lv_bin_tables *concentrated)
+                                                          float3 corner, float3 dir, float a, float b, float h,
+                                                          float t0, uint2 bins, float3 weight, float3 sigma,
+                                                          const lv_bin_tables *concentrated, int lobe)
 {
     /* A segment ending on a wall that lies on a cell boundary pokes a
      * rounding error's length into the cell behind it; marking that would
      * call the space behind the wall lit. */
     uint2 marks = grid->g.subcells && b - a > LV_MARK_MIN_PIECE
-                      ? lv_new_subcells(grid, slot, corner + dir * a, dir, b - a)
-                      : (uint2)(0u);
+        ? lv_new_subcells(grid, slot, corner + dir * a, dir, b - a)
+        : (uint2)(0u);
     /* Track length in cell units, with the absorption integrated over it. */
     float3 amount;
     if (sigma.x > 0.0f || sigma.y > 0.0f || sigma.z > 0.0f) {
@@ -70,6 +70,7 @@ __attribute__((always_inline)) inline void lv_tally_piece(const lv_grid *grid, l
         uint n = lv_slot_dirs(grid, slot);
         lv_tally_correct(lv_axis_corrections(grid, slot), weight * amount, dir,
                          fine ? concentrated->fine : concentrated->coarse, 2u * n * n, bin);
+        if (lobe) lv_tally_lobe(lv_lobe_sums(grid, slot), weight * amount, dir);
     }
 }
 
@@ -78,14 +79,15 @@ __attribute__((always_inline)) inline void lv_tally_piece(const lv_grid *grid, l
  * every stored cell it crosses, in bin bins.x of n x n (bins.y of 2n x 2n
  * in a set of fine bins). Where concentrated is not null the segment's
  * light is concentrated (tally.h) and corrects the axis sums, reading its
- * bins' mean cosines from those tables. sigma > 0 absorbs along the
+ * bins' mean cosines from those tables, and where `lobe` also adds to its
+ * set's lobe (shared_types.h). sigma > 0 absorbs along the
  * segment (inside glass). A 3-D DDA (Amanatides and Woo) walks the cells;
  * in a cell its planes cut into regions, the piece is split where it
  * crosses them. A segment cannot cross a surface, so a sub-piece across an
  * extended plane (past a wall's end, through a doorway) simply belongs to
  * the region on that side. */
 inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, float t0, float t1, uint2 bins,
-                             float3 weight, float3 sigma, const lv_bin_tables *concentrated)
+                             float3 weight, float3 sigma, const lv_bin_tables *concentrated, int lobe)
 {
     const float h = grid->g.cell_size;
     float3 dims = (float3)((float)grid->g.dims[0], (float)grid->g.dims[1], (float)grid->g.dims[2]);
@@ -115,7 +117,7 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
         if (entry != LV_EMPTY_CELL && s_exit > s && !(entry & LV_CUT_CELL)) {
             /* No planes: one piece, and no read of the region table. */
             float3 corner = o - convert_float3(cell);
-            lv_tally_piece(grid, &batch, entry, corner, dir, s, s_exit, h, t0, bins, weight, sigma, concentrated);
+            lv_tally_piece(grid, &batch, entry, corner, dir, s, s_exit, h, t0, bins, weight, sigma, concentrated, lobe);
         } else if (entry != LV_EMPTY_CELL && s_exit > s) {
             uint base = entry & ~LV_CUT_CELL;
             float3 corner = o - convert_float3(cell); /* the origin relative to the cell's corner */
@@ -142,7 +144,7 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
                 uint slot = planes
                     ? base + LV_REGION_OFFSET(layout, lv_region_of(r, planes, corner + dir * (0.5f * (a + b))))
                     : base;
-                lv_tally_piece(grid, &batch, slot, corner, dir, a, b, h, t0, bins, weight, sigma, concentrated);
+                lv_tally_piece(grid, &batch, slot, corner, dir, a, b, h, t0, bins, weight, sigma, concentrated, lobe);
                 a = b;
             }
         }

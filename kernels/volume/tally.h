@@ -71,6 +71,19 @@ inline void lv_tally_correct(__global long *axes, float3 amount, float3 dir, __g
     }
 }
 
+/* Adds a piece of concentrated light that tallied `amount` along dir to
+ * its set's lobe sums (shared_types.h): its luminance times dir, and its
+ * luminance. Done at once, as the axis corrections are. */
+inline void lv_tally_lobe(__global long *lobe, float3 amount, float3 dir)
+{
+    float l = lv_luminance(lv_tally_accepted(amount)) * LV_TALLY_SCALE;
+    float v[LV_LOBE_LONGS] = {l * dir.x, l * dir.y, l * dir.z, l};
+    for (uint i = 0; i < LV_LOBE_LONGS; i++) {
+        long units = convert_long_rte(v[i]);
+        if (units != 0) lv_tally_atomic_add(&lobe[i], units);
+    }
+}
+
 /* A segment's atomics, held back and done together on CPU devices
  * (LV_PRELOAD_TALLIES, set by the host). Each cell's bin is a random cache
  * line of a volume far larger than the caches, and on a CPU a locked add

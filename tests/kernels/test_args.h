@@ -153,4 +153,12 @@ LV_ARG_INDICES(T_CAMERA_STREAMS_ARGS, t_camera_streams);
 #define T_COS_SIN_ARGS(X, SEP) X(t_cos_sin, BUFFER, const float, phis) SEP() X(t_cos_sin, BUFFER, float, out)
 LV_ARG_INDICES(T_COS_SIN_ARGS, t_cos_sin);
 
+/* lv_sample_vmf: per_item directions for each case (mu.xyz, kappa), each
+ * with lv_vmf_pdf there (w.xyz, pdf), case by case. */
+#define T_VMF_ARGS(X, SEP)                       \
+    X(t_vmf, BUFFER, const float4, cases) SEP()  \
+    X(t_vmf, VALUE, lv_u32, per_item) SEP()      \
+    X(t_vmf, BUFFER, float4, out)
+LV_ARG_INDICES(T_VMF_ARGS, t_vmf);
+
 #endif

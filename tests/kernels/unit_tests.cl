@@ -161,6 +161,16 @@ __kernel void t_cos_sin(LV_KERNEL_PARAMS(T_COS_SIN_ARGS))
     vstore2(lv_cos_sin(phis[i]), i, out);
 }
 
+/* Directions from lv_sample_vmf and their density, per_item per case. */
+__kernel void t_vmf(LV_KERNEL_PARAMS(T_VMF_ARGS))
+{
+    uint i = get_global_id(0);
+    float4 c = cases[i / per_item];
+    lv_rng rng = lv_rng_make(7u, i, 0u);
+    float3 w = lv_sample_vmf(c.xyz, c.w, lv_rng_next2(&rng));
+    out[i] = (float4)(w, lv_vmf_pdf(c.xyz, c.w, w));
+}
+
 /* Monte Carlo moments of one BSDF seen from one direction. config: 8 floats
  * per BSDF (type, base rgb, alpha, ior, specular, mode); wos: 4 floats per
  * direction. out: 8 floats per (config, wo):
@@ -372,7 +382,7 @@ __kernel void t_axis_correction(LV_KERNEL_PARAMS(T_AXIS_CORRECTION_ARGS))
         float3 dir = d.xyz;
         uint fine = lv_direction_bin(dir, 2u * grid.g.dirs);
         lv_tally_segment(&grid, o.xyz, dir, 0.0f, o.w, (uint2)(lv_coarse_bin(fine, grid.g.dirs), fine), (float3)(d.w),
-                         (float3)(0.0f), concentrated ? &tables : 0);
+                         (float3)(0.0f), concentrated ? &tables : 0, concentrated != 0u);
         uint slot = lv_grid_slot_at(&grid, o.xyz + dir * (0.5f * o.w));
         uint n = lv_slot_dirs(&grid, slot);
         for (uint a = 0; a < LV_AXES; a++) {

@@ -19,7 +19,11 @@
  *     each raise the axis sum facing them by exactly weight x length x
  *     |cosine| and leave the opposite one alone, where the bins' mean
  *     cosines alone are off by up to several percent at 4 x 4 bins; and
- *     light that is not concentrated keeps the bins' mean cosines.
+ *     light that is not concentrated keeps the bins' mean cosines;
+ * (e) the same segments add to the cell's lobe (guided paths' narrow
+ *     lobe toward a lamp's image, kernels/volume/guide.h) their luminance
+ *     times their direction and their luminance, to the rounding of one
+ *     unit a piece, and light that is not concentrated adds nothing.
  * The images the gather makes with them are pinned, bit for bit, by the
  * golden hashes recorded before they existed (tests/render/test_golden.c). */
 #include <math.h>
@@ -117,6 +121,22 @@ static void check_sums(const lvcl_session *ss, int refine, const char *what)
 /* (d): SEGMENTS - 1 directions spread over the sphere (a spiral), each a
  * segment of a fifth of a cell through the middle of the grid's middle
  * cell, tallied as concentrated light or not. */
+/* The lobe sums (shared_types.h) of the set of the slot holding p. */
+static int read_lobe(const lvcl_light_volume *vol, const float p[3], int64_t *lobe)
+{
+    const lv_grid_info *g = lvcl_volume_grid(vol);
+    int64_t *tallies = NULL;
+    uint32_t *masks = NULL;
+    lvcl_status st = {0};
+    if (lvcl_volume_read(vol, &tallies, &masks, &st)) return 0;
+    uint32_t set = lvcl_volume_tally_set(vol, lvcl_volume_slot_at(vol, p));
+    memcpy(lobe, tallies + (size_t)set * LV_SET_LONGS(g->bins) + 3 * (size_t)g->bins + LV_AXES,
+           LV_LOBE_LONGS * sizeof *lobe);
+    free(tallies);
+    free(masks);
+    return 1;
+}
+
 static void check_correction(const lvcl_session *ss, int concentrated)
 {
     const lvcl_device *dev = lvcl_session_device(ss, 0);
@@ -157,8 +177,20 @@ static void check_correction(const lvcl_session *ss, int concentrated)
                                    .concentrated = (cl_uint)concentrated,
                                    .out = out};
     harness_ok(lvcl_bind_t_axis_correction(k, &args, &st), &st, "binding t_axis_correction");
+    int64_t lobe_before[LV_LOBE_LONGS], lobe_after[LV_LOBE_LONGS];
+    int lobe_read = read_lobe(vol, centre, lobe_before);
     harness_run(dev, k, 1);
     harness_read(dev, out, sizeof o, o);
+    lobe_read = lobe_read && read_lobe(vol, centre, lobe_after);
+    /* Each piece: luminance 0.2 (weight 1 over 0.2 of a cell; the
+     * luminance weights add to 1) in tally units, times its direction. */
+    double lobe_expected[LV_LOBE_LONGS] = {0, 0, 0, 0}, lobe_worst = 0;
+    for (int i = 1; i < SEGMENTS && concentrated; i++) {
+        for (int c = 0; c < 3; c++) lobe_expected[c] += 0.2 * LV_TALLY_SCALE * seg[i][4 + c];
+        lobe_expected[3] += 0.2 * LV_TALLY_SCALE;
+    }
+    for (int c = 0; c < LV_LOBE_LONGS; c++)
+        lobe_worst = fmax(lobe_worst, fabs((double)(lobe_after[c] - lobe_before[c]) - lobe_expected[c]));
     /* Per segment: the rise of each axis sum against weight x length x
      * |cosine| (in tally units) on the axis facing the light, 0 on the other. */
     double worst = 0, worst_binned = 0, worst_same = 0;
@@ -179,7 +211,11 @@ static void check_correction(const lvcl_session *ss, int concentrated)
               "worst %.3g of the piece's amount", worst);
         CHECK("axis corrections: where the bins' mean cosines alone are off", worst_binned > 0.01,
               "worst %.3g of the piece's amount", worst_binned);
+        CHECK("lobe: concentrated light adds its luminance times its direction, and its luminance",
+              lobe_read && lobe_worst <= SEGMENTS, "off by up to %.0f units (%d pieces)", lobe_worst, SEGMENTS);
     } else {
+        CHECK("lobe: light that is not concentrated adds nothing", lobe_read && lobe_worst == 0,
+              "off by up to %.0f units", lobe_worst);
         CHECK("axis corrections: light that is not concentrated keeps the bins' mean cosines", worst_same < 1e-4,
               "worst %.3g of the piece's amount", worst_same);
     }
