@@ -152,8 +152,8 @@ inline float lv_guide_share(__global const float *stats, uint rooms, uint bins, 
  * surface with normals ns and ng on the side light arrives from. Returns
  * the part of the guide's share `trusted` it gets, 0 where it has too few
  * pieces, is too spread or lies behind the surface. A lobe holding a share
- * m of the light the surface gathers gets sqrt(m) of the share (twice
- * that, at most all): a one-sample mixture's variance is least with a
+ * m of the light the surface gathers gets sqrt(m) of the share (at most
+ * all of it): a one-sample mixture's variance is least with a
  * share near m sqrt(K) / (m sqrt(K) + 1 - m) for a lobe K times narrower
  * than what BSDF sampling spreads over, and K is large and unknown. */
 inline float lv_guide_lobe(const lv_guide *g, uint set, float sum, float trusted, float3 ns, float3 ng,
