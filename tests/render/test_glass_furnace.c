@@ -26,6 +26,7 @@
 
 #include "../check.h"
 #include "../harness.h"
+#include "render_or_fail.h"
 
 #define SIZE 64
 #define SPP 64
@@ -86,18 +87,12 @@ static void make_scene(const setup *u, lvcl_scene *s)
 static float *render(const setup *u, lvcl_mode mode)
 {
     lvcl_scene scene;
-    lvcl_status st = {0};
-    lvcl_render_result r = {0};
     make_scene(u, &scene);
     lvcl_render_request req = harness_request(mode, SIZE, SPP, 16, 200000);
     lvcl_session_config cfg = {.seed = 3, .max_depth = 64, .fast_math = 1};
-    if (harness_render_with(&scene, &cfg, &req, &r, &st)) {
-        char name[200];
-        snprintf(name, sizeof name, "glass furnace, %s: render", u->name);
-        CHECK(name, 0, "%s", st.message);
-        return NULL;
-    }
-    return r.rgb;
+    char what[200];
+    snprintf(what, sizeof what, "glass furnace, %s", u->name);
+    return render_or_fail(&scene, &cfg, &req, what);
 }
 
 static void test_setup(const setup *u)

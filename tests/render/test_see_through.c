@@ -45,6 +45,7 @@
 #include "../../host/io/metrics.h"
 #include "../check.h"
 #include "../harness.h"
+#include "render_or_fail.h"
 
 #define SIZE 64
 #define BLOCK 8
@@ -150,21 +151,15 @@ static void make_scene(const setup *u, lvcl_scene *s)
 static float *render(const setup *u, lvcl_mode mode, int spp, int see_through, unsigned seed)
 {
     lvcl_scene scene;
-    lvcl_status st = {0};
-    lvcl_render_result r = {0};
     make_scene(u, &scene);
     lvcl_render_request req = harness_request(mode, SIZE, spp, u->cells, 300000);
     req.volume.subcells = u->subcells;
     req.volume.offset = u->offset;
     req.see_through = see_through;
     lvcl_session_config cfg = {.seed = seed, .max_depth = u->max_depth ? u->max_depth : 64, .fast_math = 1};
-    if (harness_render_with(&scene, &cfg, &req, &r, &st)) {
-        char name[200];
-        snprintf(name, sizeof name, "see-through, %s: render", u->name);
-        CHECK(name, 0, "%s", st.message);
-        return NULL;
-    }
-    return r.rgb;
+    char what[200];
+    snprintf(what, sizeof what, "see-through, %s", u->name);
+    return render_or_fail(&scene, &cfg, &req, what);
 }
 
 static double mean_of(const float *im)
