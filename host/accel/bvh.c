@@ -7,6 +7,10 @@
 
 #include "../util/parallel.h"
 
+#ifdef __SSE__
+#include <immintrin.h>
+#endif
+
 #define BIN_COUNT 16
 /* Triangles per leaf at most; instances get one leaf each, since entering
  * an instance costs a ray transform. */
@@ -15,14 +19,63 @@
  * count each level, so no tree gets deeper than LVCL_BVH_MAX_DEPTH. */
 #define MEDIAN_SPLIT_DEPTH 28
 
+/* Four floats in one SSE register (a GNU vector); boxes use lanes 0-2. */
+typedef float vec4 __attribute__((vector_size(16)));
+
+/* Lane by lane, a < b ? a : b and a > b ? a : b, as the scalar
+ * comparisons below: the same result whatever the lanes hold. */
+static inline vec4 vec4_min(vec4 a, vec4 b)
+{
+#ifdef __SSE__
+    return _mm_min_ps(a, b);
+#else
+    for (int k = 0; k < 4; k++) a[k] = a[k] < b[k] ? a[k] : b[k];
+    return a;
+#endif
+}
+
+static inline vec4 vec4_max(vec4 a, vec4 b)
+{
+#ifdef __SSE__
+    return _mm_max_ps(a, b);
+#else
+    for (int k = 0; k < 4; k++) a[k] = a[k] > b[k] ? a[k] : b[k];
+    return a;
+#endif
+}
+
+/* An axis-aligned box in lanes 0-2 of lo and hi; lane 3 is free (an
+ * item keeps its index there). */
 typedef struct {
-    float lo[3], hi[3];
+    vec4 lo, hi;
 } box3;
 
+/* An item as the builder moves it: its box, with its index in lo's
+ * fourth lane, half a cache line. The partitions swap these records, so
+ * each pass over a node's range reads memory in order rather than
+ * through an index. */
+typedef box3 item_ref;
+
+static inline uint32_t item_id(const item_ref *r)
+{
+    uint32_t id;
+    memcpy(&id, (const char *)&r->lo + 3 * sizeof(float), sizeof id);
+    return id;
+}
+
+static inline void item_set_id(item_ref *r, uint32_t id)
+{
+    memcpy((char *)&r->lo + 3 * sizeof(float), &id, sizeof id);
+}
+
+/* A node's range before it is split: the union of its items' boxes and of
+ * their centroids. */
 typedef struct {
-    box3 *tri_box;
-    float *centroid; /* 3 per triangle */
-    uint32_t *order; /* working permutation of triangle indices */
+    box3 bounds, centroids;
+} range_bounds;
+
+typedef struct {
+    item_ref *items;
     lvcl_bvh_node *nodes;
     size_t node_count;
     size_t max_leaf;
@@ -39,18 +92,13 @@ typedef struct {
 #define FORK_MIN 16384
 
 typedef struct subtree_task {
-    builder bd; /* its own nodes; the item arrays are shared, its range of order[] its own */
+    builder bd; /* its own nodes; the items are shared, its range of them its own */
     size_t first, count;
+    range_bounds rb;
     int depth;
     int done;
 } subtree_task;
 
-/* Plain comparisons: fminf/fmaxf are library calls here (NaN rules), and
- * the builder feeds them only finite values. */
-static inline float min_f(float a, float b)
-{
-    return a < b ? a : b;
-}
 static inline float max_f(float a, float b)
 {
     return a > b ? a : b;
@@ -58,32 +106,37 @@ static inline float max_f(float a, float b)
 
 static box3 box_empty(void)
 {
-    box3 b = {{FLT_MAX, FLT_MAX, FLT_MAX}, {-FLT_MAX, -FLT_MAX, -FLT_MAX}};
+    box3 b = {{FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}, {-FLT_MAX, -FLT_MAX, -FLT_MAX, -FLT_MAX}};
     return b;
 }
 
-static inline void box_grow_point(box3 *b, const float p[3])
+static inline void box_grow_point(box3 *b, vec4 p)
 {
-    for (int k = 0; k < 3; k++) {
-        b->lo[k] = min_f(b->lo[k], p[k]);
-        b->hi[k] = max_f(b->hi[k], p[k]);
-    }
+    b->lo = vec4_min(b->lo, p);
+    b->hi = vec4_max(b->hi, p);
 }
 
 static inline void box_grow_box(box3 *b, const box3 *o)
 {
-    for (int k = 0; k < 3; k++) {
-        b->lo[k] = min_f(b->lo[k], o->lo[k]);
-        b->hi[k] = max_f(b->hi[k], o->hi[k]);
-    }
+    b->lo = vec4_min(b->lo, o->lo);
+    b->hi = vec4_max(b->hi, o->hi);
 }
 
 static inline float box_area(const box3 *b)
 {
-    float d[3];
-    for (int k = 0; k < 3; k++) d[k] = b->hi[k] - b->lo[k];
+    vec4 d = b->hi - b->lo;
     if (d[0] < 0) return 0;
     return 2 * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
+}
+
+/* Where the builder bins an item: its box's centre (lanes 0-2). Lane 3
+ * of lo, the index, is cleared first: as a float it is subnormal, and
+ * arithmetic on subnormals takes a slow path on x86 (the build 4x slower). */
+static inline vec4 centroid_of(const item_ref *r)
+{
+    typedef int32_t lanes __attribute__((vector_size(16)));
+    vec4 lo = (vec4)((lanes)r->lo & (lanes){-1, -1, -1, 0});
+    return 0.5f * (lo + r->hi);
 }
 
 /* Twice the area, or 0 for degenerate or non-finite triangles. */
@@ -108,46 +161,91 @@ static void make_leaf(lvcl_bvh_node *node, size_t first, size_t count)
     node->count = (int32_t)count;
 }
 
-/* Finds the binned-SAH split of order[first, first+count). Returns the number
- * of triangles that go left (0 if a leaf is cheaper), after partitioning. */
-static size_t sah_partition(builder *bd, size_t first, size_t count, const box3 *bounds)
+/* The bounds of items[first, first+count), for the splits that do not
+ * bin (the median's, equal centroids'). */
+static range_bounds range_bounds_of(const item_ref *items, size_t first, size_t count)
 {
-    box3 cb = box_empty();
-    for (size_t i = first; i < first + count; i++) box_grow_point(&cb, &bd->centroid[3 * bd->order[i]]);
+    range_bounds rb = {box_empty(), box_empty()};
+    for (size_t i = first; i < first + count; i++) {
+        box_grow_box(&rb.bounds, &items[i]);
+        box_grow_point(&rb.centroids, centroid_of(&items[i]));
+    }
+    return rb;
+}
+
+/* The bin of an item (centroid - lo) * scale bins from the lowest centroid. */
+static inline int bin_at(float scaled)
+{
+    int b = (int)scaled;
+    return b >= BIN_COUNT ? BIN_COUNT - 1 : b < 0 ? 0 : b;
+}
+
+/* Finds the binned-SAH split of items[first, first+count), whose bounds are
+ * rb, binning all three axes in one pass. Returns the number of items that
+ * go left (0 if a leaf is cheaper), after partitioning; where it
+ * partitioned, *left and *right are the two sides' bounds (the union of
+ * their bins, and their centroids gathered as the partition moves them),
+ * otherwise the caller computes them. */
+static size_t sah_partition(builder *bd, size_t first, size_t count, const range_bounds *rb, range_bounds *left,
+                            range_bounds *right, int *bounded)
+{
+    const box3 *cb = &rb->centroids;
+    float scale[3];
+    int binned[3];
+    /* Two sets of bins in large ranges, for even and odd items: neighbours
+     * mostly fall in the same bins, and one set would make each item's
+     * update wait for the last one's. Small ranges (most nodes) take one,
+     * to save setting up and merging the other. */
+    int sets = count >= 64 ? 2 : 1;
+    box3 bin_box[2][3][BIN_COUNT];
+    uint32_t bin_count[2][3][BIN_COUNT];
+    memset(bin_count, 0, (size_t)sets * sizeof bin_count[0]);
+    for (int axis = 0; axis < 3; axis++) {
+        float extent = cb->hi[axis] - cb->lo[axis];
+        binned[axis] = extent > 0;
+        scale[axis] = binned[axis] ? BIN_COUNT / extent : 0.0f;
+        for (int set = 0; set < sets; set++)
+            for (int b = 0; b < BIN_COUNT; b++) bin_box[set][axis][b] = box_empty();
+    }
+    vec4 offset = cb->lo, scales = {scale[0], scale[1], scale[2], 0.0f};
+    for (size_t i = first; i < first + count; i++) {
+        const item_ref *r = &bd->items[i];
+        int set = (int)(i & (size_t)(sets - 1));
+        vec4 at = (centroid_of(r) - offset) * scales;
+        int b0 = bin_at(at[0]), b1 = bin_at(at[1]), b2 = bin_at(at[2]);
+        bin_count[set][0][b0]++;
+        bin_count[set][1][b1]++;
+        bin_count[set][2][b2]++;
+        box_grow_box(&bin_box[set][0][b0], r);
+        box_grow_box(&bin_box[set][1][b1], r);
+        box_grow_box(&bin_box[set][2][b2], r);
+    }
+    for (int axis = 0; axis < 3 && sets == 2; axis++)
+        for (int b = 0; b < BIN_COUNT; b++) {
+            box_grow_box(&bin_box[0][axis][b], &bin_box[1][axis][b]);
+            bin_count[0][axis][b] += bin_count[1][axis][b];
+        }
 
     float best_cost = FLT_MAX;
     int best_axis = -1, best_bin = 0;
     for (int axis = 0; axis < 3; axis++) {
-        float extent = cb.hi[axis] - cb.lo[axis];
-        if (!(extent > 0)) continue;
-        float scale = BIN_COUNT / extent;
-        box3 bin_box[BIN_COUNT];
-        size_t bin_count[BIN_COUNT] = {0};
-        for (int b = 0; b < BIN_COUNT; b++) bin_box[b] = box_empty();
-        for (size_t i = first; i < first + count; i++) {
-            uint32_t t = bd->order[i];
-            int b = (int)((bd->centroid[3 * t + axis] - cb.lo[axis]) * scale);
-            if (b >= BIN_COUNT) b = BIN_COUNT - 1;
-            if (b < 0) b = 0;
-            bin_count[b]++;
-            box_grow_box(&bin_box[b], &bd->tri_box[t]);
-        }
+        if (!binned[axis]) continue;
         /* Sweep from the right, then from the left, to cost every bin boundary. */
         float right_area[BIN_COUNT];
         size_t right_count[BIN_COUNT];
         box3 acc = box_empty();
         size_t n = 0;
         for (int b = BIN_COUNT - 1; b > 0; b--) {
-            box_grow_box(&acc, &bin_box[b]);
-            n += bin_count[b];
+            box_grow_box(&acc, &bin_box[0][axis][b]);
+            n += bin_count[0][axis][b];
             right_area[b] = box_area(&acc);
             right_count[b] = n;
         }
         acc = box_empty();
         n = 0;
         for (int b = 0; b < BIN_COUNT - 1; b++) {
-            box_grow_box(&acc, &bin_box[b]);
-            n += bin_count[b];
+            box_grow_box(&acc, &bin_box[0][axis][b]);
+            n += bin_count[0][axis][b];
             if (n == 0 || right_count[b + 1] == 0) continue;
             float cost = box_area(&acc) * (float)n + right_area[b + 1] * (float)right_count[b + 1];
             if (cost < best_cost) {
@@ -160,26 +258,33 @@ static size_t sah_partition(builder *bd, size_t first, size_t count, const box3 
 
     /* Costs relative to the parent's area: one traversal step plus one
      * intersection per triangle, against intersecting them all here. */
-    float parent_area = box_area(bounds);
+    float parent_area = box_area(&rb->bounds);
     float split_cost = best_axis < 0 ? FLT_MAX : 1.0f + best_cost / max_f(parent_area, FLT_MIN);
+    *bounded = 0;
     if (best_axis < 0 || (split_cost >= (float)count && count <= bd->max_leaf)) {
         if (count <= bd->max_leaf) return 0;
         return count / 2; /* all centroids coincide: any split will do */
     }
 
-    float scale = BIN_COUNT / (cb.hi[best_axis] - cb.lo[best_axis]);
+    *left = (range_bounds){box_empty(), box_empty()};
+    *right = *left;
+    for (int b = 0; b < BIN_COUNT; b++)
+        box_grow_box(b <= best_bin ? &left->bounds : &right->bounds, &bin_box[0][best_axis][b]);
+    item_ref *items = bd->items;
     size_t i = first, j = first + count;
     while (i < j) {
-        uint32_t t = bd->order[i];
-        int b = (int)((bd->centroid[3 * t + best_axis] - cb.lo[best_axis]) * scale);
-        if (b >= BIN_COUNT) b = BIN_COUNT - 1;
-        if (b <= best_bin) {
+        item_ref t = items[i];
+        vec4 c = centroid_of(&t);
+        if (bin_at((c[best_axis] - cb->lo[best_axis]) * scale[best_axis]) <= best_bin) {
+            box_grow_point(&left->centroids, c);
             i++;
         } else {
-            bd->order[i] = bd->order[--j];
-            bd->order[j] = t;
+            box_grow_point(&right->centroids, c);
+            items[i] = items[--j];
+            items[j] = t;
         }
     }
+    *bounded = 1;
     return i - first;
 }
 
@@ -190,17 +295,16 @@ static size_t median_partition(builder *bd, size_t first, size_t count, const bo
     float d[3];
     for (int k = 0; k < 3; k++) d[k] = bounds->hi[k] - bounds->lo[k];
     int axis = d[0] > d[1] ? (d[0] > d[2] ? 0 : 2) : (d[1] > d[2] ? 1 : 2);
-    uint32_t *o = bd->order + first;
-    const float *c = bd->centroid;
+    item_ref *o = bd->items + first;
     ptrdiff_t lo = 0, hi = (ptrdiff_t)count - 1, k = (ptrdiff_t)(count / 2);
     while (lo < hi) {
-        float pivot = c[3 * o[(lo + hi) / 2] + axis];
+        float pivot = centroid_of(&o[(lo + hi) / 2])[axis];
         ptrdiff_t i = lo, j = hi;
         while (i <= j) {
-            while (c[3 * o[i] + axis] < pivot) i++;
-            while (c[3 * o[j] + axis] > pivot) j--;
+            while (centroid_of(&o[i])[axis] < pivot) i++;
+            while (centroid_of(&o[j])[axis] > pivot) j--;
             if (i <= j) {
-                uint32_t t = o[i];
+                item_ref t = o[i];
                 o[i++] = o[j];
                 o[j--] = t;
             }
@@ -212,17 +316,15 @@ static size_t median_partition(builder *bd, size_t first, size_t count, const bo
     return count / 2;
 }
 
-static void build_node(builder *bd, size_t node_index, size_t first, size_t count, int depth)
+static void build_node(builder *bd, size_t node_index, size_t first, size_t count, int depth, const range_bounds *rb)
 {
     lvcl_bvh_node *node = &bd->nodes[node_index];
-    box3 bounds = box_empty();
-    for (size_t i = first; i < first + count; i++) box_grow_box(&bounds, &bd->tri_box[bd->order[i]]);
-    memcpy(node->bmin, bounds.lo, sizeof node->bmin);
-    memcpy(node->bmax, bounds.hi, sizeof node->bmax);
+    memcpy(node->bmin, &rb->bounds.lo, sizeof node->bmin);
+    memcpy(node->bmax, &rb->bounds.hi, sizeof node->bmax);
     if (depth > bd->depth) bd->depth = depth;
     if (bd->tasks && depth == FORK_DEPTH && count >= FORK_MIN) {
         subtree_task *t = &bd->tasks[bd->task_count];
-        *t = (subtree_task){.bd = *bd, .first = first, .count = count, .depth = depth};
+        *t = (subtree_task){.bd = *bd, .first = first, .count = count, .rb = *rb, .depth = depth};
         t->bd.tasks = NULL;
         t->bd.nodes = NULL;
         node->count = -1 - bd->task_count++; /* its place in the joined tree */
@@ -230,19 +332,25 @@ static void build_node(builder *bd, size_t node_index, size_t first, size_t coun
     }
 
     size_t left_count = 0;
+    range_bounds left_rb, right_rb;
+    int bounded = 0;
     if (count > 1)
-        left_count = depth >= MEDIAN_SPLIT_DEPTH ? median_partition(bd, first, count, &bounds)
-                                                 : sah_partition(bd, first, count, &bounds);
+        left_count = depth >= MEDIAN_SPLIT_DEPTH ? median_partition(bd, first, count, &rb->bounds)
+                                                 : sah_partition(bd, first, count, rb, &left_rb, &right_rb, &bounded);
     if (left_count == 0) {
         make_leaf(node, first, count);
         return;
     }
+    if (!bounded) {
+        left_rb = range_bounds_of(bd->items, first, left_count);
+        right_rb = range_bounds_of(bd->items, first + left_count, count - left_count);
+    }
     size_t left = bd->node_count++;
-    build_node(bd, left, first, left_count, depth + 1);
+    build_node(bd, left, first, left_count, depth + 1, &left_rb);
     size_t right = bd->node_count++;
     bd->nodes[node_index].index = (int32_t)right;
     bd->nodes[node_index].count = 0;
-    build_node(bd, right, first + left_count, count - left_count, depth + 1);
+    build_node(bd, right, first + left_count, count - left_count, depth + 1, &right_rb);
 }
 
 static void *build_subtree(void *job)
@@ -251,7 +359,7 @@ static void *build_subtree(void *job)
     t->bd.nodes = malloc((2 * t->count - 1) * sizeof *t->bd.nodes);
     if (t->bd.nodes) {
         t->bd.node_count = 1;
-        build_node(&t->bd, 0, t->first, t->count, t->depth);
+        build_node(&t->bd, 0, t->first, t->count, t->depth, &t->rb);
     }
     t->done = 1;
     return NULL;
@@ -301,27 +409,30 @@ static int build_subtrees(builder *bd)
     return joined != NULL;
 }
 
-/* Builds the tree over the `used` items listed in bd->order, whose boxes
- * and centroids are filled; takes ownership of bd's arrays. */
+/* Builds the tree over bd's first `used` items; takes ownership of them. */
 static lvcl_error build_tree(builder *bd, size_t used, lvcl_bvh *bvh, const char *what, lvcl_status *st)
 {
     subtree_task tasks[1 << FORK_DEPTH];
     bd->tasks = tasks;
     bd->nodes = used ? malloc((2 * used - 1) * sizeof *bd->nodes) : NULL;
-    if (bd->nodes) {
+    uint32_t *order = used ? malloc(used * sizeof *order) : NULL;
+    if (bd->nodes && order) {
         bd->node_count = 1;
-        build_node(bd, 0, 0, used, 0);
+        range_bounds rb = range_bounds_of(bd->items, 0, used);
+        build_node(bd, 0, 0, used, 0, &rb);
         if (bd->task_count && !build_subtrees(bd)) bd->nodes = NULL;
     }
-    free(bd->tri_box);
-    free(bd->centroid);
-    if (!bd->nodes) {
-        free(bd->order);
+    if (!bd->nodes || !order) {
+        free(bd->nodes);
+        free(bd->items);
+        free(order);
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building the BVH over %zu %s", used, what);
     }
+    for (size_t i = 0; i < used; i++) order[i] = item_id(&bd->items[i]);
+    free(bd->items);
     bvh->nodes = bd->nodes;
     bvh->node_count = bd->node_count;
-    bvh->tri_order = bd->order;
+    bvh->tri_order = order;
     bvh->triangle_count = used;
     bvh->depth = bd->depth;
     return LVCL_OK;
@@ -333,20 +444,9 @@ static lvcl_error start_builder(builder *bd, size_t count, size_t max_leaf, cons
     if (count >= (size_t)INT32_MAX / 2)
         return lvcl_fail(st, LVCL_ERR_TOO_LARGE, "%zu %s exceed the BVH's 32-bit indices", count, what);
     bd->max_leaf = max_leaf;
-    bd->tri_box = malloc((count ? count : 1) * sizeof *bd->tri_box);
-    bd->centroid = malloc((count ? count : 1) * 3 * sizeof(float));
-    bd->order = malloc((count ? count : 1) * sizeof(uint32_t));
-    if (bd->tri_box && bd->centroid && bd->order) return LVCL_OK;
-    free(bd->tri_box);
-    free(bd->centroid);
-    free(bd->order);
+    bd->items = malloc((count ? count : 1) * sizeof *bd->items);
+    if (bd->items) return LVCL_OK;
     return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building the BVH over %zu %s", count, what);
-}
-
-static void set_item(builder *bd, uint32_t i, const box3 *b)
-{
-    bd->tri_box[i] = *b;
-    for (int k = 0; k < 3; k++) bd->centroid[3 * i + k] = 0.5f * (b->lo[k] + b->hi[k]);
 }
 
 lvcl_error lvcl_bvh_build(const float *positions, const uint32_t *indices, size_t count, lvcl_bvh *bvh, lvcl_status *st)
@@ -363,15 +463,13 @@ lvcl_error lvcl_bvh_build(const float *positions, const uint32_t *indices, size_
             bvh->skipped++;
             continue;
         }
-        box3 b = box_empty();
-        for (int c = 0; c < 3; c++) box_grow_point(&b, v[c]);
-        set_item(&bd, (uint32_t)t, &b);
-        bd.order[used++] = (uint32_t)t;
+        item_ref *r = &bd.items[used++];
+        *r = box_empty();
+        for (int c = 0; c < 3; c++) box_grow_point(r, (vec4){v[c][0], v[c][1], v[c][2], 0.0f});
+        item_set_id(r, (uint32_t)t);
     }
     if (used == 0) {
-        free(bd.tri_box);
-        free(bd.centroid);
-        free(bd.order);
+        free(bd.items);
         return lvcl_fail(st, LVCL_ERR_UNSUPPORTED, "scene has no triangle of non-zero area");
     }
     return build_tree(&bd, used, bvh, "triangles", st);
@@ -384,11 +482,9 @@ lvcl_error lvcl_bvh_build_boxes(const float *boxes, size_t count, lvcl_bvh *bvh,
     lvcl_error e = start_builder(&bd, count, 1, "instances", st);
     if (e) return e;
     for (size_t i = 0; i < count; i++) {
-        box3 b;
-        memcpy(b.lo, &boxes[6 * i], sizeof b.lo);
-        memcpy(b.hi, &boxes[6 * i + 3], sizeof b.hi);
-        set_item(&bd, (uint32_t)i, &b);
-        bd.order[i] = (uint32_t)i;
+        const float *b = &boxes[6 * i];
+        bd.items[i] = (box3){{b[0], b[1], b[2], 0.0f}, {b[3], b[4], b[5], 0.0f}};
+        item_set_id(&bd.items[i], (uint32_t)i);
     }
     return build_tree(&bd, count, bvh, "instances", st);
 }
