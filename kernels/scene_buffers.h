@@ -112,6 +112,7 @@ inline float2 lv_vertex_uv(const lv_scene *sc, uint v)
         lv_grid *lv_grid_opened_ = &(grid);                         \
         LV_VOLUME_BUFFERS(LV_VOLUME_OPEN_SPLIT, LV_VOLUME_OPEN_ONE) \
         lv_grid_opened_->subcells_seen = 0;                         \
+        lv_grid_opened_->restarted_only = 0u;                       \
         lv_grid_opened_->g = grid_info;                             \
     } while (0)
 

@@ -276,6 +276,12 @@ typedef struct {
  * of n x n covers fine bins (2i..2i+1, 2j..2j+1)), in four consecutive
  * sets' room of one buffer (docs/light-volume.md, "Refined cells and directions"). */
 #define LV_FINE_DIRS 0x80000000u
+/* Set in tally_slot[s]: the slot's tallies restarted when the volume was
+ * refined, and the trace's retrace of the particles before that fills
+ * them alone (lv_particle_trace's restarted_only). */
+#define LV_RESTARTED 0x40000000u
+/* tally_slot[s]'s set, without the flags. */
+#define LV_TALLY_SET_OF(t) ((t) & ~(LV_FINE_DIRS | LV_RESTARTED))
 
 /* Subcell records, LV_SUBCELL_STRIDE 32-bit words per stored cell: a mask
  * of two words (bit x + k (y + k z) is switched on when a tallied segment
@@ -497,6 +503,7 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
     X(lv_particle_trace, VALUE, lv_u32, count) SEP()                                         \
     X(lv_particle_trace, VALUE, lv_u32, store_emitted) SEP() /* lv-all: tally the lights' own segments */ \
     X(lv_particle_trace, VALUE, lv_u32, see_through) SEP() /* leave out lamps seen through glass */ \
+    X(lv_particle_trace, VALUE, lv_u32, restarted_only) SEP() /* a retrace: LV_RESTARTED slots' tallies only */ \
     X(lv_particle_trace, BUFFER, const uint, subcells_seen) SEP() /* each slot's masks before the batch */ \
     X(lv_particle_trace, BUFFER, const float, bin_table) SEP()                                \
     X(lv_particle_trace, BUFFER, const float, fine_bin_table) SEP() /* the bin table of 2n x 2n */ \

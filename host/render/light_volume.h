@@ -43,6 +43,7 @@ typedef struct {
     int subcells;                 /* k: k x k x k subcells per cell (0 to 4), 0 = the lit volume is the whole cell */
     double visibility_rate;       /* share of surface hits that cast a visibility ray; 0 = LVCL_VISIBILITY_RATE */
     uint64_t particles;           /* trace the particle indices [first_particle, particles), over every device */
+    int restarted_only;           /* a retrace after lvcl_volume_refine: see lvcl_volume_trace */
     uint64_t first_particle;      /* 0: the volume is cleared first; else the trace adds to it (a pass) */
     double deadline;              /* lvcl_seconds() after which no batch starts; 0 = none */
     lvcl_particle_source *source; /* several devices: take batches from here; NULL: trace them all */
@@ -82,7 +83,14 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
  * first, until the deadline. Particle i draws its random numbers from i
  * alone, and the tallies do not depend on the particle count (it divides
  * them only where they are read), so passes traced one after another, or
- * batches traced apart and added, make the volume traced at once. */
+ * batches traced apart and added, make the volume traced at once.
+ *
+ * With settings->restarted_only, after lvcl_volume_refine: retraces the
+ * particles before the split into the slots whose tallies restarted there
+ * alone (they walk as they first did, and nothing else changes), so that
+ * those slots too hold every particle. The range, over every device and
+ * process together, must be all of [0, the particle count at the split);
+ * it is traced whole, whatever the deadline. */
 lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, const lvcl_device_scene *ds,
                              const lvcl_volume_settings *settings, lvcl_status *st);
 
@@ -123,8 +131,10 @@ static inline uint64_t lvcl_volume_split_point(const lvcl_volume_settings *s)
  * times their mean bin 2n x 2n bins, the most concentrated first; all
  * while the volume stays within settings->refine_memory bytes on the
  * device (0: twice its size). A refined slot's tallies restart from the
- * particles traced so far and its lit volume scales for it, so each
- * region's estimate stays unbiased. Once per volume; density and peak 0
+ * particles traced so far (LV_RESTARTED); a retrace of those particles
+ * (lvcl_volume_trace, restarted_only) gives them back, and until then its
+ * lit volume scales for the particles it holds, so each region's estimate
+ * stays unbiased either way. Once per volume; density and peak 0
  * refine nothing. The decision reads only integer tallies: the same on
  * every device and run. Not with merged cells (--merge-tolerance). */
 lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles, const lvcl_volume_settings *settings,
@@ -167,7 +177,8 @@ const lv_grid_info *lvcl_volume_grid(const lvcl_light_volume *vol);
 /* The first slot of cell (x, y, z) (its region 0), or LV_EMPTY_CELL. */
 uint32_t lvcl_volume_slot(const lvcl_light_volume *vol, uint32_t x, uint32_t y, uint32_t z);
 
-/* The tally set of a slot: its own, or its merged block's (lvcl_volume_adapt). */
+/* The tally set of a slot: its own, or its merged block's (lvcl_volume_adapt),
+ * with its flags (LV_FINE_DIRS, LV_RESTARTED; LV_TALLY_SET_OF drops them). */
 uint32_t lvcl_volume_tally_set(const lvcl_light_volume *vol, uint32_t slot);
 
 /* The slot of the region holding world point p (the lookups' slot), or

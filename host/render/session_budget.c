@@ -66,6 +66,15 @@ static lvcl_error trace_range(lvcl_session *s, const lvcl_volume_settings *base,
     return lvcl_volume_trace(sd->volume, &sd->program, &sd->device_scene, &vs, st);
 }
 
+/* After lvcl_volume_refine at `split` particles: those particles again,
+ * into the slots that restarted alone (a retrace runs whole). */
+static lvcl_error retrace_split(lvcl_session *s, const lvcl_volume_settings *base, uint64_t split, lvcl_status *st)
+{
+    lvcl_volume_settings vs = *base;
+    vs.restarted_only = 1;
+    return trace_range(s, &vs, 0, split, 0, st);
+}
+
 /* After a pass: lets the cells adapt (once, expecting `expected` particles
  * in all; 0: not now) and computes the lit volumes for the lookups. */
 static lvcl_error finish_pass(lvcl_session *s, const lvcl_volume_settings *vs, double expected, lvcl_status *st)
@@ -135,8 +144,8 @@ static uint64_t best_particles(const lvcl_budget_report *b, uint64_t traced, dou
  * the first 2^17, 3.4 us each over 4 x 10^6), so the measuring passes'
  * cost made the plan trace too few. A batch slower than planned stops a
  * tenth past its time. `end` is when the budget ends. */
-static lvcl_error trace_to_plan(lvcl_session *s, const lvcl_volume_settings *vs, lvcl_budget_report *b,
-                                uint64_t traced, double end, lvcl_status *st)
+static lvcl_error trace_to_plan(lvcl_session *s, const lvcl_volume_settings *vs, lvcl_budget_report *b, uint64_t traced,
+                                double end, lvcl_status *st)
 {
     session_device *sd = &s->devices[0];
     lvcl_volume_settings batch = *vs;
@@ -273,7 +282,8 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
         uint64_t split_at = lvcl_volume_split_point(&vs);
         if (split_at > 0 &&
             ((e = trace_range(s, &vs, 0, split_at, 0, st)) ||
-             (e = lvcl_volume_refine(sd->volume, (double)vs.particles, &vs, st))))
+             (e = lvcl_volume_refine(sd->volume, (double)vs.particles, &vs, st)) ||
+             (e = retrace_split(s, &vs, split_at, st))))
             return e;
         if ((e = trace_range(s, &vs, split_at, vs.particles, 0, st)) ||
             (e = finish_pass(s, &vs, (double)vs.particles, st)))
@@ -297,12 +307,13 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
                     "lvcl: %.0f s budget: %.3g particles, then the gather (measured: volume relMSE %.3g / N, "
                     "gather %.3g / spp, %.3g s per 10^6 particles, %.3g s per sample)\n",
                     req->pass.time_limit, (double)b->planned_particles, b->volume_noise,
-                    b->gather_noise * b->adaptive_share,
-                    b->seconds_per_particle * 1e6, b->seconds_per_sample);
+                    b->gather_noise * b->adaptive_share, b->seconds_per_particle * 1e6, b->seconds_per_sample);
         vs.progress = progress;
         if (b->planned_particles > traced) {
             /* Refined cells split now, when the plan knows the particle count. */
-            if ((e = lvcl_volume_refine(sd->volume, (double)b->planned_particles, &vs, st))) return e;
+            if ((e = lvcl_volume_refine(sd->volume, (double)b->planned_particles, &vs, st)) ||
+                (e = retrace_split(s, &vs, traced, st)))
+                return e;
             if ((e = trace_to_plan(s, &vs, b, traced, end, st)) || (e = finish_pass(s, &vs, 0, st))) return e;
         }
     }

@@ -33,10 +33,12 @@ lvcl_error lvcl_session_new_volume(lvcl_session *s, int d, const lvcl_volume_set
 }
 
 /* Traces the particles [first, end) over every device (a faster device
- * takes more batches) and, on several, adds their volumes; with a
- * cluster, over every process's devices, adding every process's volume. */
+ * takes more batches) and, on several and if `add`, adds their volumes;
+ * with a cluster, over every process's devices, adding every process's
+ * volume. (Each volume holds its own particles until they are added, so
+ * passes may run before one addition.) */
 static lvcl_error trace_devices(lvcl_session *s, const lvcl_volume_settings *settings, uint64_t first, uint64_t end,
-                                lvcl_status *st)
+                                int add, lvcl_status *st)
 {
     int n = s->device_count, shared = lvcl_cluster_shared(s->cluster);
     lvcl_error e = shared ? s->cluster->restart(s->cluster, LVCL_PHASE_PARTICLES, st) : LVCL_OK;
@@ -62,6 +64,7 @@ static lvcl_error trace_devices(lvcl_session *s, const lvcl_volume_settings *set
         e = source.e;
     }
     lvcl_particle_source_destroy(&source);
+    if (!add) return shared ? lvcl_cluster_agree(s->cluster, e, st) : e;
     lvcl_light_volume *vols[LVCL_MAX_DEVICES];
     for (int d = 0; d < n; d++) vols[d] = s->devices[d].volume;
     double t = lvcl_seconds();
@@ -84,15 +87,20 @@ lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings
         /* Refined cells: every device holds the same tallies after the
          * merge, so each splits the same cells; all but the first (of
          * rank 0) then empty theirs, so that the next merge counts them once. */
-        if ((e = trace_devices(s, settings, 0, split_at, st))) return e;
+        if ((e = trace_devices(s, settings, 0, split_at, 1, st))) return e;
         for (int d = 0; d < n && !e; d++)
             e = lvcl_volume_refine(s->devices[d].volume, (double)settings->particles, settings, st);
         int keeper = s->cluster && s->cluster->rank > 0 ? -1 : 0;
         for (int d = 0; d < n && !e; d++)
             if (d != keeper) e = lvcl_volume_empty(s->devices[d].volume, st);
         if ((e = lvcl_cluster_agree(s->cluster, e, st))) return e;
+        /* The refined slots restarted: the particles before the split,
+         * again, into them alone (added with the rest below). */
+        lvcl_volume_settings retrace = *settings;
+        retrace.restarted_only = 1;
+        if ((e = trace_devices(s, &retrace, 0, split_at, 0, st))) return e;
     }
-    if (!e) e = trace_devices(s, settings, split_at, settings->particles, st);
+    if (!e) e = trace_devices(s, settings, split_at, settings->particles, 1, st);
     /* Every device holds the same tallies now, so each merges the same blocks. */
     for (int d = 0; d < n && !e; d++)
         e = lvcl_volume_adapt(s->devices[d].volume, (double)settings->particles, settings->merge_tolerance, st);

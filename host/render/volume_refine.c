@@ -8,10 +8,14 @@
  * take fine bins, 2n x 2n per hemisphere (LV_FINE_DIRS).
  *
  * A refined slot's tallies restart from the particle the split happens at,
- * n0, so it holds only particles [n0, N): its lit volume is scaled by
- * (N - n0) / N (lvcl_volume_scale_split), which keeps eq. 5 unbiased
- * within each region. The decision reads only the integer tallies, so
- * every run and device refines alike. */
+ * n0 (LV_RESTARTED in its tally_slot). The session then retraces the
+ * particles [0, n0) into those slots alone (lvcl_volume_trace,
+ * restarted_only), so that they hold all N particles as every other slot
+ * does. Without the retrace a refined slot holds only [n0, N), and its lit
+ * volume is scaled by (N - n0) / N (lvcl_volume_scale_split), which keeps
+ * eq. 5 unbiased within each region too, at the cost of the particles
+ * lost. The decision reads only the integer tallies, so every run and
+ * device refines alike. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -313,9 +317,9 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
         for (uint32_t slot = 0; slot < ng.slot_count; slot++) {
             int f = !split_slot[slot] && fine[from[slot]];
             if (f && per_part && sets / per_part != (sets + 3) / per_part) sets = (sets / per_part + 1) * per_part;
-            new_tally_slot[slot] = (uint32_t)sets | (f ? LV_FINE_DIRS : 0u);
-            sets += f ? 4 : 1;
             restarted[slot] = (uint8_t)(split_slot[slot] || f);
+            new_tally_slot[slot] = (uint32_t)sets | (f ? LV_FINE_DIRS : 0u) | (restarted[slot] ? LV_RESTARTED : 0u);
+            sets += f ? 4 : 1;
             memcpy(&new_records[(size_t)slot * LV_SUBCELL_STRIDE], &records[(size_t)from[slot] * LV_SUBCELL_STRIDE],
                    LV_SUBCELL_STRIDE * sizeof(uint32_t));
         }
@@ -371,7 +375,7 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
 lvcl_error lvcl_volume_scale_split(lvcl_light_volume *vol, lvcl_status *st)
 {
     const lv_grid_info *g = &vol->buf.info;
-    if (!vol->split_cells && !vol->fine_slots) return LVCL_OK;
+    if ((!vol->split_cells && !vol->fine_slots) || vol->split_from == 0) return LVCL_OK; /* none, or retraced */
     if (!(g->particles > vol->split_from))
         return lvcl_fail(st, LVCL_ERR_USAGE,
                          "refined slots need particles traced after the split (lvcl_volume_refine)");

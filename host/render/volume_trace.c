@@ -88,7 +88,8 @@ void lvcl_particle_source_destroy(lvcl_particle_source *src)
  * lvcl to stop, or the cluster failed (src->e says so). */
 static int next_batch(const lvcl_volume_settings *s, uint64_t *cursor, uint64_t *first, cl_uint *count)
 {
-    if ((s->deadline > 0 && lvcl_seconds() >= s->deadline) || lvcl_interrupted()) return 0;
+    /* A retrace runs whole: the restarted slots must get every particle back. */
+    if (!s->restarted_only && ((s->deadline > 0 && lvcl_seconds() >= s->deadline) || lvcl_interrupted())) return 0;
     uint64_t end = s->particles;
     lvcl_particle_source *src = s->source;
     if (src) {
@@ -164,9 +165,14 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
         return lvcl_fail(st, LVCL_ERR_USAGE, "no particles to trace from %llu to %llu",
                          (unsigned long long)s->first_particle, (unsigned long long)s->particles);
     /* A pass adds to the volume: it must leave out what the first did. */
-    if (s->first_particle > 0 && !s->see_through != !vol->see_through)
+    if ((s->first_particle > 0 || s->restarted_only) && !s->see_through != !vol->see_through)
         return lvcl_fail(st, LVCL_ERR_USAGE, "a pass of the light volume cannot change whether it sees through glass");
-    if ((s->first_particle == 0 && (e = clear_volume(vol, prog, st))) || (e = make_fine_bin_table(vol, prog, st)))
+    if (s->restarted_only && vol->split_from == 0) return LVCL_OK; /* nothing restarted, or retraced already */
+    if (s->restarted_only && !(s->particles <= vol->split_from))
+        return lvcl_fail(st, LVCL_ERR_USAGE, "a retrace covers the particles before the volume was refined, %.0f",
+                         vol->split_from);
+    if ((s->first_particle == 0 && !s->restarted_only && (e = clear_volume(vol, prog, st))) ||
+        (e = make_fine_bin_table(vol, prog, st)))
         return e;
     vol->see_through = s->see_through != 0;
     cl_int err;
@@ -184,6 +190,7 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
                                      .volume = &vol->buf,
                                      .store_emitted = s->store_emitted ? 1u : 0u,
                                      .see_through = s->see_through ? 1u : 0u,
+                                     .restarted_only = s->restarted_only ? 1u : 0u,
                                      .subcells_seen = seen,
                                      .bin_table = lvcl_volume_bin_table(vol),
                                      .fine_bin_table = lvcl_volume_fine_bin_table(vol),
@@ -196,7 +203,7 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
         return e;
     }
     lvcl_progress bar;
-    lvcl_progress_start(&bar, "particles", s->progress);
+    lvcl_progress_start(&bar, s->restarted_only ? "retrace" : "particles", s->progress);
     double start = lvcl_seconds();
     uint64_t cursor = s->first_particle, first;
     cl_uint count;
@@ -216,10 +223,12 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
                  clEnqueueReadBuffer(dev->queue, counter, CL_TRUE, 0, sizeof counts, counts, 0, NULL, NULL),
                  "running the particle trace", st)))
             break;
-        vol->segments += counts[0];
-        vol->visibility_rays += counts[1];
-        vol->particles += count;
-        vol->buf.info.particles = (float)vol->particles;
+        if (!s->restarted_only) { /* a retrace adds no particles */
+            vol->segments += counts[0];
+            vol->visibility_rays += counts[1];
+            vol->particles += count;
+            vol->buf.info.particles = (float)vol->particles;
+        }
         lvcl_progress_update(&bar, (double)(first + count), (double)s->particles, "particles");
     }
     lvcl_progress_finish(&bar);
@@ -227,5 +236,6 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
     clReleaseMemObject(seen);
     clReleaseMemObject(counter);
     vol->trace_seconds += lvcl_seconds() - start;
+    if (!e && s->restarted_only) vol->split_from = 0; /* the restarted slots hold every particle again */
     return e;
 }

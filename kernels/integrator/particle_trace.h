@@ -29,16 +29,22 @@ inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray 
     uint fine = lv_direction_bin(r.dir, 2u * grid->g.dirs);
     lv_tally_segment(grid, r.origin, r.dir, 0.0f, h.t, (uint2)(lv_coarse_bin(fine, grid->g.dirs), fine), weight, sigma,
                      concentrated, lobe);
-    if (!grid->g.subcells || h.tri == LV_NO_HIT) return 0u;
+    if (!grid->g.subcells || h.tri == LV_NO_HIT || grid->restarted_only) return 0u;
+    /* The lit point and the visibility ray draw from a stream of their
+     * own: how many numbers a visibility ray takes depends on the cell's
+     * regions, which refining changes, and a retrace must walk each
+     * particle as it first went. */
+    lv_rng side = lv_rng_keyed(lv_rng_fork_key(rng));
     /* Just off the hit on the side the particle came from, its light
      * reached: off along the normal, by more than a lit point's rounding
      * (1/512 subcell per axis), so even a grazing hit's point stays on
      * that side. */
     float3 toward = dot(r.dir, s->ng) < 0.0f ? s->ng : -s->ng;
     float3 lit = s->p + toward * (0.02f * grid->g.cell_size / (float)grid->g.subcells);
-    lv_offer_lit_point(grid, lit, rng);
+    lv_offer_lit_point(grid, lit, &side);
     /* Both go to the region of the lit point, the hit's side of the surface. */
-    if (lv_rng_next(rng) < grid->g.visibility_rate) return lv_sample_subcell_visibility(grid, sc, lit, r.origin, rng);
+    if (lv_rng_next(&side) < grid->g.visibility_rate)
+        return lv_sample_subcell_visibility(grid, sc, lit, r.origin, &side);
     return 0u;
 }
 

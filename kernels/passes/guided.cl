@@ -45,7 +45,7 @@ __kernel void lv_guide_table(LV_KERNEL_PARAMS(LV_GUIDE_TABLE_ARGS))
     LV_VOLUME_OPEN(grid);
     if (fine_pass) {
         if (id >= grid_info.slot_count || !(grid.tally_slot[id] & LV_FINE_DIRS)) return;
-        uint set = grid.tally_slot[id] & ~LV_FINE_DIRS;
+        uint set = LV_TALLY_SET_OF(grid.tally_slot[id]);
         for (uint k = 0; k < 4u; k++)
             lv_guide_fill(lv_tally_bin(&grid, id, k * bins), bins, guide_table + (size_t)(set + k) * bins,
                           stats + 2 * (size_t)(set + k));

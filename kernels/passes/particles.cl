@@ -14,6 +14,7 @@ __kernel void lv_particle_trace(LV_KERNEL_PARAMS(LV_PARTICLE_TRACE_ARGS))
     lv_grid grid;
     LV_VOLUME_OPEN(grid); /* its lit volumes are not known yet: the trace does not read them */
     grid.subcells_seen = subcells_seen;
+    grid.restarted_only = restarted_only;
     lv_rng rng = lv_rng_make(sc.info.seed ^ LV_PARTICLE_STREAM, first + id, 0u);
     lv_bin_tables tables = {bin_table, fine_bin_table};
     lv_particle_rays n = lv_trace_particle(&sc, &grid, &tables, &rng, store_emitted, see_through);

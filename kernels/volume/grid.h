@@ -21,6 +21,7 @@ typedef struct {
     __global uint *subcells;                /* LV_SUBCELL_STRIDE words per slot (shared_types.h) */
     __global const uint *subcells_seen;     /* the trace's copy of each slot's two mask words from before its batch */
     __global const float *lit_volume;       /* per slot, lv_cell_lit_volume after the trace (lookups only) */
+    uint restarted_only;                    /* the trace: tally into LV_RESTARTED slots only, mark nothing */
     __global long *tallies[LV_TALLY_PARTS];
 } lv_grid;
 
@@ -36,7 +37,7 @@ inline __global long *lv_tally_set(const lv_grid *grid, uint set)
 /* The three (RGB) tallies of one bin of a stored cell. */
 inline __global long *lv_tally_bin(const lv_grid *grid, uint slot, uint bin)
 {
-    return lv_tally_set(grid, grid->tally_slot[slot] & ~LV_FINE_DIRS) + (size_t)bin * 3;
+    return lv_tally_set(grid, LV_TALLY_SET_OF(grid->tally_slot[slot])) + (size_t)bin * 3;
 }
 
 /* n of the n x n bins per hemisphere that slot's tally set holds. */

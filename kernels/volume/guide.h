@@ -242,7 +242,7 @@ inline int lv_guide_at(const lv_guide *g, float3 p, float3 ns, float3 ng, lv_gui
     gv->share = gv->lobe_share = 0.0f;
     uint slot = lv_grid_slot_at(&g->grid, lv_front_point(&g->grid, p, ng));
     if (slot == LV_EMPTY_CELL) return 0;
-    uint set = g->grid.tally_slot[slot] & ~LV_FINE_DIRS;
+    uint set = LV_TALLY_SET_OF(g->grid.tally_slot[slot]);
     gv->n = lv_slot_dirs(&g->grid, slot);
     gv->bins = 2u * gv->n * gv->n;
     __global const float *stats = g->stats + 2 * (size_t)set;

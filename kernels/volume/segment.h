@@ -48,10 +48,13 @@ __attribute__((always_inline)) inline void lv_tally_piece(const lv_grid *grid, l
                                                           float t0, uint2 bins, float3 weight, float3 sigma,
                                                           const lv_bin_tables *concentrated, int lobe)
 {
+    /* A retrace fills the restarted slots alone; the others and every
+     * slot's subcell record have these particles already. */
+    if (grid->restarted_only && !(grid->tally_slot[slot] & LV_RESTARTED)) return;
     /* A segment ending on a wall that lies on a cell boundary pokes a
      * rounding error's length into the cell behind it; marking that would
      * call the space behind the wall lit. */
-    uint2 marks = grid->g.subcells && b - a > LV_MARK_MIN_PIECE
+    uint2 marks = grid->g.subcells && !grid->restarted_only && b - a > LV_MARK_MIN_PIECE
         ? lv_new_subcells(grid, slot, corner + dir * a, dir, b - a)
         : (uint2)(0u);
     /* Track length in cell units, with the absorption integrated over it. */

@@ -1,24 +1,27 @@
 /* Refined cells (host/render/volume_refine.c): after a first part of the
  * trace the densest cells split into regions by planes through their
- * middle, and their tallies restart. Checked on the Cornell box at 12 and
- * 20 cells, with 4 and 0 subcells, and on the white furnace:
+ * middle, and their tallies restart; a retrace of the particles before
+ * the split gives those back. Checked on the Cornell box at 12 and 20
+ * cells, with 4 and 0 subcells, and on the white furnace:
  *
  * (a) a cell that is not split keeps its tallies bit for bit, and the
- *     regions of a split cell together hold what the cell tallied after the
- *     split in a volume traced without splitting (within the rounding of
- *     the pieces the new planes cut: 1e-5);
+ *     regions of a split cell together hold what the cell tallied in a
+ *     volume traced without splitting (within the rounding of the pieces
+ *     the new planes cut: 1e-5): all of it with the retrace, what it
+ *     tallied after the split without;
  * (b) the same tallies split the same cells, bit for bit;
  * (c) the memory budget holds: a budget of the unrefined volume splits
  *     nothing, a higher density splits fewer cells;
  * (d) the white furnace (lv-all, closed form Le / (1 - a) = 2): every
- *     region of every split cell reads 2 within 4%, so the lit volumes'
- *     scale for the particles traced since the split keeps them unbiased;
+ *     region of every split cell reads 2 within 4%, with the retrace and
+ *     without it (where the lit volumes' scale for the particles traced
+ *     since the split keeps them unbiased);
  * (e) an image's mean moves by under 1%;
  * (f) fine bins (--refine-dirs): the four fine bins of a coarse one hold,
- *     bit for bit, what the coarse bin tallied after the split in a volume
- *     traced without refining, and the furnace's fine bins read 2 as well;
- *     the guide table of guided path tracing holds each fine slot's bins
- *     in order, as lv_guide_at reads them. */
+ *     bit for bit, what the coarse bin tallied in a volume traced without
+ *     refining (all of it, with the retrace), and the furnace's fine bins
+ *     read 2 as well; the guide table of guided path tracing holds each
+ *     fine slot's bins in order, as lv_guide_at reads them. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,9 +43,10 @@ typedef struct {
 } read_volume;
 
 /* Traces [0, first) into a new volume of session ss, refines it at
- * `density` (0: not at all) expecting vs->particles, traces the rest and
- * reads it back; `before`, if not NULL, gets the tallies at `first`. */
-static int trace(const lvcl_session *ss, const lvcl_volume_settings *vs, uint64_t first, double density,
+ * `density` (0: not at all) expecting vs->particles, retraces [0, first)
+ * into the restarted slots if `retrace`, traces the rest and reads it
+ * back; `before`, if not NULL, gets the tallies at `first`. */
+static int trace(const lvcl_session *ss, const lvcl_volume_settings *vs, uint64_t first, double density, int retrace,
                  read_volume *out, int64_t **before)
 {
     lvcl_status st = {0};
@@ -57,6 +61,9 @@ static int trace(const lvcl_session *ss, const lvcl_volume_settings *vs, uint64_
     if (!e && before) e = lvcl_volume_read(out->volume, before, NULL, &st);
     pass.refine_density = density;
     if (!e) e = lvcl_volume_refine(out->volume, (double)vs->particles, &pass, &st);
+    pass.restarted_only = 1;
+    if (!e && retrace) e = lvcl_volume_trace(out->volume, prog, ds, &pass, &st);
+    pass.restarted_only = 0;
     pass.first_particle = first;
     pass.particles = vs->particles;
     if (!e) e = lvcl_volume_trace(out->volume, prog, ds, &pass, &st);
@@ -91,15 +98,16 @@ static size_t cell_ranges(const lvcl_light_volume *vol, uint32_t *first, uint32_
     return n;
 }
 
-static void test_split_sums(const lvcl_session *ss, int cells, int subcells)
+static void test_split_sums(const lvcl_session *ss, int cells, int subcells, int retrace)
 {
     lvcl_volume_settings vs = {.cells = cells, .dirs = 4, .subcells = subcells, .particles = 200000};
     uint64_t split_at = vs.particles / 4;
     int64_t *before = NULL;
     read_volume plain, split, again;
-    if (!trace(ss, &vs, split_at, 0, &plain, &before)) return;
+    if (!trace(ss, &vs, split_at, 0, 0, &plain, &before)) return;
     vs.refine_memory = (uint64_t)1 << 32;
-    if (!trace(ss, &vs, split_at, SPLIT_ALL, &split, NULL) || !trace(ss, &vs, split_at, SPLIT_ALL, &again, NULL)) {
+    if (!trace(ss, &vs, split_at, SPLIT_ALL, retrace, &split, NULL) ||
+        !trace(ss, &vs, split_at, SPLIT_ALL, retrace, &again, NULL)) {
         release(&plain);
         free(before);
         return;
@@ -122,23 +130,29 @@ static void test_split_sums(const lvcl_session *ss, int cells, int subcells)
         for (size_t b = 0; b < per; b++) {
             double expected = 0, got = 0;
             for (uint32_t s = 0; s < pc[i]; s++)
-                expected += (double)(plain.tallies[(pf[i] + s) * per + b] - before[(pf[i] + s) * per + b]);
+                expected +=
+                    (double)(plain.tallies[(pf[i] + s) * per + b] - (retrace ? 0 : before[(pf[i] + s) * per + b]));
             for (uint32_t s = 0; s < sc[i]; s++) got += (double)split.tallies[(sf[i] + s) * per + b];
             double off = fabs(got - expected) / (fabs(expected) + 1e6);
             if (off > worst) worst = off;
             sums_close &= off < 1e-5;
         }
     }
-    printf("  %d cells, %d subcells: %u slots -> %u, %zu cells split (stats: %zu), worst relative difference %.3g\n",
-           cells, subcells, gp->slot_count, gs->slot_count, split_cells, lvcl_volume_stats_of(split.volume).split_cells,
-           worst);
+    printf("  %d cells, %d subcells%s: %u slots -> %u, %zu cells split (stats: %zu), worst relative difference "
+           "%.3g\n",
+           cells, subcells, retrace ? ", retraced" : "", gp->slot_count, gs->slot_count, split_cells,
+           lvcl_volume_stats_of(split.volume).split_cells, worst);
     CHECK("refined cells: every cell that can split does at a tiny density, and the stats count them",
           split_cells > 0 && split_cells == lvcl_volume_stats_of(split.volume).split_cells, "%d cells: %zu split",
           cells, split_cells);
     CHECK("refined cells: a cell not split keeps its tallies bit for bit", kept_exact, "%d cells, %d subcells", cells,
           subcells);
-    CHECK("refined cells: a split cell's regions hold what it tallied after the split", sums_close,
-          "%d cells, %d subcells: worst %.3g", cells, subcells, worst);
+    if (retrace)
+        CHECK("refined cells, retraced: a split cell's regions hold all it tallied", sums_close,
+              "%d cells, %d subcells: worst %.3g", cells, subcells, worst);
+    else
+        CHECK("refined cells: a split cell's regions hold what it tallied after the split", sums_close,
+              "%d cells, %d subcells: worst %.3g", cells, subcells, worst);
     const lv_grid_info *ga = lvcl_volume_grid(again.volume);
     int same = ga->slot_count == gs->slot_count &&
         !memcmp(again.tallies, split.tallies, (size_t)gs->slot_count * per * sizeof(int64_t)) &&
@@ -172,7 +186,7 @@ static void check_guide_table(const lvcl_session *ss, const read_volume *v)
     harness_read(dev, lvcl_volume_guide_table(v->volume), floats * sizeof(float), table);
     for (uint32_t slot = 0; slot < g->slot_count; slot++) {
         uint32_t set = lvcl_volume_tally_set(v->volume, slot), fine = (set & LV_FINE_DIRS) != 0;
-        set &= ~LV_FINE_DIRS;
+        set = LV_TALLY_SET_OF(set);
         const int64_t *t = &v->tallies[(size_t)set * LV_SET_LONGS(g->bins)];
         for (uint32_t b = 0; b < (fine ? 4 : 1) * g->bins; b++, read++) {
             double l = LV_LUMINANCE((double)t[3 * b], (double)t[3 * b + 1], (double)t[3 * b + 2]);
@@ -184,16 +198,16 @@ static void check_guide_table(const lvcl_session *ss, const read_volume *v)
     free(table);
 }
 
-static void test_fine_sums(const lvcl_session *ss)
+static void test_fine_sums(const lvcl_session *ss, int retrace)
 {
     lvcl_volume_settings vs = {.cells = 12, .dirs = 4, .subcells = 4, .particles = 200000};
     uint64_t split_at = vs.particles / 4;
     int64_t *before = NULL;
     read_volume plain, fine;
-    if (!trace(ss, &vs, split_at, 0, &plain, &before)) return;
+    if (!trace(ss, &vs, split_at, 0, 0, &plain, &before)) return;
     vs.refine_memory = (uint64_t)1 << 32;
     vs.refine_peak = FINE_ALL;
-    if (!trace(ss, &vs, split_at, 0, &fine, NULL)) {
+    if (!trace(ss, &vs, split_at, 0, retrace, &fine, NULL)) {
         release(&plain);
         free(before);
         return;
@@ -204,7 +218,7 @@ static void test_fine_sums(const lvcl_session *ss)
     for (uint32_t slot = 0; slot < g->slot_count; slot++) {
         uint32_t set = lvcl_volume_tally_set(fine.volume, slot);
         const int64_t *p = &plain.tallies[(size_t)slot * per], *b = &before[(size_t)slot * per];
-        const int64_t *f = &fine.tallies[(size_t)(set & ~LV_FINE_DIRS) * per];
+        const int64_t *f = &fine.tallies[(size_t)LV_TALLY_SET_OF(set) * per];
         if (!(set & LV_FINE_DIRS)) {
             coarse_exact &= !memcmp(p, f, per * sizeof(int64_t));
             continue;
@@ -217,7 +231,7 @@ static void test_fine_sums(const lvcl_session *ss)
                 for (uint32_t dj = 0; dj < 2; dj++)
                     for (uint32_t di = 0; di < 2; di++)
                         sum += f[(lower * m * m + (2 * j + dj) * m + 2 * i + di) * 3 + c];
-                exact &= sum == p[bin * 3 + c] - b[bin * 3 + c];
+                exact &= sum == p[bin * 3 + c] - (retrace ? 0 : b[bin * 3 + c]);
             }
         }
     }
@@ -225,10 +239,14 @@ static void test_fine_sums(const lvcl_session *ss)
            lvcl_volume_stats_of(fine.volume).fine_slots);
     CHECK("refined directions: the dense slots take fine bins at a tiny peak, and the stats count them",
           fine_slots > 0 && fine_slots == lvcl_volume_stats_of(fine.volume).fine_slots, "%zu fine slots", fine_slots);
-    CHECK("refined directions: four fine bins hold what their coarse bin tallied after the split, bit for bit", exact,
-          "12 cells");
+    if (retrace)
+        CHECK("refined directions, retraced: four fine bins hold all their coarse bin tallied, bit for bit", exact,
+              "12 cells");
+    else
+        CHECK("refined directions: four fine bins hold what their coarse bin tallied after the split, bit for bit",
+              exact, "12 cells");
     CHECK("refined directions: a slot left coarse keeps its tallies bit for bit", coarse_exact, "12 cells");
-    check_guide_table(ss, &fine);
+    if (!retrace) check_guide_table(ss, &fine);
     free(before);
     release(&plain);
     release(&fine);
@@ -238,7 +256,7 @@ static void test_budget(const lvcl_session *ss)
 {
     lvcl_volume_settings vs = {.cells = 16, .dirs = 4, .subcells = 4, .particles = 100000};
     read_volume v;
-    if (!trace(ss, &vs, vs.particles / 4, 0, &v, NULL)) return;
+    if (!trace(ss, &vs, vs.particles / 4, 0, 0, &v, NULL)) return;
     size_t plain = lvcl_volume_stats_of(v.volume).device_bytes;
     release(&v);
     const uint64_t budgets[] = {plain, plain + plain / 4, (uint64_t)1 << 32, (uint64_t)1 << 32};
@@ -246,7 +264,7 @@ static void test_budget(const lvcl_session *ss)
     size_t split[4] = {0}, bytes[4] = {0};
     for (int i = 0; i < 4; i++) {
         vs.refine_memory = budgets[i];
-        if (!trace(ss, &vs, vs.particles / 4, densities[i], &v, NULL)) return;
+        if (!trace(ss, &vs, vs.particles / 4, densities[i], 0, &v, NULL)) return;
         split[i] = lvcl_volume_stats_of(v.volume).split_cells;
         bytes[i] = lvcl_volume_stats_of(v.volume).device_bytes;
         release(&v);
@@ -265,7 +283,7 @@ static void test_budget(const lvcl_session *ss)
 
 /* The furnace (a 2 m closed cube, albedo 0.5, Le 1) with the grid on its
  * walls: the radiance is 2 in every cell and direction. */
-static void test_furnace(int subcells, int fine)
+static void test_furnace(int subcells, int fine, int retrace)
 {
     lvcl_session *ss = harness_session("furnace", 2);
     lvcl_volume_settings vs = {.cells = 4,
@@ -276,7 +294,7 @@ static void test_furnace(int subcells, int fine)
                                .refine_memory = (uint64_t)1 << 32,
                                .refine_peak = fine ? FINE_ALL : 0};
     read_volume v;
-    if (!trace(ss, &vs, vs.particles / 4, fine ? 0 : SPLIT_ALL, &v, NULL)) {
+    if (!trace(ss, &vs, vs.particles / 4, fine ? 0 : SPLIT_ALL, retrace, &v, NULL)) {
         lvcl_session_close(ss);
         return;
     }
@@ -296,7 +314,7 @@ static void test_furnace(int subcells, int fine)
                      * over the coarse count. */
                     uint32_t set = lvcl_volume_tally_set(v.volume, s), bins = g->bins;
                     if (set & LV_FINE_DIRS) bins *= 4, fine_slots++;
-                    set &= ~LV_FINE_DIRS;
+                    set = LV_TALLY_SET_OF(set);
                     double sum = 0;
                     const int64_t *t = &v.tallies[(size_t)set * LV_SET_LONGS(g->bins)];
                     for (uint32_t b = 0; b < bins; b++) sum += (double)t[3 * b];
@@ -306,9 +324,9 @@ static void test_furnace(int subcells, int fine)
                 }
             }
     size_t split = lvcl_volume_stats_of(v.volume).split_cells;
-    printf("  furnace, %d subcells%s: %zu cells split, %d regions inside (%d with fine bins), worst region off by "
+    printf("  furnace, %d subcells%s%s: %zu cells split, %d regions inside (%d with fine bins), worst region off by "
            "%.4f\n",
-           subcells, fine ? ", fine bins" : "", split, regions, fine_slots, worst);
+           subcells, fine ? ", fine bins" : "", retrace ? ", retraced" : "", split, regions, fine_slots, worst);
     if (fine)
         CHECK("refined directions: the furnace's slots inside take fine bins", fine_slots == 64 && regions == 64,
               "%d subcells: %d of %d", subcells, fine_slots, regions);
@@ -316,7 +334,7 @@ static void test_furnace(int subcells, int fine)
         CHECK("refined cells: the furnace's cells inside are split into octants", split >= 64 && regions == 64 * 8,
               "%d subcells: %zu split, %d regions", subcells, split, regions);
     CHECK("refined cells: every region of the furnace reads Le/(1-a) = 2 within 4%", worst < 0.04,
-          "%d subcells%s: worst %.4f", subcells, fine ? ", fine bins" : "", worst);
+          "%d subcells%s%s: worst %.4f", subcells, fine ? ", fine bins" : "", retrace ? ", retraced" : "", worst);
     release(&v);
     lvcl_session_close(ss);
 }
@@ -339,14 +357,15 @@ int main(int argc, char **argv)
     (void)argc;
     (void)argv;
     lvcl_session *ss = harness_session("cornell", 7);
-    test_split_sums(ss, 12, 4);
-    test_split_sums(ss, 20, 0);
-    test_fine_sums(ss);
+    test_split_sums(ss, 12, 4, 1);
+    test_split_sums(ss, 20, 0, 0);
+    test_fine_sums(ss, 1);
+    test_fine_sums(ss, 0);
     test_budget(ss);
     lvcl_session_close(ss);
-    test_furnace(0, 0);
-    test_furnace(4, 0);
-    test_furnace(4, 1);
+    test_furnace(0, 0, 0);
+    test_furnace(4, 0, 1);
+    test_furnace(4, 1, 1);
     double off = image_mean(0), on = image_mean(SPLIT_ALL);
     printf("  image mean: %.5f without splitting, %.5f with\n", off, on);
     CHECK("refined cells: the image's mean moves by under 1%", off > 0 && fabs(on / off - 1) < 0.01,
