@@ -26,7 +26,7 @@ log=$(mktemp)
 passed=0
 failed=0
 
-count() { # $1: name of what ran, $2: its exit status; reads the log
+count() { # $1: name of what ran, $2: its exit status, $3: seconds it took; reads the log
     p=$(grep -c '^PASS ' "$log")
     f=$(grep -c '^FAIL ' "$log")
     grep -E '^(FAIL|SKIP) ' "$log"
@@ -37,7 +37,7 @@ count() { # $1: name of what ran, $2: its exit status; reads the log
     fi
     passed=$((passed + p))
     failed=$((failed + f))
-    echo "-- $1: $p passed, $f failed"
+    echo "-- $1: $p passed, $f failed ($3 s)"
 }
 
 # Whether test NAME ($1, without "test_") was asked for.
@@ -53,10 +53,11 @@ for t in $programs; do
     name=$(basename "$t")
     wanted "${name#test_}" || continue
     ran=$((ran + 1))
+    start=$(date +%s)
     "$t" "$tests_dir" >"$log" 2>"$log.err"
     status=$?
     [ -s "$log.err" ] && [ "$status" -ne 0 ] && cat "$log.err" >>"$log"
-    count "$name" "$status"
+    count "$name" "$status" $(($(date +%s) - start))
 done
 
 # The shell tests: tests/app/NAME_tests.sh.
@@ -66,8 +67,10 @@ for script in "$tests_dir"/app/*_tests.sh; do
     [ -n "$asan" ] && { [ "$name" = oclgrind_tests ] || [ "$name" = fuzz_tests ] || [ "$name" = mpi_tests ]; } &&
         continue
     ran=$((ran + 1))
+    start=$(date +%s)
     "$script" "$build" >"$log" 2>&1
-    count "$name" $?
+    status=$?
+    count "$name" "$status" $(($(date +%s) - start))
 done
 
 rm -f "$log" "$log.err"

@@ -68,6 +68,7 @@ compare_runs() {
 small="--width 80 --spp 20 cornell"
 compare_runs "pt, adaptive" --mode pt $small
 compare_runs "lv" --mode lv --particles 7e5 $small
+ranks="1 3"
 compare_runs "lv-all" --mode lv-all --particles 7e5 $small
 compare_runs "guided" --mode guided --particles 7e5 $small
 # The variants on 3 ranks, where every rank takes work.

@@ -10,7 +10,7 @@
  * with an opaque block on it; the camera, below the slab, sees the floor
  * lit through the glass and the block's shadow. The reference is the path
  * tracer with the feature off (light through glass found only by paths
- * that hit the lamp) at 4,096 samples. Slabs of several thicknesses (one
+ * that hit the lamp) at 2,048 samples. Slabs of several thicknesses (one
  * polygon of thin glass to 15 cm, more than a cell), refractive indices,
  * tilts, two slabs stacked (four interfaces), rough glass (which stays in
  * the volume), grid offsets, cell counts and subcell settings:
@@ -21,7 +21,7 @@
  *     without the gather's part the image is 31-35% dark;
  * (b) smooth glass, lv: 8 x 8 blocks, the RMS of their relative error
  *     against the reference at most 0.75 of lv's with --see-through off
- *     (the volume blurs the block's shadow over a cell); measured 0.31-0.63;
+ *     (the volume blurs the block's shadow over a cell); measured 0.35-0.62;
  * (c) rough glass, which the volume keeps and light samples do not see
  *     through: lv and pt render as with the feature off, bit for bit;
  * (d) smooth glass, pt and guided at 256 samples (other random numbers
@@ -31,7 +31,7 @@
  *     through glass without its MIS weight, guided 1.2-2.4% bright;
  * (e) smooth glass, pt at 256 samples: the blocks' RMS relative error
  *     against the reference at most 0.75 of pt's with the feature off;
- *     measured 0.32-0.58.
+ *     measured 0.44-0.61.
  * One set-up makes the block a mirror: light it turns stays in the volume,
  * and only paths find it. One makes the room glossy. One limits paths to 5
  * segments, so a light sample on the floor may see through 3 scatters and
@@ -49,6 +49,13 @@
 
 #define SIZE 64
 #define BLOCK 8
+/* The reference's samples. It is the path tracer with the feature off,
+ * whose paths find the light through glass only by hitting the lamp: its
+ * noise, an eighth of the 256-sample images' with the feature off, adds
+ * to what the blocks' checks measure: the ratios (b) and (e) measured
+ * 0.31-0.63 and 0.32-0.58 with 4,096 samples, 0.35-0.62 and 0.44-0.61
+ * with this count, against a bound of 0.75. */
+#define REFERENCE_SPP 2048
 #define MAX_TRIS 64
 
 /* Room [-1, 1] x [0, 2] x [-1, 1] metres. */
@@ -221,7 +228,7 @@ static void check_paths(const setup *u, const float *ref, const float *pt, const
 static void test_setup(const setup *u)
 {
     char name[240];
-    float *ref = render(u, LVCL_MODE_PT, 4096, 0, 7);
+    float *ref = render(u, LVCL_MODE_PT, REFERENCE_SPP, 0, 7);
     float *lv = u->max_depth ? NULL : render(u, LVCL_MODE_LV, 32, 1, 7);
     float *lv_off = u->max_depth ? NULL : render(u, LVCL_MODE_LV, 32, 0, 7);
     float *pt = render(u, LVCL_MODE_PT, 256, 1, 11), *pt_off = render(u, LVCL_MODE_PT, 256, 0, 11);
