@@ -173,7 +173,8 @@ static range_bounds range_bounds_of(const item_ref *items, size_t first, size_t 
     return rb;
 }
 
-/* The bin of an item (centroid - lo) * scale bins from the lowest centroid. */
+/* The bin of an item whose centroid lies `scaled` bin widths above the
+ * range's lowest centroid. */
 static inline int bin_at(float scaled)
 {
     int b = (int)scaled;
