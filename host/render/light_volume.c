@@ -225,7 +225,6 @@ void lvcl_volume_release(lvcl_light_volume *vol)
     free(vol->regions);
     free(vol->tally_slot);
     free(vol->block_of_slot);
-    free(vol->restarted);
     if (vol->fine_bin_table_buf) clReleaseMemObject(vol->fine_bin_table_buf);
     if (vol->guide_table_buf) clReleaseMemObject(vol->guide_table_buf);
     if (vol->axis_sums_buf) clReleaseMemObject(vol->axis_sums_buf);

@@ -24,14 +24,14 @@ struct lvcl_light_volume {
     size_t split_cells;        /* cells it split (volume_refine.c) */
     int see_through;           /* its trace left out lamps seen through glass (lvcl_volume_settings) */
     size_t fine_slots;         /* slots it gave fine bins (LV_FINE_DIRS) */
-    double split_from;         /* the particle count when it refined them */
-    uint8_t *restarted;        /* per slot: 1 where its tallies hold the particles from split_from on */
+    double split_from;         /* the particle count when it refined them, while the LV_RESTARTED slots
+                                  (tally_slot) hold only the particles from there on; 0 once retraced */
     cl_mem fine_bin_table_buf; /* the bin table of 2n x 2n, once there are fine slots */
     cl_mem guide_table_buf;    /* guided mode: lvcl_volume_fill_guide's table, or NULL */
     cl_mem axis_sums_buf;      /* lvcl_volume_axis_sums's, for axis_sums_slots slots, or NULL */
     uint32_t axis_sums_slots;
-    int axis_sums_current;     /* they sum the volume lvcl_volume_finish last finished */
-    float *region_shares;      /* host copy of the cut cells' region shares */
+    int axis_sums_current; /* they sum the volume lvcl_volume_finish last finished */
+    float *region_shares;  /* host copy of the cut cells' region shares */
     size_t region_share_count;
     size_t cell_count; /* dims[0] * dims[1] * dims[2] */
     int tally_parts;

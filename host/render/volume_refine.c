@@ -253,7 +253,7 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
     uint32_t *records = NULL, *new_records = NULL, *new_tally_slot = NULL, *from = NULL;
     lv_slot_region *new_regions = NULL;
     float *new_shares = NULL;
-    uint8_t *split_slot = NULL, *restarted = NULL;
+    uint8_t *split_slot = NULL;
     size_t new_share_count = 0, per_set = LV_SET_LONGS(g->bins), stored = 0;
     for (size_t i = 0; i < vol->cell_count; i++) stored += vol->cell_slot[i] != LV_EMPTY_CELL;
     lvcl_cell_planes *planes = malloc((stored ? stored : 1) * sizeof *planes);
@@ -300,9 +300,8 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
             from = malloc(n * sizeof *from);
             new_tally_slot = malloc(n * sizeof *new_tally_slot);
             split_slot = calloc(n, 1);
-            restarted = calloc(n, 1);
             new_records = calloc(n * LV_SUBCELL_STRIDE, sizeof(uint32_t));
-            if (!from || !new_tally_slot || !split_slot || !restarted || !new_records)
+            if (!from || !new_tally_slot || !split_slot || !new_records)
                 e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory refining the light volume");
         }
     }
@@ -317,8 +316,8 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
         for (uint32_t slot = 0; slot < ng.slot_count; slot++) {
             int f = !split_slot[slot] && fine[from[slot]];
             if (f && per_part && sets / per_part != (sets + 3) / per_part) sets = (sets / per_part + 1) * per_part;
-            restarted[slot] = (uint8_t)(split_slot[slot] || f);
-            new_tally_slot[slot] = (uint32_t)sets | (f ? LV_FINE_DIRS : 0u) | (restarted[slot] ? LV_RESTARTED : 0u);
+            int restarted = split_slot[slot] || f;
+            new_tally_slot[slot] = (uint32_t)sets | (f ? LV_FINE_DIRS : 0u) | (restarted ? LV_RESTARTED : 0u);
             sets += f ? 4 : 1;
             memcpy(&new_records[(size_t)slot * LV_SUBCELL_STRIDE], &records[(size_t)from[slot] * LV_SUBCELL_STRIDE],
                    LV_SUBCELL_STRIDE * sizeof(uint32_t));
@@ -327,7 +326,7 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
         new_tallies = calloc(sets * per_set + 1, sizeof(int64_t));
         if (!new_tallies) e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory refining the light volume");
         for (uint32_t slot = 0; !e && slot < ng.slot_count; slot++)
-            if (!restarted[slot])
+            if (!(new_tally_slot[slot] & LV_RESTARTED))
                 memcpy(&new_tallies[(size_t)new_tally_slot[slot] * per_set], &tallies[(size_t)from[slot] * per_set],
                        per_set * sizeof(int64_t));
     }
@@ -343,7 +342,6 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
         SWAP(regions, new_regions);
         SWAP(region_shares, new_shares);
         SWAP(tally_slot, new_tally_slot);
-        SWAP(restarted, restarted);
 #undef SWAP
         vol->region_share_count = new_share_count;
         vol->split_cells = taken;
@@ -368,7 +366,6 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
     free(new_regions);
     free(new_shares);
     free(split_slot);
-    free(restarted);
     return e;
 }
 
@@ -384,7 +381,7 @@ lvcl_error lvcl_volume_scale_split(lvcl_light_volume *vol, lvcl_status *st)
     if (e) return e;
     float scale = (float)((g->particles - vol->split_from) / g->particles);
     for (uint32_t s = 0; s < g->slot_count; s++)
-        if (vol->restarted[s]) lit[s] *= scale;
+        if (vol->tally_slot[s] & LV_RESTARTED) lit[s] *= scale;
     e = lvcl_volume_write_lit(vol, lit, "storing the refined slots' lit volumes", st);
     free(lit);
     return e;
