@@ -96,9 +96,9 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
                 "  \"light_volume_checksum\": \"%016llx\"",
                 g->dims[0], g->dims[1], g->dims[2], g->cell_size, g->dirs, g->slot_count, g->tally_sets,
                 vw.merged_cells, vw.split_cells, vw.fine_slots, vw.device_bytes, vw.axis_sums_bytes,
-                (unsigned long long)particles,
-                trace_seconds, trace_seconds > 0 ? (double)particles / trace_seconds : 0.0,
-                (unsigned long long)segments, trace_seconds > 0 ? (double)segments / trace_seconds : 0.0, g->subcells,
+                (unsigned long long)particles, trace_seconds,
+                trace_seconds > 0 ? (double)particles / trace_seconds : 0.0, (unsigned long long)segments,
+                trace_seconds > 0 ? (double)segments / trace_seconds : 0.0, g->subcells,
                 (unsigned long long)visibility_rays, vw.tally_buffers, (unsigned long long)checksum);
     }
     const lvcl_budget_report *b = lvcl_session_budget(ss);
@@ -109,15 +109,18 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
                 "\"seconds_per_particle\": %.6g, \"seconds_per_sample\": %.6g, \"warm_up_seconds\": %.4f, "
                 "\"measure_seconds\": %.4f, \"planned_particles\": %llu, \"spent_seconds\": %.4f}",
                 s->options->time_limit, b->volume_noise, b->gather_noise, b->gather_noise_per_particle,
-                b->adaptive_share, b->seconds_per_particle,
-                b->seconds_per_sample, b->warm_up_seconds, b->measure_seconds, (unsigned long long)b->planned_particles,
-                b->spent_seconds);
+                b->adaptive_share, b->seconds_per_particle, b->seconds_per_sample, b->warm_up_seconds,
+                b->measure_seconds, (unsigned long long)b->planned_particles, b->spent_seconds);
     const lvcl_guided_report *g = lvcl_session_guided(ss);
     if (g->used)
         fprintf(f,
                 ",\n  \"guided_choice\": {\"guided_cost\": %.6g, \"plain_cost\": %.6g, \"paths\": \"%s\", "
-                "\"pilot_seconds\": %.4f}",
-                g->guided_cost, g->plain_cost, g->plain ? "plain" : "guided", g->pilot_seconds);
+                "\"guided_cost_error\": %.6g, \"plain_cost_error\": %.6g, \"guide_noise\": %.6g, "
+                "\"guide_noise_per_particle\": %.6g, \"seconds_per_particle\": %.6g, "
+                "\"planned_particles\": %llu, \"measure_seconds\": %.4f, \"pilot_seconds\": %.4f}",
+                g->guided_cost, g->plain_cost, g->plain ? "plain" : "guided", g->guided_cost_error, g->plain_cost_error,
+                g->guide_noise, g->guide_noise_per_particle, g->seconds_per_particle,
+                (unsigned long long)g->planned_particles, g->measure_seconds, g->pilot_seconds);
     /* Each device's share of the work. */
     fprintf(f, ",\n  \"devices\": [");
     for (int d = 0; d < devices; d++) {

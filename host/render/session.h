@@ -59,13 +59,22 @@ typedef struct {
     double spent_seconds;             /* the whole render: trace, pilots and gather */
 } lvcl_budget_report;
 
-/* How a guided render under a time limit chose its paths (session_guided.c). */
+/* How a guided render under a time limit planned its guide and chose its
+ * paths (session_guided.c). A cost is a kind of paths' relMSE per sample
+ * times its seconds per sample, as pilots measure it. */
 typedef struct {
-    int used;             /* the last render was guided, under a time limit */
-    double guided_cost;   /* the guided pilots' noise times their time (relMSE per sample x seconds per sample) */
-    double plain_cost;    /* the same for the path tracer's pilots */
-    int plain;            /* the path tracer's paths rendered the image: its cost was the lower */
-    double pilot_seconds; /* the four pilots */
+    int used;                 /* the last render was guided, under a time limit */
+    double guided_cost;       /* guided paths' cost over the measured guide (of 2 x 2^17 particles, or --particles) */
+    double plain_cost;        /* the path tracer's */
+    double guided_cost_error; /* the two costs' standard errors */
+    double plain_cost_error;
+    double guide_noise;              /* C0: guided paths' cost is C0 + C1 / N over a guide of N particles */
+    double guide_noise_per_particle; /* C1 (0 where only one guide was measured, or its cost fell by less than noise) */
+    double seconds_per_particle;     /* the trace's, measured on its second pass */
+    uint64_t planned_particles;      /* the guide's particles by the plan (the trace may stop short at its deadline) */
+    int plain;                       /* the path tracer's paths rendered the image: the plan's error was the lower */
+    double measure_seconds;          /* the measured passes and their pilots */
+    double pilot_seconds;            /* the pilots alone */
 } lvcl_guided_report;
 
 /* One device's share of the last camera pass. */

@@ -1,27 +1,34 @@
 /* Guided path tracing (docs/guided.md): the light volume, traced as lv
  * mode traces it (indirect light only: light samples find the direct),
- * guides the camera paths' scattering (kernels/volume/guide.h). */
+ * guides the camera paths' scattering (kernels/volume/guide.h).
+ *
+ * Under a time limit the guide is traced in two passes, of FIRST_PASS
+ * particles and as many again, and measured after each: pilots measure a
+ * kind of paths' cost, its noise per sample times its time per sample (the
+ * relMSE between two pilots of different samples times their seconds),
+ * guided paths' over each guide from the same samples (so the two differ
+ * less than their noise), fitted as C0 + C1 / N, plain paths' once. The
+ * plan (guide_plan.h) then traces the guide on to the count that leaves
+ * guided paths the least error in the time left, and renders with guided
+ * paths only where that beats plain paths: where the guide buys less than
+ * it costs (even light, caustics finer than a bin) the time goes to the
+ * path tracer. Both kinds are unbiased, so the plan moves only the noise. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
+#include "guide_plan.h"
 #include "session_internal.h"
 #include "../util/timer.h"
 
-/* Under a time limit, the most of it the trace may take (it stops at the
- * first batch past it); the paths take the rest. A first choice, not
- * measured against others (docs/guided.md, "Open"). */
-#define GUIDE_TIME_SHARE 0.1
-/* Particles a time-limited trace stops at if its share of the time has not
- * ended it first. */
-#define GUIDE_PARTICLES_MAX (1u << 24)
-/* Under a time limit the trace stops first at this part of its share; the
- * pilots then choose guided or plain paths on that guide, and only guided
- * paths have the trace go on to the rest. */
-#define CHOICE_TRACE_PART 0.25
-/* The pilots that choose between guided and plain paths: samples per
- * pixel of each, at the image's width and height over CHOICE_PILOT_SCALE. */
-#define CHOICE_PILOT_SPP 8
-#define CHOICE_PILOT_SCALE 2
+/* Particles of the first measured pass; the second doubles them. */
+#define FIRST_PASS (1u << 17)
+/* A trace slower than measured stops this far past its planned time. */
+#define PLAN_SLACK 1.1
+/* The pilots: samples per pixel of each, at the image's width and height
+ * over PILOT_SCALE. */
+#define PILOT_SPP 2
+#define PILOT_SCALE 1
 
 /* Traces the volume vs asks for on every device and fills each device's
  * guide table from it. */
@@ -48,56 +55,118 @@ static lvcl_error warm_up(lvcl_session *s, const lvcl_render_request *req, const
     return e ? e : lvcl_session_warm_camera_pass(s, plain, st);
 }
 
-/* Under a time limit, once the guide is traced: two pilots of guided
- * paths and two of plain ones, of different samples. Each kind's cost is
- * its noise per sample times its time per sample (the relMSE between its
- * two pilots times their seconds, up to a factor the kinds share), and
- * the cheaper kind renders the image: where the guide buys less than it
- * costs (even light, caustics finer than a bin), the time goes to the
- * path tracer. Both are unbiased, so the choice only moves the noise. */
-static lvcl_error choose_paths(lvcl_session *s, const lvcl_render_request *req, const lvcl_render_request *plain,
-                               lvcl_guided_report *g, lvcl_status *st)
+/* Two pilots of req's paths, of samples [0, PILOT_SPP) and
+ * [PILOT_SPP, 2 PILOT_SPP) whatever the guide, into img[0] and img[1];
+ * their seconds in *seconds, and added to *spent. */
+static lvcl_error pilot_pair(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *img, double *seconds,
+                             double *spent, lvcl_status *st)
 {
-    const lvcl_render_request *kinds[2] = {req, plain};
-    lvcl_render_result img[4] = {{0}};
-    double seconds[2] = {0}, start = lvcl_seconds();
-    lvcl_error e = LVCL_OK;
-    for (int k = 0; k < 2 && !e; k++) {
-        double t = lvcl_seconds();
-        e = lvcl_session_pilot(s, kinds[k], CHOICE_PILOT_SCALE, 0, CHOICE_PILOT_SPP, &img[2 * k], st);
-        if (!e)
-            e = lvcl_session_pilot(s, kinds[k], CHOICE_PILOT_SCALE, CHOICE_PILOT_SPP, CHOICE_PILOT_SPP,
-                                   &img[2 * k + 1], st);
-        seconds[k] = lvcl_seconds() - t;
-    }
-    float *den = e ? NULL : lvcl_pilot_denominators(img, 4);
-    if (!e && !den) e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the pilot images");
-    if (!e) {
-        size_t n = (size_t)img[0].width * img[0].height * 3;
-        g->guided_cost = lvcl_weighted_difference(img[0].rgb, img[1].rgb, den, n) * seconds[0];
-        g->plain_cost = lvcl_weighted_difference(img[2].rgb, img[3].rgb, den, n) * seconds[1];
-        g->plain = g->plain_cost < g->guided_cost;
-        g->pilot_seconds = lvcl_seconds() - start;
-        g->used = 1;
-    }
-    free(den);
-    for (int i = 0; i < 4; i++) free(img[i].rgb);
+    double t = lvcl_seconds();
+    lvcl_error e = lvcl_session_pilot(s, req, PILOT_SCALE, 0, PILOT_SPP, &img[0], st);
+    if (!e) e = lvcl_session_pilot(s, req, PILOT_SCALE, PILOT_SPP, PILOT_SPP, &img[1], st);
+    *seconds = lvcl_seconds() - t;
+    *spent += *seconds;
     return e;
 }
 
-/* Goes on with the trace on the one device a time limit runs on, up to
- * vs->particles or the deadline, then refills the guide table. */
-static lvcl_error trace_more(lvcl_session *s, const lvcl_volume_settings *vs, double deadline, lvcl_status *st)
+/* A pair's cost (the header's) and its standard error, weighed by den. */
+static double pair_cost(const lvcl_render_result *img, double seconds, const float *den, double *error)
+{
+    size_t pixels = (size_t)img[0].width * img[0].height;
+    *error = lvcl_weighted_difference_error(img[0].rgb, img[1].rgb, den, pixels) * seconds;
+    return lvcl_weighted_difference(img[0].rgb, img[1].rgb, den, 3 * pixels) * seconds;
+}
+
+/* Goes on with the trace on the one device a time limit runs on, to
+ * `particles` or the deadline (0: none), then refills the guide table. */
+static lvcl_error trace_more(lvcl_session *s, const lvcl_volume_settings *vs, uint64_t particles, double deadline,
+                             lvcl_status *st)
 {
     session_device *sd = &s->devices[0];
     lvcl_volume_settings more = *vs;
     more.first_particle = lvcl_volume_stats_of(sd->volume).particles;
+    more.particles = particles;
     more.deadline = deadline;
-    if (more.first_particle >= more.particles || lvcl_seconds() >= deadline) return LVCL_OK;
+    if (more.first_particle >= more.particles) return LVCL_OK;
     lvcl_error e = lvcl_volume_trace(sd->volume, &sd->program, &sd->device_scene, &more, st);
     if (!e) e = lvcl_volume_adapt(sd->volume, 0, more.merge_tolerance, st);
     if (!e) e = lvcl_volume_finish(sd->volume, &sd->program, st);
     return e ? e : lvcl_volume_fill_guide(sd->volume, &sd->program, st);
+}
+
+/* Under a time limit ending at `end`: the two measured passes, the plan
+ * (the header's) and the trace it asks for. With --particles the trace is
+ * those particles, whole, and the costs only choose the paths. */
+static lvcl_error plan_guide(lvcl_session *s, const lvcl_render_request *req, const lvcl_render_request *plain,
+                             const lvcl_volume_settings *vs, double end, lvcl_guided_report *g, lvcl_status *st)
+{
+    double start = lvcl_seconds();
+    lvcl_volume_settings pass = *vs;
+    pass.progress = 0;
+    uint64_t fixed = vs->particles, first = fixed ? fixed : FIRST_PASS, traced = first;
+    pass.particles = first;
+    /* Pilot pairs: guided over the first guide, guided over the second
+     * (the last guide when there is one pass), plain. */
+    lvcl_render_result img[6] = {{0}};
+    double seconds[3] = {0};
+    lvcl_error e = trace_guide(s, &pass, st);
+    if (!e && !fixed) e = pilot_pair(s, req, &img[0], &seconds[0], &g->pilot_seconds, st);
+    /* Unless that took a quarter of the budget already, which is better
+     * spent on paths than on measuring: the guide doubles. */
+    int second = !e && !fixed && lvcl_seconds() - start < (end - start) / 4;
+    if (!e && second) {
+        double t = lvcl_seconds();
+        e = trace_more(s, &pass, 2 * (uint64_t)first, 0, st);
+        g->seconds_per_particle = (lvcl_seconds() - t) / first;
+        traced = 2 * (uint64_t)first;
+    }
+    if (!e && (second || fixed)) e = pilot_pair(s, req, &img[2], &seconds[1], &g->pilot_seconds, st);
+    if (!e && !second && !fixed) { /* one guide, measured by the first pair */
+        img[2] = img[0], img[3] = img[1], seconds[1] = seconds[0];
+        img[0] = img[1] = (lvcl_render_result){0};
+    }
+    if (!e) e = pilot_pair(s, plain, &img[4], &seconds[2], &g->pilot_seconds, st);
+    /* Every kind's error is weighed by the same denominators, from all
+     * the pilots. */
+    int from = img[0].rgb ? 0 : 2;
+    float *den = e ? NULL : lvcl_pilot_denominators(img + from, 6 - from);
+    if (!e && !den) e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the pilot images");
+    lvcl_guide_costs costs = {.seconds_per_particle = g->seconds_per_particle};
+    if (!e) {
+        double first_cost = 0, first_error = 0, error;
+        if (second) first_cost = pair_cost(&img[0], seconds[0], den, &first_error);
+        g->guided_cost = pair_cost(&img[2], seconds[1], den, &error);
+        if (second) lvcl_fit_guide_costs(first_cost, first_error, g->guided_cost, error, first, &costs);
+        else costs.guide_noise = g->guided_cost, costs.guided_cost_error = error;
+        costs.plain_cost = g->plain_cost = pair_cost(&img[4], seconds[2], den, &costs.plain_cost_error);
+        g->guide_noise = costs.guide_noise;
+        g->guide_noise_per_particle = costs.guide_noise_per_particle;
+        g->guided_cost_error = costs.guided_cost_error;
+        g->plain_cost_error = costs.plain_cost_error;
+    }
+    free(den);
+    for (int i = 0; i < 6; i++) free(img[i].rgb);
+    if (e) return e;
+    double now = lvcl_seconds();
+    lvcl_guide_plan plan = lvcl_plan_guide(&costs, traced, end - now);
+    g->planned_particles = plan.particles;
+    g->plain = plan.plain;
+    g->measure_seconds = now - start;
+    g->used = 1;
+    if (vs->progress) {
+        char paths[64];
+        snprintf(paths, sizeof paths, g->plain ? "plain paths" : "guided paths, a guide of %.3g particles",
+                 (double)g->planned_particles);
+        fprintf(stderr,
+                "lvcl: %.0f s budget: %s (measured cost: guided %.3g + %.3g / N, plain %.3g; %.3g s per 10^6 "
+                "particles)\n",
+                req->pass.time_limit, paths, g->guide_noise, g->guide_noise_per_particle, g->plain_cost,
+                g->seconds_per_particle * 1e6);
+    }
+    if (g->plain || g->planned_particles <= traced) return LVCL_OK;
+    double deadline = now + (double)(g->planned_particles - traced) * g->seconds_per_particle * PLAN_SLACK;
+    pass.progress = vs->progress;
+    return trace_more(s, &pass, g->planned_particles, deadline, st);
 }
 
 lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
@@ -110,23 +179,18 @@ lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request
      * visibility rays (a quarter of the trace's time). */
     vs.subcells = 0;
     lvcl_pass_settings pass = req->pass;
+    if (pass.time_limit <= 0) {
+        lvcl_error e = trace_guide(s, &vs, st);
+        if (e == LVCL_ERR_CLUSTER || (e = lvcl_cluster_agree(s->cluster, e, st))) return e;
+        return lvcl_session_camera_pass(s, req, req->width, req->height, &pass, out, st);
+    }
     lvcl_render_request plain = *req;
     plain.mode = LVCL_MODE_PT;
-    lvcl_error e = pass.time_limit > 0 ? warm_up(s, req, &plain, &vs, st) : LVCL_OK;
+    lvcl_error e = warm_up(s, req, &plain, &vs, st);
     if (e) return e;
     double start = lvcl_seconds();
-    if (pass.time_limit > 0) {
-        if (!vs.particles) vs.particles = GUIDE_PARTICLES_MAX;
-        vs.deadline = start + CHOICE_TRACE_PART * GUIDE_TIME_SHARE * pass.time_limit;
-    }
-    e = trace_guide(s, &vs, st);
-    if (e == LVCL_ERR_CLUSTER || (e = lvcl_cluster_agree(s->cluster, e, st))) return e;
-    if (pass.time_limit > 0) {
-        e = choose_paths(s, req, &plain, &s->guided, st);
-        if (!e && !s->guided.plain) e = trace_more(s, &vs, start + GUIDE_TIME_SHARE * pass.time_limit, st);
-        if (e) return e;
-    }
+    if ((e = plan_guide(s, req, &plain, &vs, start + pass.time_limit, &s->guided, st))) return e;
     /* At least one sample is taken, however long the trace and pilots took. */
-    if (pass.time_limit > 0) pass.time_limit = fmax(pass.time_limit - (lvcl_seconds() - start), 1e-3);
+    pass.time_limit = fmax(pass.time_limit - (lvcl_seconds() - start), 1e-3);
     return lvcl_session_camera_pass(s, s->guided.plain ? &plain : req, req->width, req->height, &pass, out, st);
 }

@@ -68,10 +68,14 @@ lvcl_error lvcl_session_pilot(lvcl_session *s, const lvcl_render_request *req, i
 float *lvcl_pilot_denominators(const lvcl_render_result *img, int count);
 /* mean((a - b)^2 / den) over n values. */
 double lvcl_weighted_difference(const float *a, const float *b, const float *den, size_t n);
+/* The standard error of that mean over `pixels` RGB pixels (n = 3 pixels),
+ * the pixel as the unit: its three channels are not independent. */
+double lvcl_weighted_difference_error(const float *a, const float *b, const float *den, size_t pixels);
 
 /* A guided render: the light volume, then guided camera paths; under a
- * time limit the trace takes a fixed share of it, and pilots choose
- * between guided and plain paths for the rest (session_guided.c). */
+ * time limit the guide is traced in measured passes and a plan
+ * (guide_plan.h) sets its particles and picks guided or plain paths for
+ * the rest (session_guided.c). */
 lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,
                                       lvcl_status *st);
 

@@ -1,6 +1,7 @@
 /* Pilot images, small renders that measure an image's noise before a time
  * budget is spent (session_budget.c, session_guided.c), and the weighted
  * differences between two of them that measure it. */
+#include <math.h>
 #include <stdlib.h>
 
 #include "../io/metrics.h"
@@ -25,6 +26,23 @@ double lvcl_weighted_difference(const float *a, const float *b, const float *den
         sum += d * d / den[i];
     }
     return n ? sum / (double)n : 0;
+}
+
+double lvcl_weighted_difference_error(const float *a, const float *b, const float *den, size_t pixels)
+{
+    double sum = 0, sum_sq = 0;
+    for (size_t i = 0; i < pixels; i++) {
+        double x = 0;
+        for (size_t c = 3 * i; c < 3 * i + 3; c++) {
+            double d = (double)a[c] - b[c];
+            x += d * d / den[c] / 3.0;
+        }
+        sum += x;
+        sum_sq += x * x;
+    }
+    if (pixels < 2) return 0;
+    double mean = sum / (double)pixels, var = (sum_sq / (double)pixels - mean * mean) / (double)(pixels - 1);
+    return var > 0 ? sqrt(var) : 0;
 }
 
 float *lvcl_pilot_denominators(const lvcl_render_result *img, int count)
