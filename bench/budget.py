@@ -35,8 +35,11 @@ time of T (at least one pass), so it ends as near T as a pass allows.
 One JSON object per run goes to stdout, then a summary with, per budget, the
 ratio relmse(lvcl mode) / relmse(mitsuba) for each lvcl mode, and with pt
 among the modes relmse(mode) / relmse(lvcl pt) for the others (means over the
-repeats).  A plot of relMSE against the seconds spent goes to --out (default build/bench),
-with the images, when matplotlib is available.
+repeats).  Each repeat runs every renderer once, odd repeats in the reverse
+order: machines whose speed drifts by 10-20% within minutes were seen, and
+alternating cancels a steady drift.  A plot of relMSE against the seconds spent
+goes to --out (default build/bench), with the images, when matplotlib is
+available.
 """
 import argparse
 import json
@@ -232,6 +235,10 @@ def main():
                 seed = a.seed + rep
                 runs = ([("lvcl", m) for m in a.modes] + [("lvcl-before", m) for m in a.modes if a.before] +
                         [("mitsuba", "pt")])
+                # Odd repeats run in the reverse order, so that a machine whose
+                # speed drifts during the benchmark favours no renderer on average.
+                if rep % 2:
+                    runs.reverse()
                 for renderer, mode in runs:
                     image = os.path.join(a.out, f"budget_{stem}_{renderer}_{mode}_{budget:g}s_{rep}.exr")
                     if renderer == "lvcl":
