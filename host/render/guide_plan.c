@@ -10,6 +10,7 @@ void lvcl_fit_guide_costs(double cost_first, double error_first, double cost_sec
     c->guide_noise_per_particle = counts ? fmin(n2 * fall, n2 * cost_second) : 0;
     c->guide_noise = cost_second - c->guide_noise_per_particle / n2;
     c->guided_cost_error = error_second;
+    c->first_cost_error = error_first;
 }
 
 lvcl_guide_plan lvcl_plan_guide(const lvcl_guide_costs *c, uint64_t traced, double left)
@@ -24,11 +25,13 @@ lvcl_guide_plan lvcl_plan_guide(const lvcl_guide_costs *c, uint64_t traced, doub
         double e = (c->guide_noise + c->guide_noise_per_particle / n) / (left - (n - lo) * tp);
         if (e < error) error = e, best = n;
     }
-    double spread = sqrt(c->guided_cost_error * c->guided_cost_error + c->plain_cost_error * c->plain_cost_error);
-    lvcl_guide_plan p = {.particles = best > (double)traced ? (uint64_t)best : traced,
-                         .guided_error = error,
-                         .plain_error = c->plain_cost / left};
-    p.plain = !(p.guided_error < p.plain_error - LVCL_PLAN_SIGNIFICANCE * spread / left);
+    uint64_t particles = best > (double)traced ? (uint64_t)best : traced;
+    /* The two errors' standard errors, in error (cost per second of paths). */
+    double f = 1.0 - lo / (double)particles, paths = left - ((double)particles - lo) * tp;
+    double e2 = (1.0 + f) * c->guided_cost_error, e1 = f * c->first_cost_error;
+    double guided = sqrt(e2 * e2 + e1 * e1) / paths, plain = c->plain_cost_error / left;
+    lvcl_guide_plan p = {.particles = particles, .guided_error = error, .plain_error = c->plain_cost / left};
+    p.plain = !(p.guided_error < p.plain_error - LVCL_PLAN_SIGNIFICANCE * sqrt(guided * guided + plain * plain));
     if (p.plain) p.particles = traced;
     return p;
 }

@@ -28,6 +28,7 @@ typedef struct {
     double guide_noise;              /* C0: guided paths' cost is C0 + C1 / N over a guide of N particles */
     double guide_noise_per_particle; /* C1 */
     double guided_cost_error;        /* the standard error of guided paths' cost over the last guide measured */
+    double first_cost_error;         /* and over the first, where C1 came from two (else 0) */
     double plain_cost;               /* the path tracer's paths' cost */
     double plain_cost_error;
     double seconds_per_particle; /* the trace's */
@@ -44,7 +45,8 @@ typedef struct {
  * particles (cost_first, with standard error error_first) and of
  * 2 first (cost_second, error_second): C1 = 2 first (cost_first -
  * cost_second) where that fall exceeds LVCL_PLAN_SIGNIFICANCE standard
- * errors of the difference, else 0; both kept >= 0. */
+ * errors of the difference, else 0; both kept >= 0. Sets the two errors
+ * too. */
 void lvcl_fit_guide_costs(double cost_first, double error_first, double cost_second, double error_second,
                           uint64_t first, lvcl_guide_costs *c);
 
@@ -54,7 +56,11 @@ void lvcl_fit_guide_costs(double cost_first, double error_first, double cost_sec
  * LVCL_PLAN_TRACE_SHARE_MAX of the time, scanned over 256 counts spaced
  * evenly in log N (a deterministic grid); plain paths unless guided paths'
  * expected error is below plain paths' plain_cost / left by more than
- * LVCL_PLAN_SIGNIFICANCE standard errors of the two costs' difference. */
+ * LVCL_PLAN_SIGNIFICANCE standard errors of the two costs' difference.
+ * Tracing on from `traced` to N extrapolates the cost measured there by
+ * the fit, C(N) = (1 + f) C(traced) - f C(traced / 2) with
+ * f = 1 - traced / N, so its standard error grows to
+ * sqrt((1 + f)^2 e2^2 + f^2 e1^2) (e1, e2 the two costs' errors). */
 lvcl_guide_plan lvcl_plan_guide(const lvcl_guide_costs *c, uint64_t traced, double left);
 
 #endif

@@ -77,16 +77,21 @@ int main(void)
           "%llu particles, error %g, plain %d", (unsigned long long)p.particles, p.guided_error, p.plain);
 
     /* Guided paths exactly where their expected error is below plain
-     * paths' by more than twice the costs' standard error: plain costs
-     * either side of that line, with and without errors. */
+     * paths' by more than twice its standard error: plain costs either
+     * side of that line, without errors, with errors, and with the error
+     * of the cost the plan extrapolated from (the line computed here from
+     * the header's formula). */
     int right = 1;
     lvcl_guide_plan g = {0};
-    for (int with_errors = 0; with_errors < 2; with_errors++) {
+    const double errors[3][3] = {{0, 0, 0}, {0.0006, 0, 0.0008}, {0.0006, 0.0005, 0.0008}};
+    for (int v = 0; v < 3; v++) {
         lvcl_guide_costs c = {.guide_noise = 0.01, .guide_noise_per_particle = 2000.0, .seconds_per_particle = 3e-6};
-        c.guided_cost_error = with_errors ? 0.0006 : 0, c.plain_cost_error = with_errors ? 0.0008 : 0;
+        c.guided_cost_error = errors[v][0], c.first_cost_error = errors[v][1], c.plain_cost_error = errors[v][2];
         c.plain_cost = 1e30;
         g = lvcl_plan_guide(&c, 262144, 30.0);
-        double line = g.guided_error * 30.0 + LVCL_PLAN_SIGNIFICANCE * (with_errors ? 0.001 : 0);
+        double f = 1.0 - 262144.0 / (double)g.particles, paths = 30.0 - ((double)g.particles - 262144.0) * 3e-6;
+        double eg = sqrt(pow((1 + f) * errors[v][0], 2) + pow(f * errors[v][1], 2)) / paths, ep = errors[v][2] / 30.0;
+        double line = 30.0 * (g.guided_error + LVCL_PLAN_SIGNIFICANCE * sqrt(eg * eg + ep * ep));
         for (int k = -3; k <= 3; k++) {
             if (k == 0) continue; /* on the line: either, by rounding */
             c.plain_cost = line * (1.0 + 0.01 * k);
@@ -95,9 +100,26 @@ int main(void)
                 q.particles == (k < 0 ? 262144 : g.particles);
         }
     }
-    CHECK("guide plan: guided paths exactly where they win by more than twice the costs' standard error",
+    CHECK("guide plan: guided paths exactly where they win by more than twice the standard error",
           right && g.particles > 262144, "guided error %g over %llu particles", g.guided_error,
           (unsigned long long)g.particles);
+
+    /* An extrapolated gain beyond the errors of the costs measured at the
+     * last guide and of plain paths, but within the extrapolation's own,
+     * picks plain paths: guided 0.28 +- 0.025 over 2^17 particles after
+     * 0.37 +- 0.025 over 2^16 (a significant fall: C1 > 0, the plan traces
+     * on to about 7.8 x 10^5), plain 0.314 +- 0.026 (costs of the size
+     * measured on the Cornell spheres). */
+    lvcl_guide_costs spheres = {.plain_cost = 0.314, .plain_cost_error = 0.026, .seconds_per_particle = 2.5e-6};
+    lvcl_fit_guide_costs(0.37, 0.025, 0.280, 0.025, 65536, &spheres);
+    lvcl_guide_plan sp = lvcl_plan_guide(&spheres, 131072, 28.0);
+    spheres.plain_cost = 1e30;
+    lvcl_guide_plan sp_guided = lvcl_plan_guide(&spheres, 131072, 28.0);
+    CHECK("guide plan: a gain within the extrapolation's error picks plain paths",
+          spheres.guide_noise_per_particle > 0 && sp.plain && sp_guided.particles > 700000 &&
+              sp_guided.guided_error < sp.plain_error,
+          "C1 %g, plain %d, guided error %g over %llu particles, plain error %g", spheres.guide_noise_per_particle,
+          sp.plain, sp_guided.guided_error, (unsigned long long)sp_guided.particles, sp.plain_error);
 
     /* Measuring took the whole budget: nothing more is traced, and the
      * choice still follows the costs. */
