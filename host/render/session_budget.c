@@ -222,13 +222,13 @@ static lvcl_error measure(lvcl_session *s, const lvcl_render_request *req, const
     if (!e) {
         size_t n = (size_t)img[0].width * img[0].height * 3;
         /* Var(P1 - P2) = A / (2 N1); Var(Q - P2) = B / NOISE_PILOT_SPP + B / PILOT_SPP. */
-        b->volume_noise = 2.0 * FIRST_PASS * lvcl_weighted_difference(img[0].rgb, img[1].rgb, den, n);
+        b->volume_noise = 2.0 * FIRST_PASS * lvcl_weighted_difference(img[0].rgb, img[1].rgb, den, n, NULL);
         /* Var(Q - P) = B / NOISE_PILOT_SPP + B / PILOT_SPP over either volume;
          * B(N) = B0 + B1 / N through the two (same samples, so their noise
          * differs less than they do). */
         double pilots = 1.0 / NOISE_PILOT_SPP + 1.0 / PILOT_SPP;
-        double b2 = lvcl_weighted_difference(img[2].rgb, img[1].rgb, den, n) / pilots;
-        double b1 = lvcl_weighted_difference(img[3].rgb, img[0].rgb, den, n) / pilots;
+        double b2 = lvcl_weighted_difference(img[2].rgb, img[1].rgb, den, n, NULL) / pilots;
+        double b1 = lvcl_weighted_difference(img[3].rgb, img[0].rgb, den, n, NULL) / pilots;
         double falls = 2.0 * FIRST_PASS * (b1 - b2); /* B1: 1/N1 - 1/N2 = 1 / (2 N1) */
         if (falls < 0) falls = 0;
         if (falls > 2.0 * FIRST_PASS * b2) falls = 2.0 * FIRST_PASS * b2; /* B0 >= 0 */

@@ -56,25 +56,30 @@ static lvcl_error warm_up(lvcl_session *s, const lvcl_render_request *req, const
 }
 
 /* Two pilots of req's paths, of samples [0, PILOT_SPP) and
- * [PILOT_SPP, 2 PILOT_SPP) whatever the guide, into img[0] and img[1];
- * their seconds in *seconds, and added to *spent. */
+ * [PILOT_SPP, 2 PILOT_SPP) whatever the guide, as pair *pairs: into
+ * img[2 *pairs] and img[2 *pairs + 1], their seconds into seconds[*pairs]
+ * and added to *spent; counts the pair. */
 static lvcl_error pilot_pair(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *img, double *seconds,
-                             double *spent, lvcl_status *st)
+                             int *pairs, double *spent, lvcl_status *st)
 {
+    lvcl_render_result *pair = &img[2 * *pairs];
     double t = lvcl_seconds();
-    lvcl_error e = lvcl_session_pilot(s, req, 1, 0, PILOT_SPP, &img[0], st);
-    if (!e) e = lvcl_session_pilot(s, req, 1, PILOT_SPP, PILOT_SPP, &img[1], st);
-    *seconds = lvcl_seconds() - t;
-    *spent += *seconds;
+    lvcl_error e = lvcl_session_pilot(s, req, 1, 0, PILOT_SPP, &pair[0], st);
+    if (!e) e = lvcl_session_pilot(s, req, 1, PILOT_SPP, PILOT_SPP, &pair[1], st);
+    seconds[*pairs] = lvcl_seconds() - t;
+    *spent += seconds[*pairs];
+    ++*pairs;
     return e;
 }
 
-/* A pair's cost (the header's) and its standard error, weighed by den. */
-static double pair_cost(const lvcl_render_result *img, double seconds, const float *den, double *error)
+/* Pair k's cost (the header's) and its standard error, weighed by den. */
+static double pair_cost(const lvcl_render_result *img, const double *seconds, int k, const float *den, double *error)
 {
-    size_t pixels = (size_t)img[0].width * img[0].height;
-    *error = lvcl_weighted_difference_error(img[0].rgb, img[1].rgb, den, pixels) * seconds;
-    return lvcl_weighted_difference(img[0].rgb, img[1].rgb, den, 3 * pixels) * seconds;
+    const lvcl_render_result *pair = &img[2 * k];
+    double cost =
+        lvcl_weighted_difference(pair[0].rgb, pair[1].rgb, den, (size_t)pair[0].width * pair[0].height * 3, error);
+    *error *= seconds[k];
+    return cost * seconds[k];
 }
 
 /* Goes on with the trace on the one device a time limit runs on, to
@@ -105,12 +110,13 @@ static lvcl_error plan_guide(lvcl_session *s, const lvcl_render_request *req, co
     pass.progress = 0;
     uint64_t fixed = vs->particles, first = fixed ? fixed : FIRST_PASS, traced = first;
     pass.particles = first;
-    /* Pilot pairs: guided over the first guide, guided over the second
-     * (the last guide when there is one pass), plain. */
+    /* Pilot pairs, one after another in img: guided paths over each guide
+     * measured (the first and the second, or the one), then plain paths. */
     lvcl_render_result img[6] = {{0}};
     double seconds[3] = {0};
+    int pairs = 0;
     lvcl_error e = trace_guide(s, &pass, st);
-    if (!e && !fixed) e = pilot_pair(s, req, &img[0], &seconds[0], &g->pilot_seconds, st);
+    if (!e && !fixed) e = pilot_pair(s, req, img, seconds, &pairs, &g->pilot_seconds, st);
     /* Unless that took a quarter of the budget already, which is better
      * spent on paths than on measuring: the guide doubles. */
     int second = !e && !fixed && lvcl_seconds() - start < (end - start) / 4;
@@ -120,25 +126,20 @@ static lvcl_error plan_guide(lvcl_session *s, const lvcl_render_request *req, co
         g->seconds_per_particle = (lvcl_seconds() - t) / first;
         traced = 2 * (uint64_t)first;
     }
-    if (!e && (second || fixed)) e = pilot_pair(s, req, &img[2], &seconds[1], &g->pilot_seconds, st);
-    if (!e && !second && !fixed) { /* one guide, measured by the first pair */
-        img[2] = img[0], img[3] = img[1], seconds[1] = seconds[0];
-        img[0] = img[1] = (lvcl_render_result){0};
-    }
-    if (!e) e = pilot_pair(s, plain, &img[4], &seconds[2], &g->pilot_seconds, st);
+    if (!e && (second || fixed)) e = pilot_pair(s, req, img, seconds, &pairs, &g->pilot_seconds, st);
+    if (!e) e = pilot_pair(s, plain, img, seconds, &pairs, &g->pilot_seconds, st);
     /* Every kind's error is weighed by the same denominators, from all
      * the pilots. */
-    int from = img[0].rgb ? 0 : 2;
-    float *den = e ? NULL : lvcl_pilot_denominators(img + from, 6 - from);
+    float *den = e ? NULL : lvcl_pilot_denominators(img, 2 * pairs);
     if (!e && !den) e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the pilot images");
     lvcl_guide_costs costs = {.seconds_per_particle = g->seconds_per_particle};
     if (!e) {
         double first_cost = 0, first_error = 0, error;
-        if (second) first_cost = pair_cost(&img[0], seconds[0], den, &first_error);
-        g->guided_cost = pair_cost(&img[2], seconds[1], den, &error);
+        if (second) first_cost = pair_cost(img, seconds, 0, den, &first_error);
+        g->guided_cost = pair_cost(img, seconds, pairs - 2, den, &error);
         if (second) lvcl_fit_guide_costs(first_cost, first_error, g->guided_cost, error, first, &costs);
         else costs.guide_noise = g->guided_cost, costs.guided_cost_error = error;
-        costs.plain_cost = g->plain_cost = pair_cost(&img[4], seconds[2], den, &costs.plain_cost_error);
+        costs.plain_cost = g->plain_cost = pair_cost(img, seconds, pairs - 1, den, &costs.plain_cost_error);
         g->guide_noise = costs.guide_noise;
         g->guide_noise_per_particle = costs.guide_noise_per_particle;
         g->guided_cost_error = costs.guided_cost_error;

@@ -66,11 +66,10 @@ lvcl_error lvcl_session_pilot(lvcl_session *s, const lvcl_render_request *req, i
  * `count` pilots of one size, averaged over 3 x 3 pixels so that their
  * noise does not weigh; malloc'ed, NULL when out of memory. */
 float *lvcl_pilot_denominators(const lvcl_render_result *img, int count);
-/* mean((a - b)^2 / den) over n values. */
-double lvcl_weighted_difference(const float *a, const float *b, const float *den, size_t n);
-/* The standard error of that mean over `pixels` RGB pixels (n = 3 pixels),
- * the pixel as the unit: its three channels are not independent. */
-double lvcl_weighted_difference_error(const float *a, const float *b, const float *den, size_t pixels);
+/* mean((a - b)^2 / den) over n values; with `error`, its standard error
+ * there, the RGB pixel as the unit (n a multiple of 3): a pixel's three
+ * channels are not independent. */
+double lvcl_weighted_difference(const float *a, const float *b, const float *den, size_t n, double *error);
 
 /* A guided render: the light volume, then guided camera paths; under a
  * time limit the guide is traced in measured passes and a plan

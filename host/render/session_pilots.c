@@ -18,31 +18,21 @@ lvcl_error lvcl_session_pilot(lvcl_session *s, const lvcl_render_request *req, i
     return lvcl_session_camera_pass(s, req, w, h, &pass, out, st);
 }
 
-double lvcl_weighted_difference(const float *a, const float *b, const float *den, size_t n)
+double lvcl_weighted_difference(const float *a, const float *b, const float *den, size_t n, double *error)
 {
-    double sum = 0;
+    double sum = 0, pixel_sum = 0, pixel_sum_sq = 0, pixel = 0;
     for (size_t i = 0; i < n; i++) {
-        double d = (double)a[i] - b[i];
-        sum += d * d / den[i];
+        double d = (double)a[i] - b[i], x = d * d / den[i];
+        sum += x;
+        pixel += x / 3.0;
+        if (i % 3 == 2) pixel_sum += pixel, pixel_sum_sq += pixel * pixel, pixel = 0;
+    }
+    if (error) {
+        double pixels = (double)(n / 3), mean = pixel_sum / pixels;
+        double var = pixels > 1 ? (pixel_sum_sq / pixels - mean * mean) / (pixels - 1) : 0;
+        *error = var > 0 ? sqrt(var) : 0;
     }
     return n ? sum / (double)n : 0;
-}
-
-double lvcl_weighted_difference_error(const float *a, const float *b, const float *den, size_t pixels)
-{
-    double sum = 0, sum_sq = 0;
-    for (size_t i = 0; i < pixels; i++) {
-        double x = 0;
-        for (size_t c = 3 * i; c < 3 * i + 3; c++) {
-            double d = (double)a[c] - b[c];
-            x += d * d / den[c] / 3.0;
-        }
-        sum += x;
-        sum_sq += x * x;
-    }
-    if (pixels < 2) return 0;
-    double mean = sum / (double)pixels, var = (sum_sq / (double)pixels - mean * mean) / (double)(pixels - 1);
-    return var > 0 ? sqrt(var) : 0;
 }
 
 float *lvcl_pilot_denominators(const lvcl_render_result *img, int count)
