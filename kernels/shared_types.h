@@ -235,35 +235,37 @@ typedef struct {
 } lv_grid_info;
 
 /* Regions of a cut cell (docs/light-volume.md, "Regions"): a stored cell
- * that up to LV_REGION_PLANES planes of its geometry cut holds 2^P
- * consecutive slots, one per sign pattern of its planes, so that light on
- * the two sides of a wall through it is tallied apart. Per slot, the cell's
- * planes (n, c: a point u in cell units from the cell's corner is on the
- * positive side of plane i if n_i . u > c_i, and its sign pattern m has
- * bit i set where it is), their count P (0: one region) and where each
- * pattern's slot lies (`layout`), the cell's first slot, which pattern
- * this slot is and where its shares
- * start in the region_shares table: the region's volume (a fraction of
- * the cell), then per subcell the fraction of the subcell inside the
- * region (1 + k^3 floats, exact, from volume_shares.c; LV_NO_SHARES for a
- * cell without planes, whose one region is all of it). Every slot of a
- * cell repeats the cell's planes. A pattern whose region has no volume in
- * the cell (3 planes leave at most 7 of 8) gets no slot of its own: its
- * points (on a boundary, by rounding) read a neighbouring region's. So a
- * cut cell holds one slot per region, at most 2^P. */
-#define LV_REGION_PLANES 3
+ * that up to LV_GEOMETRY_PLANES planes of its geometry cut, and a refined
+ * cell (its middle planes beside those, up to LV_REGION_PLANES in all),
+ * holds one slot per region: per sign pattern of its planes whose region
+ * has volume, consecutive slots from the cell's first. Per slot, the
+ * cell's planes (n, c: a point u in cell units from the cell's corner is
+ * on the positive side of plane i if n_i . u > c_i, and its sign pattern m
+ * has bit i set where it is), their count P (0: one region), the cell's
+ * first slot, which pattern this slot is, where its shares start in the
+ * region_shares table (the region's volume as a fraction of the cell, then
+ * per subcell the fraction of the subcell inside the region: 1 + k^3
+ * floats, exact, from volume_shares.c; LV_NO_SHARES for a cell without
+ * planes, whose one region is all of it), and the slot of each pattern
+ * (LV_REGION_OFFSET). Every slot of a cell repeats the cell's planes and
+ * offsets. A pattern whose region has no volume in the cell (3 planes leave
+ * at most 7 of 8) gets no slot of its own: its points (on a boundary, by
+ * rounding) read a neighbouring region's. */
+#define LV_GEOMETRY_PLANES 3
+#define LV_REGION_PLANES 6
 #define LV_NO_SHARES 0xffffffffu
-/* layout: bits 0-7 P, bits 8 + 3m the slot of pattern m from base_slot. */
-#define LV_REGION_COUNT(layout) ((layout)&255u)
-#define LV_REGION_OFFSET(layout, m) ((layout) >> (8u + 3u * (m)) & 7u)
 
 typedef struct {
     float planes[LV_REGION_PLANES][4];
-    lv_u32 layout; /* P and the pattern -> slot map (LV_REGION_COUNT, LV_REGION_OFFSET) */
+    lv_u32 plane_count; /* P */
     lv_u32 base_slot;
     lv_u32 region;
-    lv_u32 shares; /* first entry in region_shares, or LV_NO_SHARES */
+    lv_u32 shares;                               /* first entry in region_shares, or LV_NO_SHARES */
+    lv_u32 offsets[(1 << LV_REGION_PLANES) / 4]; /* pattern m's slot - base_slot, 8 bits each */
 } lv_slot_region;
+
+/* The slot of pattern m of the cell whose slot table entry is *r, from its first slot. */
+#define LV_REGION_OFFSET(r, m) ((r)->offsets[(m) >> 2] >> (8u * ((m)&3u)) & 255u)
 
 /* Buffers the tallies may be split over, each within the device's largest
  * allocation (tally set t lies in buffer t / slots_per_part). Slot s keeps

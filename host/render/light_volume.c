@@ -166,10 +166,10 @@ uint32_t lvcl_volume_slot_at(const lvcl_light_volume *vol, const float p[3])
     if (base == LV_EMPTY_CELL) return base;
     const lv_slot_region *r = &vol->regions[base];
     uint32_t pattern = 0;
-    for (uint32_t i = 0; i < LV_REGION_COUNT(r->layout); i++)
+    for (uint32_t i = 0; i < r->plane_count; i++)
         if (r->planes[i][0] * u[0] + r->planes[i][1] * u[1] + r->planes[i][2] * u[2] > r->planes[i][3])
             pattern |= 1u << i;
-    return r->layout ? base + LV_REGION_OFFSET(r->layout, pattern) : base;
+    return r->plane_count ? base + LV_REGION_OFFSET(r, pattern) : base;
 }
 
 uint32_t lvcl_volume_tally_set(const lvcl_light_volume *vol, uint32_t slot)

@@ -1,5 +1,5 @@
 /* The regions of cut cells (docs/light-volume.md, "Regions"): for every
- * stored cell, up to LV_REGION_PLANES planes of the geometry through it,
+ * stored cell, up to LV_GEOMETRY_PLANES planes of the geometry through it,
  * which split it into 2^P region slots so that light on the two sides of a
  * wall through the cell is tallied apart. */
 #include <math.h>
@@ -153,9 +153,9 @@ static int spans_few_cells(const lv_grid_info *g, const lv_instance *inst, const
  * cut it, in cell units from its corner. Returns their count. */
 static int choose_planes(const clusters *c, int cell, const double lo[3], double h, float planes[][4])
 {
-    int chosen[LV_REGION_PLANES], count = 0;
-    double pn[LV_REGION_PLANES][3], pd[LV_REGION_PLANES];
-    for (int round = 0; round < LV_REGION_PLANES; round++) {
+    int chosen[LV_GEOMETRY_PLANES], count = 0;
+    double pn[LV_GEOMETRY_PLANES][3], pd[LV_GEOMETRY_PLANES];
+    for (int round = 0; round < LV_GEOMETRY_PLANES; round++) {
         int best = -1;
         /* The heaviest cluster not yet taken; the earliest made on a tie. */
         for (int i = c->head[cell]; i >= 0; i = c->pool[i].next) {
@@ -254,21 +254,21 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
     *shares = NULL;
     *share_count = 0;
     size_t stored = g->slot_count;
-    /* Per stored cell: its first slot, its layout (P and the pattern ->
-     * slot map), which patterns have a region of their own and where
-     * their shares start. */
+    /* Per stored cell: its first slot, its pattern -> slot offsets,
+     * which patterns have a region of their own and where their shares
+     * start. */
+    enum { MAX_PATTERNS = 1 << LV_REGION_PLANES, OFFSET_WORDS = MAX_PATTERNS / 4 };
     uint32_t k = g->subcells, per = 1u + (k ? k * k * k : 1u);
     size_t total = 0, share_total = 0, share_cap = 0;
     uint32_t *base = malloc((stored ? stored : 1) * sizeof *base);
-    uint32_t *layout = malloc((stored ? stored : 1) * sizeof *layout);
+    uint32_t *offsets = calloc((stored ? stored : 1) * OFFSET_WORDS, sizeof *offsets);
     uint32_t *first = malloc((stored ? stored : 1) * sizeof *first);
-    uint8_t *kept = malloc(stored ? stored : 1);
-    float *sh = NULL, tmp[(1u << LV_REGION_PLANES) * (1u + LV_SUBCELL_MAX)];
-    int failed = !base || !layout || !first || !kept;
+    uint64_t *kept = malloc((stored ? stored : 1) * sizeof *kept);
+    float *sh = NULL, *tmp = malloc(MAX_PATTERNS * (1u + LV_SUBCELL_MAX) * sizeof *tmp);
+    int failed = !base || !offsets || !first || !kept || !tmp;
     for (size_t s = 0; s < stored && !failed; s++) {
         uint32_t count = planes[s].count;
         base[s] = (uint32_t)total;
-        layout[s] = 0;
         first[s] = LV_NO_SHARES;
         kept[s] = 1;
         if (!count) {
@@ -277,14 +277,13 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
         }
         /* The exact shares (volume_shares.c); a pattern whose region
          * has under a millionth of the cell gets no slot. */
-        uint32_t patterns = 1u << count, index[1u << LV_REGION_PLANES], n = 0;
+        uint32_t patterns = 1u << count, index[MAX_PATTERNS], n = 0;
         if (!known || !known(ctx, (uint32_t)s, tmp))
             lvcl_region_shares((const float(*)[4])planes[s].planes, (int)count, k, tmp);
         kept[s] = 0;
         for (uint32_t m = 0; m < patterns; m++)
-            if (tmp[m * per] > 1e-6f) kept[s] |= (uint8_t)(1u << m), index[m] = n++;
+            if (tmp[m * per] > 1e-6f) kept[s] |= (uint64_t)1 << m, index[m] = n++;
         if (!n) kept[s] = 1, index[0] = n++; /* rounding only: keep one */
-        layout[s] = count;
         for (uint32_t m = 0; m < patterns; m++) {
             /* An empty pattern reads the kept one fewest planes away. */
             uint32_t best = m;
@@ -292,7 +291,7 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
                 if (kept[s] >> q & 1u) best = q;
             for (uint32_t q = 0; q < patterns && !(kept[s] >> m & 1u); q++)
                 if (kept[s] >> q & 1u && __builtin_popcount(q ^ m) < __builtin_popcount(best ^ m)) best = q;
-            layout[s] |= index[best] << (8u + 3u * m);
+            offsets[s * OFFSET_WORDS + m / 4] |= index[best] << (8u * (m % 4));
         }
         if (share_total + (size_t)n * per > share_cap) {
             size_t cap = share_cap ? 2 * share_cap : 65536;
@@ -318,9 +317,10 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
     if (!failed && sh && total < LV_CUT_CELL - 1) r = calloc(total + 1, sizeof *r);
     if (!r) {
         free(base);
-        free(layout);
+        free(offsets);
         free(first);
         free(kept);
+        free(tmp);
         free(sh);
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' regions");
     }
@@ -329,7 +329,8 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
             if (!(kept[s] >> m & 1u)) continue;
             lv_slot_region *e = &r[base[s] + j];
             memcpy(e->planes, planes[s].planes, sizeof e->planes);
-            e->layout = layout[s];
+            memcpy(e->offsets, &offsets[s * OFFSET_WORDS], sizeof e->offsets);
+            e->plane_count = planes[s].count;
             e->base_slot = base[s];
             e->region = m;
             e->shares = planes[s].count ? first[s] + j * per : LV_NO_SHARES;
@@ -342,9 +343,10 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
         if (slot[i] != LV_EMPTY_CELL) slot[i] = base[slot[i]] | (planes[slot[i]].count ? LV_CUT_CELL : 0u);
     g->slot_count = (lv_u32)total;
     free(base);
-    free(layout);
+    free(offsets);
     free(first);
     free(kept);
+    free(tmp);
     *regions = r;
     return LVCL_OK;
 }

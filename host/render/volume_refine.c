@@ -1,9 +1,9 @@
 /* Refined cells (docs/light-volume.md, "Refined cells and directions"): after a first
  * part of the trace, the stored cells that the particles cross most
  * densely are split by axis-aligned planes through their middle, beside
- * the planes of their geometry (at most LV_REGION_PLANES in all), so an
- * uncut cell becomes its eight octants and a cell cut by one wall the four
- * quarters of each side. The new regions are ordinary region slots. And
+ * the planes of their geometry, so an uncut cell becomes its eight octants
+ * and each region of a cut cell the parts of it in each octant (less the
+ * axes its planes already run across). The new regions are ordinary region slots. And
  * the slots of other cells whose light is concentrated in few directions
  * take fine bins, 2n x 2n per hemisphere (LV_FINE_DIRS).
  *
@@ -37,7 +37,8 @@ static int by_score(const void *a, const void *b)
 }
 
 /* Adds to c the middle planes of the axes no plane of it is within 25
- * degrees of (the regions' test for one wall), the least aligned first, up to LV_REGION_PLANES; returns how many. */
+ * degrees of (the regions' test for one wall), the least aligned first;
+ * returns how many. */
 static int add_middle_planes(lvcl_cell_planes *c)
 {
     int order[3] = {0, 1, 2}, added = 0;
@@ -123,7 +124,7 @@ static size_t collect(const lvcl_light_volume *vol, const int64_t *tallies, lvcl
         if (entry == LV_EMPTY_CELL) continue;
         uint32_t base = entry & ~LV_CUT_CELL, end = cell_end(vol->regions, g->slot_count, entry);
         memcpy(planes[s].planes, vol->regions[base].planes, sizeof planes[s].planes);
-        planes[s].count = (uint8_t)(entry & LV_CUT_CELL ? LV_REGION_COUNT(vol->regions[base].layout) : 0);
+        planes[s].count = (uint8_t)(entry & LV_CUT_CELL ? vol->regions[base].plane_count : 0);
         first_slot[s] = base;
         lvcl_cell_planes trial = planes[s];
         int added = add_middle_planes(&trial);
@@ -150,13 +151,13 @@ static void remap(const lvcl_light_volume *vol, const uint32_t *new_cell_slot, c
         if (entry == LV_EMPTY_CELL) continue;
         uint32_t base = entry & ~LV_CUT_CELL, end = cell_end(new_regions, new_slots, entry), old_base = first_slot[s];
         const lv_slot_region *old = &vol->regions[old_base];
-        uint32_t old_count = vol->cell_slot[i] & LV_CUT_CELL ? LV_REGION_COUNT(old->layout) : 0;
+        uint32_t old_count = vol->cell_slot[i] & LV_CUT_CELL ? old->plane_count : 0;
         for (uint32_t slot = base; slot < end; slot++) {
             from[slot] = old_base + (slot - base);
             split_slot[slot] = split_cell[s];
             if (split_cell[s]) {
                 uint32_t pattern = new_regions[slot].region & ((1u << old_count) - 1u);
-                from[slot] = old_base + (old_count ? LV_REGION_OFFSET(old->layout, pattern) : 0u);
+                from[slot] = old_base + (old_count ? LV_REGION_OFFSET(old, pattern) : 0u);
             }
         }
         s++;
@@ -269,14 +270,14 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
     if (!e) {
         size_t candidates = collect(vol, tallies, planes, first_slot, cand);
         /* The densest first, while the pieces they will hold pass density
-         * x sqrt(particles) and the memory lasts (a cell that ends with P
-         * planes holds at most 2^P slots, some of them its own already). */
+         * x sqrt(particles) and the memory lasts (a region that gains A
+         * planes becomes at most 2^A slots, one of them its own already). */
         qsort(cand, candidates, sizeof *cand, by_score);
         size_t budget = vs->refine_memory ? (size_t)vs->refine_memory : 2 * vol->device_bytes, need = vol->device_bytes;
         double threshold = (density > 0 ? density : LVCL_REFINE_DENSITY) * sqrt(expected_particles);
         for (; density > 0 && taken < candidates; taken++) {
             const candidate *c = &cand[taken];
-            size_t most = (size_t)1 << (planes[c->cell].count + c->added), cut = planes[c->cell].count > 0;
+            size_t most = (size_t)c->slots << c->added, cut = planes[c->cell].count > 0;
             size_t more = (most - c->slots) * slot_bytes(g) + (most - (cut ? c->slots : 0)) * share_bytes(g);
             if (c->score * expected_particles < threshold || need + more > budget) break;
             need += more;

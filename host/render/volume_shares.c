@@ -149,7 +149,7 @@ static double volume(const polytope *t)
 void lvcl_region_shares(const float planes[][4], int count, uint32_t k, float *out)
 {
     uint32_t regions = 1u << count, subs = k ? k * k * k : 1u, per = 1u + subs;
-    double size = k ? 1.0 / k : 1.0, whole[8] = {0};
+    double size = k ? 1.0 / k : 1.0, whole[1 << LV_REGION_PLANES] = {0};
     for (uint32_t i = 0; i < subs; i++) {
         double lo[3] = {0, 0, 0};
         if (k) lo[0] = (i % k) * size, lo[1] = (i / k % k) * size, lo[2] = (i / (k * k)) * size;

@@ -95,8 +95,7 @@ inline uint lv_region_slot(const lv_grid *grid, uint entry, float3 u)
     if (entry == LV_EMPTY_CELL || !(entry & LV_CUT_CELL)) return entry;
     uint base = entry & ~LV_CUT_CELL;
     __global const lv_slot_region *r = grid->regions + base;
-    uint layout = r->layout;
-    return layout ? base + LV_REGION_OFFSET(layout, lv_region_of(r, LV_REGION_COUNT(layout), u)) : base;
+    return r->plane_count ? base + LV_REGION_OFFSET(r, lv_region_of(r, r->plane_count, u)) : base;
 }
 
 /* The slot of the region of its cell holding point p, or LV_EMPTY_CELL. */

@@ -125,7 +125,7 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
             uint base = entry & ~LV_CUT_CELL;
             float3 corner = o - convert_float3(cell); /* the origin relative to the cell's corner */
             __global const lv_slot_region *r = grid->regions + base;
-            uint layout = r->layout, planes = LV_REGION_COUNT(layout);
+            uint planes = r->plane_count;
             /* Where the piece crosses the cell's planes, in order: each
              * sub-piece goes to the region of its midpoint. */
             float cut[LV_REGION_PLANES];
@@ -145,7 +145,7 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
             for (uint j = 0; j <= cuts; j++) {
                 float b = j < cuts ? cut[j] : s_exit;
                 uint slot = planes
-                    ? base + LV_REGION_OFFSET(layout, lv_region_of(r, planes, corner + dir * (0.5f * (a + b))))
+                    ? base + LV_REGION_OFFSET(r, lv_region_of(r, planes, corner + dir * (0.5f * (a + b))))
                     : base;
                 lv_tally_piece(grid, &batch, slot, corner, dir, a, b, h, t0, bins, weight, sigma, concentrated, lobe);
                 a = b;

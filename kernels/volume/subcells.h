@@ -71,11 +71,11 @@ inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
     float3 x = lv_subcell_point(grid, cell, sub, lv_rng_next3(rng));
     /* In a cut cell the point must lie in q's region: a few tries, then q. */
     __global const lv_slot_region *r = grid->regions + slot;
-    if (r->layout) {
+    if (r->plane_count) {
         float3 corner = lv_grid_origin(grid) + cell * grid->g.cell_size;
         int tries = 0;
-        uint layout = r->layout, planes = LV_REGION_COUNT(layout), own = LV_REGION_OFFSET(layout, r->region);
-        while (LV_REGION_OFFSET(layout, lv_region_of(r, planes, (x - corner) / grid->g.cell_size)) != own) {
+        uint planes = r->plane_count, own = LV_REGION_OFFSET(r, r->region);
+        while (LV_REGION_OFFSET(r, lv_region_of(r, planes, (x - corner) / grid->g.cell_size)) != own) {
             if (++tries == 4) {
                 x = q;
                 break;

@@ -2,14 +2,18 @@
  * trace the densest cells split into regions by planes through their
  * middle, and their tallies restart; a retrace of the particles before
  * the split gives those back. Checked on the Cornell box at 12 and 20
- * cells, with 4 and 0 subcells, and on the white furnace:
+ * cells, with 4 and 0 subcells, on a lit room with a ball in it, and on
+ * the white furnace:
  *
  * (a) a cell that is not split keeps its tallies bit for bit, and the
  *     regions of a split cell together hold what the cell tallied in a
  *     volume traced without splitting (within the rounding of the pieces
  *     the new planes cut: 1e-5): all of it with the retrace, what it
  *     tallied after the split without;
- * (b) the same tallies split the same cells, bit for bit;
+ * (b) the same tallies split the same cells, bit for bit; cells that the
+ *     ball's curved surface cuts keep their planes and gain middle ones
+ *     beside them (a cell then holds more than the 2^3 slots that three
+ *     planes, the most before 2026-12-05, can make);
  * (c) the memory budget holds: a budget of the unrefined volume splits
  *     nothing, a higher density splits fewer cells;
  * (d) the white furnace (lv-all, closed form Le / (1 - a) = 2): every
@@ -98,19 +102,20 @@ static size_t cell_ranges(const lvcl_light_volume *vol, uint32_t *first, uint32_
     return n;
 }
 
-static void test_split_sums(const lvcl_session *ss, int cells, int subcells, int retrace)
+/* Returns the most slots a split cell holds. */
+static uint32_t test_split_sums(const lvcl_session *ss, int cells, int subcells, int retrace)
 {
     lvcl_volume_settings vs = {.cells = cells, .dirs = 4, .subcells = subcells, .particles = 200000};
     uint64_t split_at = vs.particles / 4;
     int64_t *before = NULL;
     read_volume plain, split, again;
-    if (!trace(ss, &vs, split_at, 0, 0, &plain, &before)) return;
+    if (!trace(ss, &vs, split_at, 0, 0, &plain, &before)) return 0;
     vs.refine_memory = (uint64_t)1 << 32;
     if (!trace(ss, &vs, split_at, SPLIT_ALL, retrace, &split, NULL) ||
         !trace(ss, &vs, split_at, SPLIT_ALL, retrace, &again, NULL)) {
         release(&plain);
         free(before);
-        return;
+        return 0;
     }
     const lv_grid_info *gp = lvcl_volume_grid(plain.volume), *gs = lvcl_volume_grid(split.volume);
     size_t per = LV_SET_LONGS(gp->bins), cap = gp->slot_count + 1;
@@ -120,6 +125,7 @@ static void test_split_sums(const lvcl_session *ss, int cells, int subcells, int
     size_t n = cell_ranges(plain.volume, pf, pc), m = cell_ranges(split.volume, sf, sc);
     int kept_exact = n == m, sums_close = n == m;
     size_t split_cells = 0;
+    uint32_t most_slots = 0;
     double worst = 0;
     for (size_t i = 0; i < n && i < m; i++) {
         if (sc[i] == pc[i]) {
@@ -127,6 +133,7 @@ static void test_split_sums(const lvcl_session *ss, int cells, int subcells, int
             continue;
         }
         split_cells++;
+        if (sc[i] > most_slots) most_slots = sc[i];
         for (size_t b = 0; b < per; b++) {
             double expected = 0, got = 0;
             for (uint32_t s = 0; s < pc[i]; s++)
@@ -138,10 +145,10 @@ static void test_split_sums(const lvcl_session *ss, int cells, int subcells, int
             sums_close &= off < 1e-5;
         }
     }
-    printf("  %d cells, %d subcells%s: %u slots -> %u, %zu cells split (stats: %zu), worst relative difference "
-           "%.3g\n",
+    printf("  %d cells, %d subcells%s: %u slots -> %u, %zu cells split (stats: %zu, at most %u slots), worst "
+           "relative difference %.3g\n",
            cells, subcells, retrace ? ", retraced" : "", gp->slot_count, gs->slot_count, split_cells,
-           lvcl_volume_stats_of(split.volume).split_cells, worst);
+           lvcl_volume_stats_of(split.volume).split_cells, most_slots, worst);
     CHECK("refined cells: every cell that can split does at a tiny density, and the stats count them",
           split_cells > 0 && split_cells == lvcl_volume_stats_of(split.volume).split_cells, "%d cells: %zu split",
           cells, split_cells);
@@ -166,6 +173,53 @@ static void test_split_sums(const lvcl_session *ss, int cells, int subcells, int
     release(&plain);
     release(&split);
     release(&again);
+    return most_slots;
+}
+
+/* A lit room (2 m) with a ball of radius 0.35 m, 24 x 12 facets, off its
+ * centre: the cells its surface cuts get up to three planes of it. */
+static lvcl_session *ball_session(void)
+{
+    enum { SEGMENTS = 24, RINGS = 12, MAX_TRIS = 12 + 2 + 2 * SEGMENTS * RINGS };
+    static float tris[MAX_TRIS * 9];
+    size_t n = 0;
+    const float room_lo[3] = {-1, 0, -1}, room_hi[3] = {1, 2, 1};
+    n = harness_add_box(tris, n, room_lo, room_hi);
+    const float lamp[3] = {-0.3f, 1.999f, -0.3f}, lu[3] = {0.6f, 0, 0}, lv[3] = {0, 0, 0.6f};
+    size_t lamp_at = n;
+    n = harness_add_quad(tris, n, lamp, lu, lv);
+    const float centre[3] = {0.1f, 0.55f, 0.05f}, radius = 0.35f, pi = 3.14159265f;
+    for (int r = 0; r < RINGS; r++)
+        for (int q = 0; q < SEGMENTS; q++) {
+            float p[4][3];
+            for (int k = 0; k < 4; k++) {
+                float th = pi * (float)(r + (k >> 1)) / RINGS;
+                float ph = 2 * pi * (float)(q + ((k ^ (k >> 1)) & 1)) / SEGMENTS;
+                p[k][0] = centre[0] + radius * sinf(th) * cosf(ph);
+                p[k][1] = centre[1] + radius * cosf(th);
+                p[k][2] = centre[2] + radius * sinf(th) * sinf(ph);
+            }
+            const int corners[2][3] = {{0, 1, 2}, {0, 2, 3}};
+            for (int t = 0; t < 2; t++, n++)
+                for (int v = 0; v < 3; v++) memcpy(&tris[9 * n + 3 * v], p[corners[t][v]], sizeof p[0]);
+        }
+    lvcl_scene scene;
+    harness_triangle_scene(tris, n, &scene);
+    lvcl_material_desc *m = realloc(scene.materials, 2 * sizeof *m);
+    if (!m) exit(1);
+    scene.materials = m;
+    scene.material_count = 2;
+    m[1] = m[0];
+    for (int c = 0; c < 3; c++) m[1].base_color[c] = 0, m[1].emissive[c] = 5;
+    for (size_t i = lamp_at; i < lamp_at + 2; i++) scene.tri_material[i] = 1;
+    lvcl_status st = {0};
+    lvcl_session *s = NULL;
+    lvcl_session_config cfg = {.seed = 5, .max_depth = 64, .fast_math = 1};
+    if (lvcl_session_open(&scene, &cfg, &s, &st)) {
+        CHECK("refined cells: the ball's room", 0, "%s", st.message);
+        return NULL;
+    }
+    return s;
 }
 
 /* The guide table (kernels/passes/guided.cl) of a volume with fine bins:
@@ -363,6 +417,13 @@ int main(int argc, char **argv)
     test_fine_sums(ss, 0);
     test_budget(ss);
     lvcl_session_close(ss);
+    lvcl_session *ball = ball_session();
+    if (ball) {
+        uint32_t most = test_split_sums(ball, 12, 4, 1);
+        CHECK("refined cells: a split cell round a ball keeps its planes and gains middle ones (> 2^3 slots)", most > 8,
+              "at most %u slots in a split cell", most);
+        lvcl_session_close(ball);
+    }
     test_furnace(0, 0, 0);
     test_furnace(4, 0, 1);
     test_furnace(4, 1, 1);
