@@ -105,6 +105,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
     o->dirs = LVCL_DEFAULT_DIRS;
     o->subcells = LVCL_DEFAULT_SUBCELLS;
     o->merge_tolerance = LVCL_DEFAULT_MERGE_TOLERANCE;
+    o->refine_density = -1; /* not given: see below */
     o->gather = "integrate";
     o->adaptive = "on";
     o->see_through = "on";
@@ -248,6 +249,11 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown --adaptive '%s' (expected on or off)", o->adaptive);
     if (strcmp(o->see_through, "on") && strcmp(o->see_through, "off"))
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown --see-through '%s' (expected on or off)", o->see_through);
+    /* Refined cells by default in lv mode, where they split only cells
+     * whose light is focused (LVCL_REFINE_FOCUS); the guide of guided paths
+     * gains nothing from them, and merged cells exclude them. */
+    if (o->refine_density < 0)
+        o->refine_density = !strcmp(o->mode, "lv") && !(o->merge_tolerance > 0) ? LVCL_REFINE_DENSITY : 0;
     if ((o->refine_density > 0 || o->refine_peak > 0) && o->merge_tolerance > 0)
         return lvcl_fail(st, LVCL_ERR_USAGE, "--refine cannot be combined with --merge-tolerance");
     if (!o->scene) o->scene = DEFAULT_SCENE;
@@ -284,10 +290,10 @@ void lvcl_options_print_help(const char *program)
         "  --merge-tolerance T  light volume: adaptive cells: 2x2x2 blocks with no geometry inside share one\n"
         "                       tally set where their cells differ by less than T times their noise at\n"
         "                       the particle count (default 0: off; 0.25 measured neutral, see docs)\n"
-        "  --refine on|off|D    light volume: split the cells the particles cross most densely into\n"
-        "                       octants (beside their walls' planes) after a first part of the trace\n"
-        "                       (default off; D: the density threshold, on = 4; pays where curved\n"
-        "                       glass or mirrors focus light, costs diffuse rooms particles; see docs)\n"
+        "  --refine on|off|D    light volume: split the cells the particles cross most densely, where\n"
+        "                       a tenth of their light came by mirrors and glass alone (caustics), into\n"
+        "                       octants beside their walls' planes after a first part of the trace\n"
+        "                       (default on in lv mode, else off; D: the density threshold, on = 4)\n"
         "  --refine-dirs on|off|R  light volume: after the same part of the trace, give the slots whose\n"
         "                       brightest bin holds R times their mean 2n x 2n bins per hemisphere\n"
         "                       (default off; on = 8; see docs)\n"

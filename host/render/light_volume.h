@@ -51,6 +51,7 @@ typedef struct {
     int see_through;              /* lv: leave out lamps seen through glass, which its gather finds */
     double merge_tolerance;       /* adaptive cells: see lvcl_volume_adapt; 0 = every cell keeps its tallies */
     double refine_density;        /* refined cells: see lvcl_volume_refine; 0 = no cell is split */
+    double refine_focus;          /* refined cells: the least share of focused light a cell splits with; 0 = any */
     double refine_peak;           /* refined directions: see lvcl_volume_refine; 0 = no fine bins */
     uint64_t refine_memory;       /* bytes a refined volume may take on the device; 0 = twice the unrefined */
     int progress;
@@ -120,12 +121,21 @@ static inline uint64_t lvcl_volume_split_point(const lvcl_volume_settings *s)
  * reach, D sqrt(N), to split; fine bins need it too, whether or not cells
  * split (docs/light-volume.md, "Refined cells and directions"). */
 #define LVCL_REFINE_DENSITY 4.0
+/* --refine on: the share of a cell's light (luminance) that must have come
+ * by specular scatters alone, its lobe's over its bins', for it to split.
+ * Focused light (caustics) has edges that a cell's average blurs; diffuse
+ * light varies slowly, and the densest diffuse cells are those every
+ * particle crosses, where a split only slows the trace
+ * (docs/light-volume.md, "Only where the light is focused"). */
+#define LVCL_REFINE_FOCUS 0.1
 
 /* Refined cells and directions (docs/light-volume.md): after a part of
  * the trace and before lvcl_volume_finish, splits the stored cells whose
  * tallies say the particles cross them densely (pieces per particle x
  * expected_particles at least settings->refine_density x
- * sqrt(expected_particles)), the densest first, by planes through their
+ * sqrt(expected_particles)) and whose light came by specular scatters
+ * alone for at least settings->refine_focus of its luminance (the lobe
+ * sums over the bins), the densest first, by planes through their
  * middle along the axes their own planes leave free; then gives the
  * slots of other cells whose brightest bin holds settings->refine_peak
  * times their mean bin 2n x 2n bins, the most concentrated first; all

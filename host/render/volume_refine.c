@@ -111,10 +111,26 @@ static uint32_t cell_end(const lv_slot_region *regions, uint32_t slot_count, uin
     return end;
 }
 
+/* The share of the luminance that slots [base, end) hold that came by
+ * specular scatters alone: their lobes' (the set's last long) over their
+ * bins'. */
+static double focused_share(const int64_t *tallies, size_t per_set, uint32_t bins, uint32_t base, uint32_t end)
+{
+    double all = 0, focused = 0;
+    for (size_t s = base; s < end; s++) {
+        const int64_t *t = &tallies[s * per_set];
+        for (uint32_t b = 0; b < bins; b++)
+            all += LV_LUMINANCE((double)t[3 * b], (double)t[3 * b + 1], (double)t[3 * b + 2]);
+        focused += (double)t[per_set - 1];
+    }
+    return all > 0 ? focused / all : 0.0;
+}
+
 /* Per stored cell (numbered in grid order): its planes and first slot, and
- * for each that can gain a middle plane a candidate scored by the pieces
- * per particle its tallies hold. Returns the candidates. */
-static size_t collect(const lvcl_light_volume *vol, const int64_t *tallies, lvcl_cell_planes *planes,
+ * for each that can gain a middle plane and holds at least `focus` of
+ * focused light a candidate scored by the pieces per particle its tallies
+ * hold. Returns the candidates. */
+static size_t collect(const lvcl_light_volume *vol, const int64_t *tallies, double focus, lvcl_cell_planes *planes,
                       uint32_t *first_slot, candidate *cand)
 {
     const lv_grid_info *g = &vol->buf.info;
@@ -128,7 +144,7 @@ static size_t collect(const lvcl_light_volume *vol, const int64_t *tallies, lvcl
         first_slot[s] = base;
         lvcl_cell_planes trial = planes[s];
         int added = add_middle_planes(&trial);
-        if (added)
+        if (added && (!(focus > 0) || focused_share(tallies, per_set, g->bins, base, end) >= focus))
             cand[count++] = (candidate){.score = pieces(tallies, per_set, base, end, g->particles),
                                         .cell = (uint32_t)s,
                                         .added = (uint8_t)added,
@@ -268,7 +284,7 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
         e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory refining the light volume");
     size_t taken = 0, fine_taken = 0;
     if (!e) {
-        size_t candidates = collect(vol, tallies, planes, first_slot, cand);
+        size_t candidates = collect(vol, tallies, vs->refine_focus, planes, first_slot, cand);
         /* The densest first, while the pieces they will hold pass density
          * x sqrt(particles) and the memory lasts (a region that gains A
          * planes becomes at most 2^A slots, one of them its own already). */

@@ -10,7 +10,9 @@
  *     volume traced without splitting (within the rounding of the pieces
  *     the new planes cut: 1e-5): all of it with the retrace, what it
  *     tallied after the split without;
- * (b) the same tallies split the same cells, bit for bit; cells that the
+ * (b) the same tallies split the same cells, bit for bit; with the share
+ *     of focused light that --refine on asks, no cell of the (diffuse)
+ *     Cornell box splits and some round the glass ball do; cells that the
  *     ball's curved surface cuts keep their planes and gain middle ones
  *     beside them (a cell then holds more than the 2^3 slots that three
  *     planes, the most before 2026-12-05, can make);
@@ -176,8 +178,22 @@ static uint32_t test_split_sums(const lvcl_session *ss, int cells, int subcells,
     return most_slots;
 }
 
-/* A lit room (2 m) with a ball of radius 0.35 m, 24 x 12 facets, off its
- * centre: the cells its surface cuts get up to three planes of it. */
+/* How many cells split at every density where at least LVCL_REFINE_FOCUS
+ * of their light came by specular scatters alone (--refine on). */
+static size_t split_where_focused(const lvcl_session *ss)
+{
+    lvcl_volume_settings vs = {
+        .cells = 12, .dirs = 4, .subcells = 4, .particles = 200000, .refine_focus = LVCL_REFINE_FOCUS};
+    read_volume v;
+    if (!trace(ss, &vs, vs.particles / 4, SPLIT_ALL, 1, &v, NULL)) return 0;
+    size_t n = lvcl_volume_stats_of(v.volume).split_cells;
+    release(&v);
+    return n;
+}
+
+/* A lit room (2 m) with a glass ball of radius 0.35 m, 24 x 12 facets,
+ * off its centre: the cells its surface cuts get up to three planes of
+ * it, and it focuses the lamp's light on the floor. */
 static lvcl_session *ball_session(void)
 {
     enum { SEGMENTS = 24, RINGS = 12, MAX_TRIS = 12 + 2 + 2 * SEGMENTS * RINGS };
@@ -199,19 +215,22 @@ static lvcl_session *ball_session(void)
                 p[k][1] = centre[1] + radius * cosf(th);
                 p[k][2] = centre[2] + radius * sinf(th) * sinf(ph);
             }
+            /* At the poles one of the quad's triangles has no area. */
             const int corners[2][3] = {{0, 1, 2}, {0, 2, 3}};
-            for (int t = 0; t < 2; t++, n++)
+            for (int t = r == 0 ? 1 : 0; t < (r == RINGS - 1 ? 1 : 2); t++, n++)
                 for (int v = 0; v < 3; v++) memcpy(&tris[9 * n + 3 * v], p[corners[t][v]], sizeof p[0]);
         }
     lvcl_scene scene;
     harness_triangle_scene(tris, n, &scene);
-    lvcl_material_desc *m = realloc(scene.materials, 2 * sizeof *m);
+    lvcl_material_desc *m = realloc(scene.materials, 3 * sizeof *m);
     if (!m) exit(1);
     scene.materials = m;
-    scene.material_count = 2;
-    m[1] = m[0];
-    for (int c = 0; c < 3; c++) m[1].base_color[c] = 0, m[1].emissive[c] = 5;
+    scene.material_count = 3;
+    m[1] = m[2] = m[0];
+    for (int c = 0; c < 3; c++) m[1].base_color[c] = 0, m[1].emissive[c] = 5, m[2].base_color[c] = 1;
+    m[2].transmission = 1;
     for (size_t i = lamp_at; i < lamp_at + 2; i++) scene.tri_material[i] = 1;
+    for (size_t i = lamp_at + 2; i < n; i++) scene.tri_material[i] = 2;
     lvcl_status st = {0};
     lvcl_session *s = NULL;
     lvcl_session_config cfg = {.seed = 5, .max_depth = 64, .fast_math = 1};
@@ -416,12 +435,19 @@ int main(int argc, char **argv)
     test_fine_sums(ss, 1);
     test_fine_sums(ss, 0);
     test_budget(ss);
+    size_t diffuse = split_where_focused(ss);
     lvcl_session_close(ss);
     lvcl_session *ball = ball_session();
     if (ball) {
         uint32_t most = test_split_sums(ball, 12, 4, 1);
         CHECK("refined cells: a split cell round a ball keeps its planes and gains middle ones (> 2^3 slots)", most > 8,
               "at most %u slots in a split cell", most);
+        size_t focused = split_where_focused(ball);
+        printf("  where the light is focused: %zu cells split in the Cornell box, %zu round the glass ball\n", diffuse,
+               focused);
+        CHECK("refined cells: --refine on splits only cells whose light is focused (none in the diffuse Cornell box, "
+              "some round a glass ball)",
+              diffuse == 0 && focused > 0, "%zu and %zu cells", diffuse, focused);
         lvcl_session_close(ball);
     }
     test_furnace(0, 0, 0);
