@@ -171,7 +171,7 @@ static lvcl_error render(const lvcl_options *o, lvcl_cluster *cluster, lvcl_sess
                    .visibility_rate = o->visibility_rate,
                    .merge_tolerance = o->merge_tolerance,
                    .refine_density = o->refine_density,
-                   .refine_focus = LVCL_REFINE_FOCUS,
+                   .refine_focus = o->refine_focus,
                    .refine_peak = o->refine_peak,
                    .refine_memory = (uint64_t)(o->refine_memory_mib * 1048576.0),
                    .particles = (uint64_t)o->particles,

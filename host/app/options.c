@@ -106,6 +106,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
     o->subcells = LVCL_DEFAULT_SUBCELLS;
     o->merge_tolerance = LVCL_DEFAULT_MERGE_TOLERANCE;
     o->refine_density = -1; /* not given: see below */
+    o->refine_focus = LVCL_REFINE_FOCUS;
     o->gather = "integrate";
     o->adaptive = "on";
     o->see_through = "on";
@@ -166,6 +167,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
                                            "--merge-tolerance",
                                            "--refine",
                                            "--refine-dirs",
+                                           "--refine-focus",
                                            "--refine-memory"};
         int known = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++) known |= !strcmp(a, with_value[k]);
@@ -232,7 +234,10 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         else if (!strcmp(a, "--see-through")) o->see_through = v;
         else if (!strcmp(a, "--refine")) e = parse_switch(a, v, LVCL_REFINE_DENSITY, &o->refine_density, st);
         else if (!strcmp(a, "--refine-dirs")) e = parse_switch(a, v, LVCL_REFINE_PEAK, &o->refine_peak, st);
-        else if (!strcmp(a, "--refine-memory")) {
+        else if (!strcmp(a, "--refine-focus")) {
+            e = parse_real(a, v, 0, 1, &x, st);
+            o->refine_focus = x;
+        } else if (!strcmp(a, "--refine-memory")) {
             e = parse_real(a, v, 1, 1e9, &x, st);
             o->refine_memory_mib = x;
         } else if (!strcmp(a, "--device-memory")) {
@@ -294,6 +299,8 @@ void lvcl_options_print_help(const char *program)
         "                       a tenth of their light came by mirrors and glass alone (caustics), into\n"
         "                       octants beside their walls' planes after a first part of the trace\n"
         "                       (default on in lv mode, else off; D: the density threshold, on = 4)\n"
+        "  --refine-focus S     light volume: the share of a cell's light that must have come by mirrors\n"
+        "                       and glass alone for it to split (default 0.1; 0: any light)\n"
         "  --refine-dirs on|off|R  light volume: after the same part of the trace, give the slots whose\n"
         "                       brightest bin holds R times their mean 2n x 2n bins per hemisphere\n"
         "                       (default off; on = 8; see docs)\n"

@@ -25,6 +25,7 @@ typedef struct {
     double merge_tolerance;   /* adaptive cells: blocks merge below this mean tally per bin, 0 = never */
     double refine_density;    /* refined cells: density threshold, 0 = off */
     double refine_peak;       /* refined directions: peak over mean bin, 0 = off */
+    double refine_focus;      /* refined cells: the least share of focused light a cell splits with */
     double refine_memory_mib; /* refined cells' memory budget, 0 = twice the unrefined volume */
     double particles;         /* 0: as many as a time limit allows */
     double threshold;         /* near-hit distance, 0 = half the cell diagonal */

@@ -78,6 +78,7 @@ expect_error "refine density negative" 2 --mode lv --refine -1 cornell
 expect_error "refine memory below a MiB" 2 --mode lv --refine on --refine-memory 0 cornell
 expect_error "refine with merged cells" 2 --mode lv --refine on --merge-tolerance 0.25 cornell
 expect_error "refine-dirs not on, off or a peak" 2 --mode lv --refine-dirs sharp cornell
+expect_error "refine focus above 1" 2 --mode lv --refine-focus 1.5 cornell
 expect_error "refine-dirs with merged cells" 2 --mode lv --refine-dirs on --merge-tolerance 0.25 cornell
 
 # expect_message NAME PATTERN: the last expect_error's line matches PATTERN.
@@ -267,9 +268,11 @@ else fail "lv and pt see lamps through glass where the scene has glass, unless -
 
 # Refined cells and directions refine some and report them; the same
 # command gives the same image. Every cell dense enough splits while the
-# memory lasts, and only cells left whole take fine bins: the memory (the
+# memory lasts (--refine-focus 0: in the diffuse Cornell box no light is
+# focused), and only cells left whole take fine bins: the memory (the
 # unrefined volume takes 6 MB) stops the splits part way.
-refined="--mode lv --refine 1e-6 --refine-dirs 4 --refine-memory 10 --particles 40000 --cells 8 --spp 2 --width 32"
+refined="--mode lv --refine 1e-6 --refine-focus 0 --refine-dirs 4 --refine-memory 10 --particles 40000 --cells 8"
+refined="$refined --spp 2 --width 32"
 "$lvcl" -q $refined --stats "$tmp/r1.json" -o "$tmp/r1.exr" cornell 2>"$tmp/err"
 "$lvcl" -q $refined -o "$tmp/r2.exr" cornell 2>>"$tmp/err"
 split=$(awk -F': ' '/"split_cells"/ { print $2 + 0 }' "$tmp/r1.json" 2>/dev/null)
