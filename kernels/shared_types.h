@@ -213,6 +213,8 @@ typedef struct {
  * spread give guided paths a narrow lobe toward a lamp's image in a mirror
  * or through glass, far smaller than a bin (docs/guided.md, "The lobe"). */
 #define LV_LOBE_LONGS 4
+/* The lobe's luminance, among its LV_LOBE_LONGS. */
+#define LV_LOBE_LUMINANCE 3
 #define LV_SET_LONGS(bins) (3 * (size_t)(bins) + LV_AXES + LV_LOBE_LONGS)
 /* Largest single contribution accepted, in tally units of 1 (2^36 units):
  * 2^32 particles of weight below 32 cannot overflow a bin (see

@@ -112,8 +112,7 @@ static uint32_t cell_end(const lv_slot_region *regions, uint32_t slot_count, uin
 }
 
 /* The share of the luminance that slots [base, end) hold that came by
- * specular scatters alone: their lobes' (the set's last long) over their
- * bins'. */
+ * specular scatters alone: their lobes' over their bins'. */
 static double focused_share(const int64_t *tallies, size_t per_set, uint32_t bins, uint32_t base, uint32_t end)
 {
     double all = 0, focused = 0;
@@ -121,7 +120,7 @@ static double focused_share(const int64_t *tallies, size_t per_set, uint32_t bin
         const int64_t *t = &tallies[s * per_set];
         for (uint32_t b = 0; b < bins; b++)
             all += LV_LUMINANCE((double)t[3 * b], (double)t[3 * b + 1], (double)t[3 * b + 2]);
-        focused += (double)t[per_set - 1];
+        focused += (double)t[3 * bins + LV_AXES + LV_LOBE_LUMINANCE];
     }
     return all > 0 ? focused / all : 0.0;
 }
