@@ -250,7 +250,7 @@ typedef struct {
  * floats, exact, from volume_shares.c; LV_NO_SHARES for a cell without
  * planes, whose one region is all of it), and the slot of each pattern
  * (LV_REGION_OFFSET). Every slot of a cell repeats the cell's planes and
- * offsets. A pattern whose region has no volume in the cell (3 planes leave
+ * offsets, and whether its lookups jitter in half a cell. A pattern whose region has no volume in the cell (3 planes leave
  * at most 7 of 8) gets no slot of its own: its points (on a boundary, by
  * rounding) read a neighbouring region's. */
 #define LV_GEOMETRY_PLANES 3
@@ -264,6 +264,7 @@ typedef struct {
     lv_u32 region;
     lv_u32 shares;                               /* first entry in region_shares, or LV_NO_SHARES */
     lv_u32 offsets[(1 << LV_REGION_PLANES) / 4]; /* pattern m's slot - base_slot, 8 bits each */
+    lv_u32 half_box; /* 1 in a cell refinement split where its light is focused: lookups jitter in half a cell */
 } lv_slot_region;
 
 /* The slot of pattern m of the cell whose slot table entry is *r, from its first slot. */

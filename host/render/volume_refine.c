@@ -23,11 +23,19 @@
 #include "light_volume_internal.h"
 
 typedef struct {
-    double score;  /* pieces per particle */
-    uint32_t cell; /* stored-cell index */
+    double score;   /* pieces per particle */
+    double focused; /* the share of its light that came by specular scatters alone */
+    uint32_t cell;  /* stored-cell index */
     uint8_t added; /* planes it gains */
     uint8_t slots; /* slots it holds now */
 } candidate;
+
+/* split_cell[] of a cell split where its light is focused (at least
+ * LVCL_REFINE_FOCUS of it came by specular scatters alone, whatever
+ * --refine-focus asks): its lookups jitter in half a cell's box
+ * (lv_slot_region.half_box), which sharpens focused light and only adds
+ * noise to diffuse light. */
+#define FOCUSED_SPLIT 2
 
 static int by_score(const void *a, const void *b)
 {
@@ -143,8 +151,10 @@ static size_t collect(const lvcl_light_volume *vol, const int64_t *tallies, doub
         first_slot[s] = base;
         lvcl_cell_planes trial = planes[s];
         int added = add_middle_planes(&trial);
-        if (added && (!(focus > 0) || focused_share(tallies, per_set, g->bins, base, end) >= focus))
+        double focused = added ? focused_share(tallies, per_set, g->bins, base, end) : 0;
+        if (added && (!(focus > 0) || focused >= focus))
             cand[count++] = (candidate){.score = pieces(tallies, per_set, base, end, g->particles),
+                                        .focused = focused,
                                         .cell = (uint32_t)s,
                                         .added = (uint8_t)added,
                                         .slots = (uint8_t)(end - base)};
@@ -297,7 +307,7 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
             if (c->score * expected_particles < threshold || need + more > budget) break;
             need += more;
             add_middle_planes(&planes[c->cell]);
-            split_cell[c->cell] = 1;
+            split_cell[c->cell] = c->focused >= LVCL_REFINE_FOCUS ? FOCUSED_SPLIT : 1;
         }
         if (peak > 0)
             fine_taken = choose_fine(vol, tallies, first_slot, split_cell, stored, peak, threshold, expected_particles,
@@ -324,6 +334,7 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
     size_t sets = 0;
     if (!e && (taken || fine_taken)) {
         remap(vol, new_cell_slot, new_regions, ng.slot_count, first_slot, split_cell, from, split_slot);
+        for (uint32_t slot = 0; slot < ng.slot_count; slot++) new_regions[slot].half_box = split_slot[slot] == FOCUSED_SPLIT;
         /* Tally sets in slot order; a set of fine bins takes four sets'
          * room in one buffer (lvcl_volume_layout_tallies puts per_part sets
          * in each). */

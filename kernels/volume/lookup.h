@@ -47,10 +47,16 @@ inline float3 lv_front_point(const lv_grid *grid, float3 p, float3 n)
  * lookup then averages neighbouring cells, which hides the grid), folded to
  * the side of the surface that the light arrives on: the half of the box
  * behind the surface holds no light that can reach p, and reading it would
- * darken every surface by about half. n is that side's normal. */
+ * darken every surface by about half. n is that side's normal. Where
+ * refinement split p's cell for its focused light the box is half a cell,
+ * the size of its octants: a whole cell's box would blur what the split
+ * resolves (docs/light-volume.md, "Half the box where the light is
+ * focused"). */
 inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, float3 n, lv_rng *rng)
 {
     float h = grid->g.cell_size;
+    uint slot = lv_grid_slot_at(grid, p);
+    if (slot != LV_EMPTY_CELL && grid->regions[slot].half_box) h *= 0.5f;
     float3 offset = (lv_rng_next3(rng) - 0.5f) * h;
     float behind = dot(offset, n);
     if (behind < 0.0f) offset -= 2.0f * behind * n;

@@ -133,10 +133,20 @@
     X(t_axis_correction, VALUE, lv_u32, concentrated) SEP()       \
     X(t_axis_correction, BUFFER, float, out)
 
+/* Per point (xyz), the largest offset along each axis of `draws` jittered
+ * lookups round it (lv_jitter_lookup, the normal +y), in cells. */
+#define T_JITTER_LOOKUP_ARGS(X, SEP)                        \
+    X(t_jitter_lookup, VOLUME, , volume) SEP()              \
+    X(t_jitter_lookup, BUFFER, const float4, points) SEP()  \
+    X(t_jitter_lookup, VALUE, lv_u32, count) SEP()          \
+    X(t_jitter_lookup, VALUE, lv_u32, draws) SEP()          \
+    X(t_jitter_lookup, BUFFER, float4, out)
+
 /* clang-format on */
 
 LV_ARG_INDICES(T_AXIS_SUMS_ARGS, t_axis_sums);
 LV_ARG_INDICES(T_AXIS_CORRECTION_ARGS, t_axis_correction);
+LV_ARG_INDICES(T_JITTER_LOOKUP_ARGS, t_jitter_lookup);
 LV_ARG_INDICES(T_DIRECTION_HISTOGRAM_ARGS, t_direction_histogram);
 LV_ARG_INDICES(T_DIRECTION_ROUNDTRIP_ARGS, t_direction_roundtrip);
 LV_ARG_INDICES(T_BSDF_MOMENTS_ARGS, t_bsdf_moments);

@@ -393,3 +393,17 @@ __kernel void t_axis_correction(LV_KERNEL_PARAMS(T_AXIS_CORRECTION_ARGS))
         }
     }
 }
+
+/* test_args.h, T_JITTER_LOOKUP_ARGS. */
+__kernel void t_jitter_lookup(LV_KERNEL_PARAMS(T_JITTER_LOOKUP_ARGS))
+{
+    uint i = get_global_id(0);
+    if (i >= count) return;
+    lv_grid grid;
+    LV_VOLUME_OPEN(grid);
+    lv_rng rng = lv_rng_make(5u, i, 0u);
+    float3 p = points[i].xyz, most = (float3)(0.0f);
+    for (uint k = 0; k < draws; k++)
+        most = fmax(most, fabs(lv_jitter_lookup(&grid, p, (float3)(0.0f, 1.0f, 0.0f), &rng) - p));
+    out[i] = (float4)(most / grid.g.cell_size, 0.0f);
+}
