@@ -250,9 +250,10 @@ typedef struct {
  * floats, exact, from volume_shares.c; LV_NO_SHARES for a cell without
  * planes, whose one region is all of it), and the slot of each pattern
  * (LV_REGION_OFFSET). Every slot of a cell repeats the cell's planes and
- * offsets, and whether its lookups jitter in half a cell. A pattern whose region has no volume in the cell (3 planes leave
- * at most 7 of 8) gets no slot of its own: its points (on a boundary, by
- * rounding) read a neighbouring region's. */
+ * offsets, and whether its lookups jitter in half a cell. A pattern
+ * whose region has no volume in the cell (3 planes leave at most 7 of 8)
+ * gets no slot of its own: its points (on a boundary, by rounding) read a
+ * neighbouring region's. */
 #define LV_GEOMETRY_PLANES 3
 #define LV_REGION_PLANES 6
 #define LV_NO_SHARES 0xffffffffu

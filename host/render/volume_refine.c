@@ -26,8 +26,8 @@ typedef struct {
     double score;   /* pieces per particle */
     double focused; /* the share of its light that came by specular scatters alone */
     uint32_t cell;  /* stored-cell index */
-    uint8_t added; /* planes it gains */
-    uint8_t slots; /* slots it holds now */
+    uint8_t added;  /* planes it gains */
+    uint8_t slots;  /* slots it holds now */
 } candidate;
 
 /* split_cell[] of a cell split where its light is focused (at least
@@ -334,7 +334,8 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
     size_t sets = 0;
     if (!e && (taken || fine_taken)) {
         remap(vol, new_cell_slot, new_regions, ng.slot_count, first_slot, split_cell, from, split_slot);
-        for (uint32_t slot = 0; slot < ng.slot_count; slot++) new_regions[slot].half_box = split_slot[slot] == FOCUSED_SPLIT;
+        for (uint32_t slot = 0; slot < ng.slot_count; slot++)
+            new_regions[slot].half_box = split_slot[slot] == FOCUSED_SPLIT;
         /* Tally sets in slot order; a set of fine bins takes four sets'
          * room in one buffer (lvcl_volume_layout_tallies puts per_part sets
          * in each). */
