@@ -298,7 +298,7 @@ void lvcl_options_print_help(const char *program)
         "  --refine on|off|D    light volume: split the cells the particles cross most densely, where\n"
         "                       a tenth of their light came by mirrors and glass alone (caustics), into\n"
         "                       octants beside their walls' planes after a first part of the trace\n"
-        "                       (default on in lv mode, else off; D: the density threshold, on = 4)\n"
+        "                       (default on in lv mode, else off; D: the density threshold, on = 0.5)\n"
         "  --refine-focus S     light volume: the share of a cell's light that must have come by mirrors\n"
         "                       and glass alone for it to split (default 0.1; 0: any light)\n"
         "  --refine-dirs on|off|R  light volume: after the same part of the trace, give the slots whose\n"

@@ -118,9 +118,16 @@ static inline uint64_t lvcl_volume_split_point(const lvcl_volume_settings *s)
     return s->refine_density > 0 || s->refine_peak > 0 ? s->particles / LVCL_SPLIT_AFTER : 0;
 }
 /* --refine on: the density D that a cell's pieces per particle x N must
- * reach, D sqrt(N), to split; fine bins need it too, whether or not cells
- * split (docs/light-volume.md, "Refined cells and directions"). */
-#define LVCL_REFINE_DENSITY 4.0
+ * reach, D sqrt(N), to split (docs/light-volume.md, "Refined cells and
+ * directions"). With the focus rule below only cells of focused light
+ * compete, and 0.5 splits nearly all of those the memory allows: 4 left
+ * the caustic's cells whole on most grid offsets ("Split every focused
+ * cell"). */
+#define LVCL_REFINE_DENSITY 0.5
+/* The density a slot's pieces must reach the same way to take fine bins
+ * (--refine-dirs), whatever --refine asks: a restart costs a slot its
+ * first particles, which only a dense slot can spare. */
+#define LVCL_FINE_DENSITY 4.0
 /* --refine on: the share of a cell's light (luminance) that must have come
  * by specular scatters alone, its lobe's over its bins', for it to split.
  * Focused light (caustics) has edges that a cell's average blurs; diffuse
@@ -138,7 +145,8 @@ static inline uint64_t lvcl_volume_split_point(const lvcl_volume_settings *s)
  * sums over the bins), the densest first, by planes through their
  * middle along the axes their own planes leave free; then gives the
  * slots of other cells whose brightest bin holds settings->refine_peak
- * times their mean bin 2n x 2n bins, the most concentrated first; all
+ * times their mean bin and whose pieces reach LVCL_FINE_DENSITY x
+ * sqrt(expected_particles) 2n x 2n bins, the most concentrated first; all
  * while the volume stays within settings->refine_memory bytes on the
  * device (0: twice its size). A refined slot's tallies restart from the
  * particles traced so far (LV_RESTARTED); a retrace of those particles

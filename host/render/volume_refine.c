@@ -205,8 +205,8 @@ static int by_peak(const void *a, const void *b)
 
 /* Marks in fine[] (per old slot) the slots of cells not split whose
  * brightest bin is at least `peak` times their mean bin and that are dense
- * enough (pieces x N at least `threshold`, as for a split: a restart costs
- * a slot its first particles), the most concentrated first
+ * enough (pieces x N at least `threshold`: a restart costs a slot its first
+ * particles), the most concentrated first
  * while the memory lasts; returns how many. */
 static size_t choose_fine(const lvcl_light_volume *vol, const int64_t *tallies, const uint32_t *first_slot,
                           const uint8_t *split_cell, size_t stored, double peak, double threshold, double expected,
@@ -299,7 +299,7 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
          * planes becomes at most 2^A slots, one of them its own already). */
         qsort(cand, candidates, sizeof *cand, by_score);
         size_t budget = vs->refine_memory ? (size_t)vs->refine_memory : 2 * vol->device_bytes, need = vol->device_bytes;
-        double threshold = (density > 0 ? density : LVCL_REFINE_DENSITY) * sqrt(expected_particles);
+        double threshold = density * sqrt(expected_particles);
         for (; density > 0 && taken < candidates; taken++) {
             const candidate *c = &cand[taken];
             size_t most = (size_t)c->slots << c->added, cut = planes[c->cell].count > 0;
@@ -310,8 +310,9 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
             split_cell[c->cell] = c->focused >= LVCL_REFINE_FOCUS ? FOCUSED_SPLIT : 1;
         }
         if (peak > 0)
-            fine_taken = choose_fine(vol, tallies, first_slot, split_cell, stored, peak, threshold, expected_particles,
-                                     &need, budget, fine);
+            fine_taken =
+                choose_fine(vol, tallies, first_slot, split_cell, stored, peak,
+                            LVCL_FINE_DENSITY * sqrt(expected_particles), expected_particles, &need, budget, fine);
     }
     lv_grid_info ng = *g;
     if (!e && (taken || fine_taken)) {

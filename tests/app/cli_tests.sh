@@ -267,11 +267,12 @@ else fail "lv and pt see lamps through glass where the scene has glass, unless -
     "$(cat "$tmp/err")"; fi
 
 # Refined cells and directions refine some and report them; the same
-# command gives the same image. Every cell dense enough splits while the
-# memory lasts (--refine-focus 0: in the diffuse Cornell box no light is
-# focused), and only cells left whole take fine bins: the memory (the
-# unrefined volume takes 6 MB) stops the splits part way.
-refined="--mode lv --refine 1e-6 --refine-focus 0 --refine-dirs 4 --refine-memory 10 --particles 40000 --cells 8"
+# command gives the same image. The densest cells split (density 8;
+# --refine-focus 0: in the diffuse Cornell box no light is focused), and
+# only slots of cells left whole that pass the fine bins' own density, 4,
+# take fine bins; at 1.2e6 particles the memory (the unrefined volume
+# takes 6 MB) stops the splits part way.
+refined="--mode lv --refine 8 --refine-focus 0 --refine-dirs 4 --refine-memory 10 --particles 2e5 --cells 8"
 refined="$refined --spp 2 --width 32"
 "$lvcl" -q $refined --stats "$tmp/r1.json" -o "$tmp/r1.exr" cornell 2>"$tmp/err"
 "$lvcl" -q $refined -o "$tmp/r2.exr" cornell 2>>"$tmp/err"

@@ -46,18 +46,21 @@ static void check_sums(const lvcl_session *ss, int refine, const char *what)
     const lvcl_device *dev = lvcl_session_device(ss, 0);
     const lvcl_program *prog = lvcl_session_program(ss, 0);
     const lvcl_device_scene *ds = lvcl_session_device_scene(ss, 0);
-    lvcl_volume_settings vs = {.cells = 12, .dirs = 4, .subcells = 4, .particles = 100000};
+    lvcl_volume_settings vs = {.cells = 12, .dirs = 4, .subcells = 4, .particles = 400000};
     lvcl_light_volume *vol = NULL;
     lvcl_status st = {0};
     cl_mem sums = NULL;
     lvcl_error e = lvcl_volume_create(dev, lvcl_session_packed_scene(ss), &vs, &vol, &st);
     lvcl_volume_settings pass = vs;
-    pass.particles = 25000;
+    pass.particles = 100000;
     if (!e) e = lvcl_volume_trace(vol, prog, ds, &pass, &st);
     if (!e) e = lvcl_volume_finish(vol, prog, &st);
     if (!e) e = lvcl_volume_axis_sums(vol, prog, &sums, &st); /* of the first part */
     if (refine) {
-        pass.refine_density = pass.refine_peak = 1e-6;
+        /* The densest cells split; slots of the others dense enough for
+         * fine bins (LVCL_FINE_DENSITY) take them. */
+        pass.refine_density = 2 * LVCL_FINE_DENSITY;
+        pass.refine_peak = 1e-6;
         pass.refine_memory = (uint64_t)1 << 32;
         if (!e) e = lvcl_volume_refine(vol, (double)vs.particles, &pass, &st);
     }
