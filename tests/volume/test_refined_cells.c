@@ -362,15 +362,17 @@ static void test_budget(const lvcl_session *ss)
 }
 
 /* (g): traces a volume with and without splitting every cell it may
- * (density SPLIT_ALL, vs's focus and memory), and for each stored cell the
+ * (density SPLIT_ALL, vs's focus; memory `budget` times the unrefined
+ * volume's, 0: the default), and for each stored cell the
  * largest offset of 1024 jittered lookups round its centre; counts the
  * cells split (they hold more slots than unrefined), those whose box is
  * half a cell and those whose box is neither half nor a whole cell. */
-static int lookup_boxes(const lvcl_session *ss, lvcl_volume_settings vs, size_t *split, size_t *half, size_t *odd)
+static int lookup_boxes(const lvcl_session *ss, lvcl_volume_settings vs, double budget, size_t *split, size_t *half,
+                        size_t *odd)
 {
     read_volume plain, v;
     if (!trace(ss, &vs, vs.particles / 4, 0, 0, &plain, NULL)) return 0;
-    if (vs.refine_memory) vs.refine_memory = lvcl_volume_stats_of(plain.volume).device_bytes * vs.refine_memory / 4;
+    vs.refine_memory = (uint64_t)(budget * (double)lvcl_volume_stats_of(plain.volume).device_bytes);
     if (!trace(ss, &vs, vs.particles / 4, SPLIT_ALL, 0, &v, NULL)) {
         release(&plain);
         return 0;
@@ -443,14 +445,14 @@ static void test_lookup_box(const lvcl_session *cornell, const lvcl_session *bal
     size_t split, half, odd;
     lvcl_volume_settings focused = {
         .cells = 12, .dirs = 4, .subcells = 4, .particles = 200000, .refine_focus = LVCL_REFINE_FOCUS};
-    if (lookup_boxes(ball, focused, &split, &half, &odd)) {
+    if (lookup_boxes(ball, focused, 0, &split, &half, &odd)) {
         printf("  lookup box round the glass ball: %zu cells split, %zu half boxes, %zu odd\n", split, half, odd);
         CHECK("refined cells: lookups jitter in half a cell's box round cells split for focused light, a whole "
               "cell's elsewhere",
               split > 0 && half == split && odd == 0, "%zu split, %zu half, %zu odd", split, half, odd);
     }
-    lvcl_volume_settings diffuse = {.cells = 16, .dirs = 4, .subcells = 4, .particles = 100000, .refine_memory = 5};
-    if (lookup_boxes(cornell, diffuse, &split, &half, &odd)) {
+    lvcl_volume_settings diffuse = {.cells = 16, .dirs = 4, .subcells = 4, .particles = 100000};
+    if (lookup_boxes(cornell, diffuse, 1.25, &split, &half, &odd)) {
         printf("  lookup box in the Cornell box: %zu cells split, %zu half boxes, %zu odd\n", split, half, odd);
         CHECK("refined cells: cells split for diffuse light keep a whole cell's lookup box",
               split > 0 && half == 0 && odd == 0, "%zu split, %zu half, %zu odd", split, half, odd);
