@@ -43,6 +43,18 @@ inline float3 lv_front_point(const lv_grid *grid, float3 p, float3 n)
     return p + n * (0.5f * grid->g.cell_size / (float)k);
 }
 
+/* lv_front_point, or, where a surface closer than it faces p (a table top
+ * 1 mm above a leg), the point halfway to that surface: a point beyond it
+ * reads light that never reaches p (inside a glass slab, the light that
+ * total internal reflection traps there). `from` is p offset off its
+ * surface. */
+inline float3 lv_visible_front_point(const lv_grid *grid, const lv_scene *sc, float3 p, float3 n, float3 from)
+{
+    float3 q = lv_front_point(grid, p, n);
+    lv_hit h = lv_trace(sc, lv_ray_make(from, q - from, 1.0f, LV_NO_HIT, LV_NO_HIT), 0);
+    return h.tri == LV_NO_HIT ? q : from + (q - from) * (0.5f * h.t);
+}
+
 /* A uniform point in the cell-sized box around p (paper section 4.2: the
  * lookup then averages neighbouring cells, which hides the grid), folded to
  * the side of the surface that the light arrives on: the half of the box
@@ -75,11 +87,12 @@ inline int lv_lookup_point(const lv_grid *grid, const lv_scene *sc, float3 p, fl
     *q = lv_jitter_lookup(grid, p, n, rng);
     float3 from = lv_offset_origin(p, n, sc->info.scene_scale);
     if (grid->g.subcells == 0u) {
-        if (lv_occluded(sc, from, *q - from, 1.0f, LV_NO_HIT, LV_NO_HIT)) *q = lv_front_point(grid, p, n);
+        if (lv_occluded(sc, from, *q - from, 1.0f, LV_NO_HIT, LV_NO_HIT))
+            *q = lv_visible_front_point(grid, sc, p, n, from);
         return 1;
     }
     if (lv_point_lit(grid, sc, *q) && !lv_occluded(sc, from, *q - from, 1.0f, LV_NO_HIT, LV_NO_HIT)) return 1;
-    *q = lv_front_point(grid, p, n);
+    *q = lv_visible_front_point(grid, sc, p, n, from);
     return lv_point_lit(grid, sc, *q);
 }
 
