@@ -84,6 +84,30 @@ void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *s)
     m->double_sided = 1;
 }
 
+lvcl_material_desc *harness_materials(lvcl_scene *s, size_t count)
+{
+    lvcl_material_desc *m = realloc(s->materials, count * sizeof *m);
+    if (!m) die("making a scene", "out of memory");
+    for (size_t k = 1; k < count; k++) m[k] = m[0];
+    s->materials = m;
+    s->material_count = count;
+    return m;
+}
+
+void harness_make_lamp(lvcl_material_desc *m, float radiance)
+{
+    for (int c = 0; c < 3; c++) m->base_color[c] = 0.0f, m->emissive[c] = radiance;
+}
+
+void harness_make_glass(lvcl_material_desc *m, float ior)
+{
+    for (int c = 0; c < 3; c++) m->base_color[c] = m->attenuation_color[c] = 1.0f;
+    m->transmission = 1.0f;
+    m->ior = ior;
+    m->has_volume = 1;
+    m->attenuation_distance = INFINITY;
+}
+
 size_t harness_add_quad(float *t, size_t n, const float a[3], const float u[3], const float v[3])
 {
     float p[4][3];

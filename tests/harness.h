@@ -25,6 +25,14 @@ void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *scene);
 size_t harness_add_quad(float *t, size_t n, const float a[3], const float u[3], const float v[3]);
 size_t harness_add_box(float *t, size_t n, const float lo[3], const float hi[3]);
 
+/* Gives scene s `count` materials, each a copy of its first (the grey
+ * harness_triangle_scene made), and returns them. */
+lvcl_material_desc *harness_materials(lvcl_scene *s, size_t count);
+/* Makes m a lamp of the given radiance that reflects nothing. */
+void harness_make_lamp(lvcl_material_desc *m, float radiance);
+/* Makes m smooth solid glass of index ior that absorbs nothing. */
+void harness_make_glass(lvcl_material_desc *m, float ior);
+
 /* Points the scene's camera from eye at target, the world's y up, with a
  * vertical field of view of yfov_deg and a square image. */
 void harness_look_at(lvcl_scene *s, const float eye[3], const float target[3], float yfov_deg);

@@ -65,23 +65,10 @@ static void make_scene(const setup *u, lvcl_scene *s)
 
     harness_triangle_scene(tris, n, s);
     memcpy(s->tri_material, material, n * sizeof *material);
-    lvcl_material_desc *m = realloc(s->materials, MATERIALS * sizeof *m);
-    if (!m) exit(1);
-    s->materials = m;
-    s->material_count = MATERIALS;
-    for (int k = 1; k < MATERIALS; k++) m[k] = m[WALLS];
-    for (int c = 0; c < 3; c++) {
-        m[WALLS].base_color[c] = 0.6f;
-        m[LAMP].base_color[c] = 0.0f;
-        m[LAMP].emissive[c] = 5.0f;
-        m[GLASS].base_color[c] = 1.0f;
-        m[BLOCK].base_color[c] = 0.5f;
-        m[GLASS].attenuation_color[c] = 1.0f;
-    }
-    m[GLASS].transmission = 1.0f;
-    m[GLASS].ior = 1.5f;
-    m[GLASS].has_volume = 1;
-    m[GLASS].attenuation_distance = INFINITY;
+    lvcl_material_desc *m = harness_materials(s, MATERIALS); /* the leg keeps the grey of 0.5 */
+    for (int c = 0; c < 3; c++) m[WALLS].base_color[c] = 0.6f;
+    harness_make_lamp(&m[LAMP], 5.0f);
+    harness_make_glass(&m[GLASS], 1.5f);
     /* The slab's top reflects the walls there, not the lamp. */
     const float eye[3] = {0.3f, 1.6f, 0.0f}, target[3] = {0.0f, bottom - u->gap, 0.0f};
     harness_look_at(s, eye, target, 4.0f);

@@ -120,19 +120,13 @@ static void make_scene(const setup *u, lvcl_scene *s)
 
     harness_triangle_scene(tris, n, s);
     memcpy(s->tri_material, material, n * sizeof *material);
-    lvcl_material_desc *m = realloc(s->materials, MATERIALS * sizeof *m);
-    if (!m) exit(1);
-    s->materials = m;
-    s->material_count = MATERIALS;
-    for (int k = 1; k < MATERIALS; k++) m[k] = m[WALLS];
+    lvcl_material_desc *m = harness_materials(s, MATERIALS);
     for (int c = 0; c < 3; c++) {
         m[WALLS].base_color[c] = 0.6f;
-        m[LAMP].base_color[c] = 0.0f;
-        m[LAMP].emissive[c] = 5.0f;
         m[BLOCKER].base_color[c] = 0.3f;
-        m[GLASS].base_color[c] = 1.0f;
     }
-    m[GLASS].transmission = 1.0f;
+    harness_make_lamp(&m[LAMP], 5.0f);
+    harness_make_glass(&m[GLASS], u->ior);
     if (u->walls_gloss > 0) {
         m[WALLS].specular = 1.0f;
         m[WALLS].roughness = u->walls_gloss;
@@ -142,11 +136,8 @@ static void make_scene(const setup *u, lvcl_scene *s)
         m[BLOCKER].roughness = 0.0f;
         for (int c = 0; c < 3; c++) m[BLOCKER].base_color[c] = 0.9f;
     }
-    m[GLASS].ior = u->ior;
     m[GLASS].roughness = u->roughness;
     m[GLASS].has_volume = u->thickness > 0;
-    m[GLASS].attenuation_distance = INFINITY;
-    for (int c = 0; c < 3; c++) m[GLASS].attenuation_color[c] = 1.0f;
 
     const float eye[3] = {0.95f, 0.55f, 0.95f}, target[3] = {-0.1f, 0.0f, -0.1f};
     harness_look_at(s, eye, target, 70.0f);
