@@ -10,7 +10,8 @@
  * not yet on, as the two words of its mask: from `entry` (in cell units,
  * relative to the cell's corner) along dir for `length` cell units. Points
  * every 1/(2k) of the piece stand in for an exact walk: a piece that only
- * clips a subcell's corner may miss it. */
+ * clips a subcell's corner may miss it. Always inlined: it runs for every
+ * piece in a cell that geometry cuts, and PoCL called it apart. */
 __attribute__((always_inline)) inline uint2 lv_new_subcells(const lv_grid *grid, uint slot, float3 entry, float3 dir,
                                                             float length)
 {
