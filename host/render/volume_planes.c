@@ -10,7 +10,13 @@
 
 /* Triangles join a cluster whose normal is within 25 degrees of theirs
  * (either way round: both faces of a thin wall join) and whose offset is
- * within a quarter cell. */
+ * within a quarter cell, unless they face each other across it (a leg's
+ * top 1 mm under a table top, a cupboard beside a wall) or one is of solid
+ * glass and the other not, or they are the two faces of a glass slab:
+ * joined, the gap's air, or the glass's inside with the light that total
+ * internal reflection traps there, would share a region with what lies
+ * beyond, and a lookup would read that light. The two faces of an opaque
+ * wall join: nothing lives between them. */
 #define SAME_OFFSET 0.25 /* cells */
 /* A plane must cut the cell by more than this (cells) to split it. */
 #define CUT_MARGIN 1e-3
@@ -25,7 +31,11 @@ typedef struct {
     double sum_n[3]; /* area x normal, turned to ref's side */
     double sum_d;    /* area x offset, on ref's side */
     double area;
-    int next; /* the cell's next cluster, -1 at the end */
+    /* Of the triangles whose front faces along +ref and along -ref: area
+     * x offset (on ref's side), and area. */
+    double facing_d[2], facing_area[2];
+    int clear; /* it holds faces of solid glass */
+    int next;  /* the cell's next cluster, -1 at the end */
 } cluster;
 
 typedef struct {
@@ -41,14 +51,15 @@ static double dot3(const double a[3], const double b[3])
 }
 
 /* Makes n's largest component positive (and d with it), so that a plane
- * has one orientation whatever triangle it came from. */
-static void canonical(double n[3], double *d)
+ * has one orientation whatever triangle it came from. Returns -1 where it
+ * turned n, else 1. */
+static double canonical(double n[3], double *d)
 {
     int k = fabs(n[0]) >= fabs(n[1]) && fabs(n[0]) >= fabs(n[2]) ? 0 : fabs(n[1]) >= fabs(n[2]) ? 1 : 2;
-    if (n[k] < 0) {
-        for (int i = 0; i < 3; i++) n[i] = -n[i];
-        *d = -*d;
-    }
+    if (n[k] >= 0) return 1.0;
+    for (int i = 0; i < 3; i++) n[i] = -n[i];
+    *d = -*d;
+    return -1.0;
 }
 
 /* Whether plane n.x = d passes through the cell with corner lo and side h
@@ -63,7 +74,25 @@ static int cuts_cell(const double n[3], double d, const double lo[3], double h)
     return fabs(centre - d) < radius - CUT_MARGIN * h;
 }
 
-static void add_to_cell(clusters *c, int cell, const double n[3], double d, double area, double h)
+/* Whether a triangle at offset d along ref (on ref's side) whose front
+ * faces along +ref (front > 0) or -ref, of solid glass where clear, stays
+ * apart from cluster k: glass and opaque geometry never join, nor do
+ * triangles of opposite fronts where they face each other across a gap or
+ * are glass. */
+static int keeps_apart(const cluster *k, double d, double front, int clear)
+{
+    if (clear != k->clear) return 1;
+    int other = front > 0 ? 1 : 0; /* the opposite front's index: 0 is +ref, 1 is -ref */
+    if (!(k->facing_area[other] > 0)) return 0;
+    double at = k->facing_d[other] / k->facing_area[other];
+    return clear || (front > 0 ? at > d : at < d);
+}
+
+/* Adds a triangle's plane n . x = d (n canonical; front: +1 where the
+ * triangle's front faces along n, else -1; clear: of solid glass) to the
+ * cell's clusters. */
+static void add_to_cell(clusters *c, int cell, const double n[3], double d, double front, int clear, double area,
+                        double h)
 {
     for (int i = c->head[cell]; i >= 0; i = c->pool[i].next) {
         cluster *k = &c->pool[i];
@@ -71,9 +100,13 @@ static void add_to_cell(clusters *c, int cell, const double n[3], double d, doub
         if (fabs(cosine) <= LVCL_SAME_NORMAL) continue;
         double s = cosine > 0 ? 1.0 : -1.0;
         if (fabs(s * d - k->sum_d / k->area) >= SAME_OFFSET * h) continue;
+        if (keeps_apart(k, s * d, s * front, clear)) continue;
         for (int j = 0; j < 3; j++) k->sum_n[j] += s * area * n[j];
         k->sum_d += s * area * d;
         k->area += area;
+        k->facing_d[s * front > 0 ? 0 : 1] += s * area * d;
+        k->facing_area[s * front > 0 ? 0 : 1] += area;
+        k->clear |= clear;
         return;
     }
     if (c->count == c->capacity) {
@@ -90,6 +123,10 @@ static void add_to_cell(clusters *c, int cell, const double n[3], double d, doub
     for (int j = 0; j < 3; j++) k->ref[j] = n[j], k->sum_n[j] = area * n[j];
     k->sum_d = area * d;
     k->area = area;
+    k->facing_d[front > 0 ? 0 : 1] = area * d;
+    k->facing_area[front > 0 ? 0 : 1] = area;
+    k->facing_d[front > 0 ? 1 : 0] = k->facing_area[front > 0 ? 1 : 0] = 0.0;
+    k->clear = clear;
     k->next = c->head[cell];
     c->head[cell] = (int)c->count++;
 }
@@ -97,7 +134,8 @@ static void add_to_cell(clusters *c, int cell, const double n[3], double d, doub
 /* Adds one placed triangle, weighing `weight` times its area, to the
  * clusters of every stored cell its box (grown by a hundredth of a cell)
  * overlaps and its plane cuts. */
-static void add_triangle(clusters *c, const lv_grid_info *g, const uint32_t *stored, const float v[9], double weight)
+static void add_triangle(clusters *c, const lv_grid_info *g, const uint32_t *stored, const float v[9], int clear,
+                         double weight)
 {
     double e1[3], e2[3], n[3];
     for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k];
@@ -108,7 +146,7 @@ static void add_triangle(clusters *c, const lv_grid_info *g, const uint32_t *sto
     if (!(len > 0) || !isfinite(len)) return;
     for (int k = 0; k < 3; k++) n[k] /= len;
     double p0[3] = {v[0], v[1], v[2]}, d = dot3(n, p0), h = g->cell_size;
-    canonical(n, &d);
+    double front = canonical(n, &d); /* the winding's front: along n (1) or against it (-1) */
     /* No triangle has more area inside a cube than its largest section. */
     double area = weight * fmin(0.5 * len, sqrt(2.0) * h * h);
     int lo[3], hi[3];
@@ -125,7 +163,7 @@ static void add_triangle(clusters *c, const lv_grid_info *g, const uint32_t *sto
                 uint32_t s = stored[lvcl_volume_cell_index(g, x, y, z)];
                 if (s == LV_EMPTY_CELL) continue;
                 double corner[3] = {g->origin[0] + x * h, g->origin[1] + y * h, g->origin[2] + z * h};
-                if (cuts_cell(n, d, corner, h)) add_to_cell(c, (int)s, n, d, area, h);
+                if (cuts_cell(n, d, corner, h)) add_to_cell(c, (int)s, n, d, front, clear, area, h);
             }
 }
 
@@ -154,7 +192,8 @@ static int spans_few_cells(const lv_grid_info *g, const lv_instance *inst, const
 static int choose_planes(const clusters *c, int cell, const double lo[3], double h, float planes[][4])
 {
     int chosen[LV_GEOMETRY_PLANES], count = 0;
-    double pn[LV_GEOMETRY_PLANES][3], pd[LV_GEOMETRY_PLANES];
+    double pn[LV_GEOMETRY_PLANES][3], pd[LV_GEOMETRY_PLANES], pf[LV_GEOMETRY_PLANES];
+    int pclear[LV_GEOMETRY_PLANES];
     for (int round = 0; round < LV_GEOMETRY_PLANES; round++) {
         int best = -1;
         /* The heaviest cluster not yet taken; the earliest made on a tie. */
@@ -172,13 +211,22 @@ static int choose_planes(const clusters *c, int cell, const double lo[3], double
         double d = k->sum_d / k->area;
         canonical(n, &d);
         if (!cuts_cell(n, d, lo, h)) continue;
+        /* Its triangles' front, along n (1), against it (-1), or both (0). */
+        double along = dot3(n, k->ref) > 0 ? 1.0 : -1.0;
+        double f = k->facing_area[1] == 0 ? along : k->facing_area[0] == 0 ? -along : 0.0;
         int same = 0;
-        for (int j = 0; j < count; j++)
-            same |= fabs(dot3(n, pn[j])) > LVCL_SAME_NORMAL &&
-                fabs((dot3(n, pn[j]) > 0 ? d : -d) - pd[j]) < SAME_OFFSET * h;
+        for (int j = 0; j < count; j++) {
+            double s = dot3(n, pn[j]) > 0 ? 1.0 : -1.0, dj = s * d, fj = s * f; /* on plane j's side */
+            /* Kept apart as add_to_cell keeps them (keeps_apart). */
+            int apart = pclear[j] != k->clear ||
+                (pf[j] * fj < 0 && (k->clear || (pf[j] > 0 && dj > pd[j]) || (pf[j] < 0 && dj < pd[j])));
+            same |= fabs(dot3(n, pn[j])) > LVCL_SAME_NORMAL && fabs(dj - pd[j]) < SAME_OFFSET * h && !apart;
+        }
         if (same) continue;
         for (int j = 0; j < 3; j++) pn[count][j] = n[j];
         pd[count] = d;
+        pf[count] = f;
+        pclear[count] = k->clear;
         /* n . (lo + h u) = d  <=>  n . u = (d - n . lo) / h */
         for (int j = 0; j < 3; j++) planes[count][j] = (float)n[j];
         planes[count][3] = (float)((d - dot3(n, lo)) / h);
@@ -217,8 +265,10 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
                 size_t taken = count > SAMPLED_TRIANGLES ? SAMPLED_TRIANGLES : count;
                 for (size_t i = 0; i < taken; i++) {
                     float v[9];
-                    lvcl_packed_triangle_world(p, in, first + i * count / taken, v);
-                    add_triangle(&c, g, slot, v, (double)count / (double)taken);
+                    size_t t = first + i * count / taken;
+                    lvcl_packed_triangle_world(p, in, t, v);
+                    int clear = p->materials[p->triangles[t].material].bsdf == LV_BSDF_GLASS;
+                    add_triangle(&c, g, slot, v, clear, (double)count / (double)taken);
                 }
             } else {
                 stack[top++] = (int)(n - p->tree_nodes) + 1;
