@@ -74,18 +74,27 @@ static int cuts_cell(const double n[3], double d, const double lo[3], double h)
     return fabs(centre - d) < radius - CUT_MARGIN * h;
 }
 
+/* Whether two parallel planes at offsets da and db (on one side) whose
+ * triangles' fronts face along that side (1), against it (-1) or both
+ * ways (0), of solid glass where clear_a, clear_b, stay apart: glass and
+ * opaque geometry never join, nor do opposite fronts where they face each
+ * other across a gap or are glass. */
+static int stay_apart(double fa, double da, int clear_a, double fb, double db, int clear_b)
+{
+    if (clear_a != clear_b) return 1;
+    if (!(fa * fb < 0)) return 0;
+    return clear_a || (fa > 0 ? db > da : db < da);
+}
+
 /* Whether a triangle at offset d along ref (on ref's side) whose front
  * faces along +ref (front > 0) or -ref, of solid glass where clear, stays
- * apart from cluster k: glass and opaque geometry never join, nor do
- * triangles of opposite fronts where they face each other across a gap or
- * are glass. */
+ * apart from cluster k's triangles of the opposite front (stay_apart). */
 static int keeps_apart(const cluster *k, double d, double front, int clear)
 {
-    if (clear != k->clear) return 1;
     int other = front > 0 ? 1 : 0; /* the opposite front's index: 0 is +ref, 1 is -ref */
-    if (!(k->facing_area[other] > 0)) return 0;
-    double at = k->facing_d[other] / k->facing_area[other];
-    return clear || (front > 0 ? at > d : at < d);
+    int any = k->facing_area[other] > 0;
+    return stay_apart(front, d, clear, any ? -front : 0.0, any ? k->facing_d[other] / k->facing_area[other] : d,
+                      k->clear);
 }
 
 /* Adds a triangle's plane n . x = d (n canonical; front: +1 where the
@@ -217,10 +226,8 @@ static int choose_planes(const clusters *c, int cell, const double lo[3], double
         int same = 0;
         for (int j = 0; j < count; j++) {
             double s = dot3(n, pn[j]) > 0 ? 1.0 : -1.0, dj = s * d, fj = s * f; /* on plane j's side */
-            /* Kept apart as add_to_cell keeps them (keeps_apart). */
-            int apart = pclear[j] != k->clear ||
-                (pf[j] * fj < 0 && (k->clear || (pf[j] > 0 && dj > pd[j]) || (pf[j] < 0 && dj < pd[j])));
-            same |= fabs(dot3(n, pn[j])) > LVCL_SAME_NORMAL && fabs(dj - pd[j]) < SAME_OFFSET * h && !apart;
+            same |= fabs(dot3(n, pn[j])) > LVCL_SAME_NORMAL && fabs(dj - pd[j]) < SAME_OFFSET * h &&
+                !stay_apart(pf[j], pd[j], pclear[j], fj, dj, k->clear);
         }
         if (same) continue;
         for (int j = 0; j < 3; j++) pn[count][j] = n[j];

@@ -41,8 +41,7 @@ __attribute__((always_inline)) inline uint2 lv_new_subcells(const lv_grid *grid,
         bits[0] = low2.x | low2.y;
         bits[1] = high2.x | high2.y;
     }
-    uint m = k == 4u ? 0u : 2u * k;
-    for (uint j = 0; j < m; j++) {
+    for (uint j = 0, m = 2u * k; k != 4u && j < m; j++) {
         float3 p = entry + dir * (length * ((float)j + 0.5f) / (float)m);
         uint3 c = min(convert_uint3(clamp(p, 0.0f, 1.0f) * (float)k), (uint3)(k - 1u));
         uint bit = c.x + k * (c.y + k * c.z);
