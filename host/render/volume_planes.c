@@ -8,15 +8,14 @@
 
 #include "light_volume_internal.h"
 
-/* Triangles join a cluster whose normal is within 25 degrees of theirs
- * (either way round: both faces of a thin wall join) and whose offset is
- * within a quarter cell, unless they face each other across it (a leg's
- * top 1 mm under a table top, a cupboard beside a wall) or one is of solid
- * glass and the other not, or they are the two faces of a glass slab:
- * joined, the gap's air, or the glass's inside with the light that total
- * internal reflection traps there, would share a region with what lies
- * beyond, and a lookup would read that light. The two faces of an opaque
- * wall join: nothing lives between them. */
+/* Parallel planes (normals within 25 degrees, either way round) within a
+ * quarter cell join one cluster, as a thin wall's two faces should,
+ * unless they must stay apart (cluster_cell): a surface facing another
+ * across a gap (a leg's top 1 mm under a table top, a cupboard beside a
+ * wall), glass and opaque geometry, a glass slab's two faces. Joined, the
+ * gap's air, or the glass's inside with the light that total internal
+ * reflection traps there, would share a region with what lies beyond,
+ * and a lookup would read that light. */
 #define SAME_OFFSET 0.25 /* cells */
 /* A plane must cut the cell by more than this (cells) to split it. */
 #define CUT_MARGIN 1e-3
@@ -25,25 +24,51 @@
  * this many, each weighing for its share: a tile of 500,000 ripples then
  * costs a few hundred triangles per placement, not all of them. */
 #define SAMPLED_TRIANGLES 256
+/* Triangles of one plane (normals within 0.01 degrees, offsets within
+ * 10^-4 cell, one front, glass or not) make one facet as they come; a
+ * cell's facets are clustered once all are in, in the order of their
+ * offsets, so that no cluster reaches across another and the result does
+ * not hang on the order of the triangles. */
+#define FACET_NORMAL 0.99999998
+#define FACET_OFFSET 1e-4 /* cells */
+#define FACETS_LOOKED_AT 8
 
 typedef struct {
-    double ref[3];   /* the first triangle's normal */
-    double sum_n[3]; /* area x normal, turned to ref's side */
-    double sum_d;    /* area x offset, on ref's side */
-    double area;
-    /* Of the triangles whose front faces along +ref and along -ref: area
-     * x offset (on ref's side), and area. */
-    double facing_d[2], facing_area[2];
-    int clear; /* it holds faces of solid glass */
-    int next;  /* the cell's next cluster, -1 at the end */
+    double n[3];                  /* the first triangle's normal, canonical */
+    double sum_n[3], sum_d, area; /* area x normal, area x offset, area */
+    double front;                 /* 1 where the triangles' front faces along n, else -1 */
+    int clear;                    /* of solid glass */
+    int next;                     /* the cell's next facet, -1 at the end */
+} facet;
+
+typedef struct {
+    facet *pool;
+    size_t count, capacity;
+    int *head; /* per stored cell, its newest facet */
+    int failed;
+} facets;
+
+/* A facet turned to the side of its group's reference normal. */
+typedef struct {
+    int group, order; /* the group of parallel facets; the facet's place in the cell */
+    double n[3], d, area, front;
+    int clear;
+} turned_facet;
+
+typedef struct {
+    double sum_n[3], sum_d, area; /* on the group's side */
+    double facing_area[2];        /* of fronts along the group's normal, and against it */
+    double top_along;             /* the largest offset of a front along the group's normal */
+    int clear, gap;               /* of glass; it faces another cluster across a gap */
 } cluster;
 
+/* Scratch space for one cell's clustering, kept from cell to cell. */
 typedef struct {
-    cluster *pool;
-    size_t count, capacity;
-    int *head; /* per stored cell */
-    int failed;
-} clusters;
+    turned_facet *turned;
+    double (*refs)[3];
+    cluster *clusters;
+    size_t capacity;
+} cell_scratch;
 
 static double dot3(const double a[3], const double b[3])
 {
@@ -74,76 +99,86 @@ static int cuts_cell(const double n[3], double d, const double lo[3], double h)
     return fabs(centre - d) < radius - CUT_MARGIN * h;
 }
 
-/* Whether two parallel planes at offsets da and db (on one side) whose
- * triangles' fronts face along that side (1), against it (-1) or both
- * ways (0), of solid glass where clear_a, clear_b, stay apart: glass and
- * opaque geometry never join, nor do opposite fronts where they face each
- * other across a gap or are glass. */
-static int stay_apart(double fa, double da, int clear_a, double fb, double db, int clear_b)
-{
-    if (clear_a != clear_b) return 1;
-    if (!(fa * fb < 0)) return 0;
-    return clear_a || (fa > 0 ? db > da : db < da);
-}
-
-/* Whether a triangle at offset d along ref (on ref's side) whose front
- * faces along +ref (front > 0) or -ref, of solid glass where clear, stays
- * apart from cluster k's triangles of the opposite front (stay_apart). */
-static int keeps_apart(const cluster *k, double d, double front, int clear)
-{
-    int other = front > 0 ? 1 : 0; /* the opposite front's index: 0 is +ref, 1 is -ref */
-    int any = k->facing_area[other] > 0;
-    return stay_apart(front, d, clear, any ? -front : 0.0, any ? k->facing_d[other] / k->facing_area[other] : d,
-                      k->clear);
-}
-
 /* Adds a triangle's plane n . x = d (n canonical; front: +1 where the
  * triangle's front faces along n, else -1; clear: of solid glass) to the
- * cell's clusters. */
-static void add_to_cell(clusters *c, int cell, const double n[3], double d, double front, int clear, double area,
+ * cell's facet of that plane, or makes one. */
+static void add_to_cell(facets *f, int cell, const double n[3], double d, double front, int clear, double area,
                         double h)
 {
-    for (int i = c->head[cell]; i >= 0; i = c->pool[i].next) {
-        cluster *k = &c->pool[i];
-        double cosine = dot3(n, k->ref);
-        if (fabs(cosine) <= LVCL_SAME_NORMAL) continue;
-        double s = cosine > 0 ? 1.0 : -1.0;
-        if (fabs(s * d - k->sum_d / k->area) >= SAME_OFFSET * h) continue;
-        if (keeps_apart(k, s * d, s * front, clear)) continue;
-        for (int j = 0; j < 3; j++) k->sum_n[j] += s * area * n[j];
-        k->sum_d += s * area * d;
+    /* A plane's triangles mostly come one after another: looking at the
+     * newest few facets keeps this step's cost flat in dense cells. */
+    int looked = 0;
+    for (int i = f->head[cell]; i >= 0 && looked < FACETS_LOOKED_AT; i = f->pool[i].next, looked++) {
+        facet *k = &f->pool[i];
+        if (dot3(n, k->n) <= FACET_NORMAL || k->front != front || k->clear != clear ||
+            fabs(d - k->sum_d / k->area) >= FACET_OFFSET * h)
+            continue;
+        for (int j = 0; j < 3; j++) k->sum_n[j] += area * n[j];
+        k->sum_d += area * d;
         k->area += area;
-        k->facing_d[s * front > 0 ? 0 : 1] += s * area * d;
-        k->facing_area[s * front > 0 ? 0 : 1] += area;
-        k->clear |= clear;
         return;
     }
-    if (c->count == c->capacity) {
-        size_t cap = c->capacity ? 2 * c->capacity : 4096;
-        cluster *p = realloc(c->pool, cap * sizeof *p);
+    if (f->count == f->capacity) {
+        size_t cap = f->capacity ? 2 * f->capacity : 4096;
+        facet *p = realloc(f->pool, cap * sizeof *p);
         if (!p) {
-            c->failed = 1;
+            f->failed = 1;
             return;
         }
-        c->pool = p;
-        c->capacity = cap;
+        f->pool = p;
+        f->capacity = cap;
     }
-    cluster *k = &c->pool[c->count];
-    for (int j = 0; j < 3; j++) k->ref[j] = n[j], k->sum_n[j] = area * n[j];
+    facet *k = &f->pool[f->count];
+    for (int j = 0; j < 3; j++) k->n[j] = n[j], k->sum_n[j] = area * n[j];
     k->sum_d = area * d;
     k->area = area;
-    k->facing_d[front > 0 ? 0 : 1] = area * d;
-    k->facing_area[front > 0 ? 0 : 1] = area;
-    k->facing_d[front > 0 ? 1 : 0] = k->facing_area[front > 0 ? 1 : 0] = 0.0;
+    k->front = front;
     k->clear = clear;
-    k->next = c->head[cell];
-    c->head[cell] = (int)c->count++;
+    k->next = f->head[cell];
+    f->head[cell] = (int)f->count++;
+}
+
+/* The area of triangle v inside the cell with corner lo and side h: the
+ * triangle clipped by the cell's six faces in turn. */
+static double area_in_cell(const float v[9], const double lo[3], double h)
+{
+    enum { MAX_CORNERS = 9 }; /* three, and one more per face */
+    double poly[MAX_CORNERS][3], next[MAX_CORNERS][3];
+    int count = 3;
+    for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 3; k++) poly[i][k] = v[3 * i + k];
+    for (int face = 0; face < 6 && count > 0; face++) {
+        int k = face / 2;
+        double bound = face % 2 ? lo[k] + h : lo[k], sign = face % 2 ? -1.0 : 1.0; /* inside: sign (x - bound) >= 0 */
+        int kept = 0;
+        for (int i = 0; i < count; i++) {
+            const double *a = poly[i], *b = poly[(i + 1) % count];
+            double da = sign * (a[k] - bound), db = sign * (b[k] - bound);
+            if (da >= 0) memcpy(next[kept++], a, sizeof next[0]);
+            if ((da >= 0) != (db >= 0)) {
+                double t = da / (da - db);
+                for (int j = 0; j < 3; j++) next[kept][j] = a[j] + t * (b[j] - a[j]);
+                kept++;
+            }
+        }
+        count = kept;
+        memcpy(poly, next, (size_t)count * sizeof poly[0]);
+    }
+    double sum[3] = {0, 0, 0};
+    for (int i = 1; i + 1 < count; i++) {
+        double e1[3], e2[3];
+        for (int j = 0; j < 3; j++) e1[j] = poly[i][j] - poly[0][j], e2[j] = poly[i + 1][j] - poly[0][j];
+        sum[0] += e1[1] * e2[2] - e1[2] * e2[1];
+        sum[1] += e1[2] * e2[0] - e1[0] * e2[2];
+        sum[2] += e1[0] * e2[1] - e1[1] * e2[0];
+    }
+    return 0.5 * sqrt(dot3(sum, sum));
 }
 
 /* Adds one placed triangle, weighing `weight` times its area, to the
- * clusters of every stored cell its box (grown by a hundredth of a cell)
+ * facets of every stored cell its box (grown by a hundredth of a cell)
  * overlaps and its plane cuts. */
-static void add_triangle(clusters *c, const lv_grid_info *g, const uint32_t *stored, const float v[9], int clear,
+static void add_triangle(facets *c, const lv_grid_info *g, const uint32_t *stored, const float v[9], int clear,
                          double weight)
 {
     double e1[3], e2[3], n[3];
@@ -156,8 +191,6 @@ static void add_triangle(clusters *c, const lv_grid_info *g, const uint32_t *sto
     for (int k = 0; k < 3; k++) n[k] /= len;
     double p0[3] = {v[0], v[1], v[2]}, d = dot3(n, p0), h = g->cell_size;
     double front = canonical(n, &d); /* the winding's front: along n (1) or against it (-1) */
-    /* No triangle has more area inside a cube than its largest section. */
-    double area = weight * fmin(0.5 * len, sqrt(2.0) * h * h);
     int lo[3], hi[3];
     for (int k = 0; k < 3; k++) {
         double a = fmin(v[k], fmin(v[3 + k], v[6 + k])), b = fmax(v[k], fmax(v[3 + k], v[6 + k]));
@@ -172,7 +205,9 @@ static void add_triangle(clusters *c, const lv_grid_info *g, const uint32_t *sto
                 uint32_t s = stored[lvcl_volume_cell_index(g, x, y, z)];
                 if (s == LV_EMPTY_CELL) continue;
                 double corner[3] = {g->origin[0] + x * h, g->origin[1] + y * h, g->origin[2] + z * h};
-                if (cuts_cell(n, d, corner, h)) add_to_cell(c, (int)s, n, d, front, clear, area, h);
+                if (!cuts_cell(n, d, corner, h)) continue;
+                double area = area_in_cell(v, corner, h);
+                if (area > 0) add_to_cell(c, (int)s, n, d, front, clear, weight * area, h);
             }
 }
 
@@ -196,44 +231,126 @@ static int spans_few_cells(const lv_grid_info *g, const lv_instance *inst, const
     return lvcl_volume_box_cells(g, lo_w, hi_w, lo, hi);
 }
 
-/* The planes of one stored cell (corner lo): the heaviest clusters that
- * cut it, in cell units from its corner. Returns their count. */
-static int choose_planes(const clusters *c, int cell, const double lo[3], double h, float planes[][4])
+/* Orders turned facets by group, then offset, then their place in the cell. */
+static int by_group_and_offset(const void *pa, const void *pb)
+{
+    const turned_facet *a = pa, *b = pb;
+    if (a->group != b->group) return a->group < b->group ? -1 : 1;
+    if (a->d != b->d) return a->d < b->d ? -1 : 1;
+    return (a->order > b->order) - (a->order < b->order);
+}
+
+/* Clusters one cell's facets into w->clusters; returns their count, or -1
+ * out of memory. Facets fall into groups of parallel ones (within 25
+ * degrees of the group's first, either way round); each group, in order
+ * of offset, is swept once: a facet joins the cluster before it when it
+ * lies within a quarter cell of that cluster's mean and they do not stay
+ * apart, else it starts the next. */
+static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
+{
+    size_t m = 0;
+    for (int i = f->head[cell]; i >= 0; i = f->pool[i].next) m++;
+    if (m > w->capacity) {
+        size_t cap = m > 2 * w->capacity ? m : 2 * w->capacity;
+        turned_facet *t = realloc(w->turned, cap * sizeof *t);
+        if (t) w->turned = t;
+        double(*r)[3] = realloc(w->refs, cap * sizeof *r);
+        if (r) w->refs = r;
+        cluster *c = realloc(w->clusters, cap * sizeof *c);
+        if (c) w->clusters = c;
+        if (!t || !r || !c) return -1;
+        w->capacity = cap;
+    }
+    /* The list runs newest first; order counts from the oldest. */
+    int groups = 0, order = (int)m;
+    for (int i = f->head[cell]; i >= 0; i = f->pool[i].next) {
+        const facet *k = &f->pool[i];
+        turned_facet *t = &w->turned[--order];
+        t->order = order;
+        t->area = k->area;
+        t->clear = k->clear;
+        double len = sqrt(dot3(k->sum_n, k->sum_n));
+        for (int j = 0; j < 3; j++) t->n[j] = len > 0 ? k->sum_n[j] / len : k->n[j];
+        t->d = k->sum_d / k->area;
+        t->front = k->front;
+    }
+    for (size_t i = 0; i < m; i++) {
+        turned_facet *t = &w->turned[i];
+        int g = 0;
+        while (g < groups && fabs(dot3(t->n, w->refs[g])) <= LVCL_SAME_NORMAL) g++;
+        if (g == groups)
+            for (int j = 0; j < 3; j++) w->refs[groups][j] = t->n[j];
+        groups += g == groups;
+        double s = dot3(t->n, w->refs[g]) > 0 ? 1.0 : -1.0;
+        t->group = g;
+        t->d *= s;
+        t->front *= s;
+        for (int j = 0; j < 3; j++) t->n[j] *= s;
+    }
+    qsort(w->turned, m, sizeof *w->turned, by_group_and_offset);
+    int count = 0;
+    for (size_t i = 0; i < m; i++) {
+        const turned_facet *t = &w->turned[i];
+        cluster *c = count > 0 && w->turned[i - 1].group == t->group ? &w->clusters[count - 1] : NULL;
+        /* A front against the group's normal faces a front along it below. */
+        int facing = c && t->front < 0 && c->top_along < t->d;
+        int gap = facing && t->d - c->top_along > FACET_OFFSET * h && t->d - c->top_along < SAME_OFFSET * h;
+        if (gap) c->gap = 1;
+        /* Glass joins no opaque facet, nor the opposite face of a slab. */
+        int opposite = c && c->facing_area[t->front > 0 ? 1 : 0] > 0;
+        if (!c || fabs(t->d - c->sum_d / c->area) >= SAME_OFFSET * h || facing || t->clear != c->clear ||
+            (t->clear && opposite)) {
+            c = &w->clusters[count++];
+            *c = (cluster){.top_along = -HUGE_VAL, .clear = t->clear, .gap = gap};
+        }
+        for (int j = 0; j < 3; j++) c->sum_n[j] += t->area * t->n[j];
+        c->sum_d += t->area * t->d;
+        c->area += t->area;
+        c->facing_area[t->front > 0 ? 0 : 1] += t->area;
+        if (t->front > 0) c->top_along = fmax(c->top_along, t->d);
+    }
+    return count;
+}
+
+/* Whether cluster a is chosen before b: across a gap first, then the
+ * heavier, and between equal weights (a room's symmetric corners) by
+ * their sums, so that the choice does not hang on the triangles' order. */
+static int comes_first(const cluster *a, const cluster *b)
+{
+    if (a->gap != b->gap) return a->gap > b->gap;
+    if (fabs(a->area - b->area) > 1e-9 * fmax(a->area, b->area)) return a->area > b->area;
+    for (int j = 0; j < 3; j++)
+        if (a->sum_n[j] != b->sum_n[j]) return a->sum_n[j] > b->sum_n[j];
+    return a->sum_d > b->sum_d;
+}
+
+/* The planes of one stored cell (corner lo) from its clusters (count of
+ * them in w), in cell units from its corner: those facing each other
+ * across a gap narrower than a quarter cell (and wider than FACET_OFFSET:
+ * things resting on each other touch), then the rest, the heaviest first
+ * of each. A leg's top 1 mm under a table top then comes before the leg's
+ * sides, which split air that meets around the leg anyway, while the
+ * gap's thin layer of air, unsplit, would share a region with the leg's
+ * inside or with what lies beyond the top. Returns their count. */
+static int choose_planes(const cell_scratch *w, int clusters, const double lo[3], double h, float planes[][4])
 {
     int chosen[LV_GEOMETRY_PLANES], count = 0;
-    double pn[LV_GEOMETRY_PLANES][3], pd[LV_GEOMETRY_PLANES], pf[LV_GEOMETRY_PLANES];
-    int pclear[LV_GEOMETRY_PLANES];
     for (int round = 0; round < LV_GEOMETRY_PLANES; round++) {
         int best = -1;
-        /* The heaviest cluster not yet taken; the earliest made on a tie. */
-        for (int i = c->head[cell]; i >= 0; i = c->pool[i].next) {
+        for (int i = 0; i < clusters; i++) {
             int taken = 0;
             for (int j = 0; j < round; j++) taken |= chosen[j] == i;
-            if (!taken && (best < 0 || c->pool[i].area >= c->pool[best].area)) best = i;
+            if (!taken && (best < 0 || comes_first(&w->clusters[i], &w->clusters[best]))) best = i;
         }
         if (best < 0) break;
         chosen[round] = best;
-        const cluster *k = &c->pool[best];
+        const cluster *k = &w->clusters[best];
         double n[3], len = sqrt(dot3(k->sum_n, k->sum_n));
         if (!(len > 0)) continue;
         for (int j = 0; j < 3; j++) n[j] = k->sum_n[j] / len;
         double d = k->sum_d / k->area;
         canonical(n, &d);
         if (!cuts_cell(n, d, lo, h)) continue;
-        /* Its triangles' front, along n (1), against it (-1), or both (0). */
-        double along = dot3(n, k->ref) > 0 ? 1.0 : -1.0;
-        double f = k->facing_area[1] == 0 ? along : k->facing_area[0] == 0 ? -along : 0.0;
-        int same = 0;
-        for (int j = 0; j < count; j++) {
-            double s = dot3(n, pn[j]) > 0 ? 1.0 : -1.0, dj = s * d, fj = s * f; /* on plane j's side */
-            same |= fabs(dot3(n, pn[j])) > LVCL_SAME_NORMAL && fabs(dj - pd[j]) < SAME_OFFSET * h &&
-                !stay_apart(pf[j], pd[j], pclear[j], fj, dj, k->clear);
-        }
-        if (same) continue;
-        for (int j = 0; j < 3; j++) pn[count][j] = n[j];
-        pd[count] = d;
-        pf[count] = f;
-        pclear[count] = k->clear;
         /* n . (lo + h u) = d  <=>  n . u = (d - n . lo) / h */
         for (int j = 0; j < 3; j++) planes[count][j] = (float)n[j];
         planes[count][3] = (float)((d - dot3(n, lo)) / h);
@@ -249,7 +366,8 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
     *shares = NULL;
     *share_count = 0;
     size_t stored = g->slot_count;
-    clusters c = {0};
+    facets c = {0};
+    cell_scratch w = {0};
     c.head = malloc((stored ? stored : 1) * sizeof *c.head);
     lvcl_cell_planes *planes = malloc((stored ? stored : 1) * sizeof *planes);
     if (!c.head || !planes) {
@@ -291,11 +409,17 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
                     if (s == LV_EMPTY_CELL) continue;
                     double lo[3] = {g->origin[0] + (double)x * g->cell_size, g->origin[1] + (double)y * g->cell_size,
                                     g->origin[2] + (double)z * g->cell_size};
-                    planes[s].count = (uint8_t)choose_planes(&c, (int)s, lo, g->cell_size, planes[s].planes);
+                    int clusters = cluster_cell(&c, (int)s, &w, g->cell_size);
+                    c.failed |= clusters < 0;
+                    planes[s].count =
+                        clusters > 0 ? (uint8_t)choose_planes(&w, clusters, lo, g->cell_size, planes[s].planes) : 0;
                 }
     int failed = c.failed;
     free(c.head);
     free(c.pool);
+    free(w.turned);
+    free(w.refs);
+    free(w.clusters);
     lvcl_error e = failed
         ? lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' planes")
         : lvcl_volume_lay_out_regions(g, cells, planes, NULL, NULL, slot, regions, shares, share_count, st);

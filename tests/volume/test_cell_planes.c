@@ -1,0 +1,227 @@
+/* The cells' planes (host/render/volume_planes.c), on the host alone. A
+ * shelf over a block (a table top over a leg, a panel beside a cupboard),
+ * in a closed room: in every cell the stack cuts, the thin layer of air
+ * between the block's top and the shelf must fall in another region than
+ * the air just beyond the shelf and than the block's inside, or a lookup
+ * in the gap reads light that never reaches it (too bright from beyond,
+ * too dark from a region whose volume holds the block's inside). Varied:
+ * gaps of 1 mm to 3 cm, shelves 1 and 3 cm thick, a block as wide as the
+ * shelf, a leg 4 cm square, and a shelf narrower than the block, 12 to 32
+ * cells at grid offsets 0, 0.37 and 0.5, the stack along each axis, and
+ * its triangles in either order. The planes must also be the same
+ * whichever order the triangles come in.
+ *
+ * Holds while the gap is narrower than a quarter cell and each cell has
+ * at most three planes to give: the two surfaces facing each other across
+ * the gap come first, then the heaviest other cluster. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../../host/accel/accel.h"
+#include "../../host/render/light_volume_internal.h"
+#include "../check.h"
+#include "../harness.h"
+
+#define MAX_TRIS 64
+#define LATTICE 9 /* points per side over the stack's footprint */
+
+typedef struct {
+    float block, shelf;   /* widths, metres */
+    float gap, thickness; /* metres */
+} stack;
+
+typedef struct {
+    lv_grid_info g;
+    uint32_t *slot;
+    lv_slot_region *regions;
+    float *shares;
+} cell_regions;
+
+/* Box lo..hi of the stack's frame (x, up, z) placed with `up` along world
+ * axis `axis`. */
+static size_t add_box_along(float *t, size_t n, int axis, const float lo[3], const float hi[3])
+{
+    float wlo[3], whi[3];
+    for (int k = 0; k < 3; k++) {
+        int w = (axis + k + 2) % 3; /* x -> axis + 2, up -> axis, z -> axis + 1 */
+        wlo[w] = lo[k];
+        whi[w] = hi[k];
+    }
+    return harness_add_box(t, n, wlo, whi);
+}
+
+static void to_world(int axis, const double local[3], float world[3])
+{
+    for (int k = 0; k < 3; k++) world[(axis + k + 2) % 3] = (float)local[k];
+}
+
+/* The scene's regions, or 0 where making them failed (reported). */
+static int build(const stack *u, int axis, int shelf_first, int reversed, int cells, double offset, cell_regions *out)
+{
+    float tris[MAX_TRIS * 9];
+    size_t n = 0;
+    const float room_lo[3] = {-1, 0, -1}, room_hi[3] = {1, 2, 1};
+    const float base = 0.9f, b = 0.5f * u->block, s = 0.5f * u->shelf;
+    const float block_lo[3] = {-b, 0, -b}, block_hi[3] = {b, base, b};
+    const float shelf_lo[3] = {-s, base + u->gap, -s}, shelf_hi[3] = {s, base + u->gap + u->thickness, s};
+    n = add_box_along(tris, n, axis, room_lo, room_hi);
+    n = add_box_along(tris, n, axis, shelf_first ? shelf_lo : block_lo, shelf_first ? shelf_hi : block_hi);
+    n = add_box_along(tris, n, axis, shelf_first ? block_lo : shelf_lo, shelf_first ? block_hi : shelf_hi);
+    if (reversed)
+        for (size_t i = 0; i < n / 2; i++)
+            for (int k = 0; k < 9; k++) {
+                float x = tris[9 * i + k];
+                tris[9 * i + k] = tris[9 * (n - 1 - i) + k];
+                tris[9 * (n - 1 - i) + k] = x;
+            }
+    lvcl_scene scene;
+    harness_triangle_scene(tris, n, &scene);
+    lvcl_material_desc *m = harness_materials(&scene, 2);
+    harness_make_lamp(&m[1], 1.0f);
+    scene.tri_material[0] = 1; /* a lamp somewhere, as the grid expects */
+    lvcl_accel accel = {0};
+    lvcl_packed_scene packed = {0};
+    lvcl_status st = {0};
+    lvcl_volume_settings vs = {.cells = cells, .offset = offset, .dirs = 4, .subcells = 4, .particles = 1};
+    size_t count = 0;
+    memset(out, 0, sizeof *out);
+    int ok = !lvcl_accel_build(&scene, &accel, &st);
+    if (ok) ok = !lvcl_pack_scene(&scene, &accel, 0, 8, &packed, &st);
+    if (ok) ok = !lvcl_volume_grid_choose(&packed, &vs, &out->g, &count, &st);
+    if (ok) ok = (out->slot = malloc(count * sizeof *out->slot)) != NULL;
+    if (ok) ok = !lvcl_volume_assign_slots(&packed, &out->g, count, out->slot, &st);
+    size_t share_count;
+    if (ok)
+        ok = !lvcl_volume_build_regions(&packed, &out->g, count, out->slot, &out->regions, &out->shares, &share_count,
+                                        &st);
+    if (!ok) fprintf(stderr, "cell planes: making the regions failed: %s\n", st.message);
+    lvcl_packed_scene_free(&packed);
+    lvcl_accel_free(&accel);
+    lvcl_scene_free(&scene);
+    return ok;
+}
+
+static void release(cell_regions *r)
+{
+    free(r->slot);
+    free(r->regions);
+    free(r->shares);
+}
+
+/* Point p's cell (its index, or -1 outside) and the slot of its region. */
+static uint32_t slot_at(const cell_regions *r, const float p[3], long *cell)
+{
+    const lv_grid_info *g = &r->g;
+    float u[3];
+    int c[3];
+    for (int k = 0; k < 3; k++) {
+        float x = (p[k] - g->origin[k]) / g->cell_size;
+        c[k] = (int)floorf(x);
+        u[k] = x - (float)c[k];
+        if (c[k] < 0 || c[k] >= (int)g->dims[k]) return *cell = -1, LV_EMPTY_CELL;
+    }
+    *cell = (long)lvcl_volume_cell_index(g, c[0], c[1], c[2]);
+    uint32_t entry = r->slot[*cell];
+    if (entry == LV_EMPTY_CELL || !(entry & LV_CUT_CELL)) return entry;
+    uint32_t base = entry & ~LV_CUT_CELL, pattern = 0;
+    const lv_slot_region *reg = &r->regions[base];
+    for (uint32_t i = 0; i < reg->plane_count; i++)
+        if (reg->planes[i][0] * u[0] + reg->planes[i][1] * u[1] + reg->planes[i][2] * u[2] > reg->planes[i][3])
+            pattern |= 1u << i;
+    return reg->plane_count ? base + LV_REGION_OFFSET(reg, pattern) : base;
+}
+
+/* Of the lattice points over the stack's footprint whose gap point shares
+ * a cell with the point beyond the shelf (or inside the block), how many
+ * share its region too. */
+static int shared_regions(const cell_regions *r, const stack *u, int axis, int *pairs)
+{
+    const double base = 0.9, half = 0.5 * fmin(u->block, u->shelf) - 1e-3;
+    const double ups[3] = {base + 0.5 * u->gap, base + u->gap + u->thickness + 0.5 * u->gap, base - 0.5 * u->gap};
+    int shared = 0;
+    *pairs = 0;
+    for (int i = 0; i < LATTICE; i++)
+        for (int j = 0; j < LATTICE; j++) {
+            long cells[3];
+            uint32_t slots[3];
+            for (int q = 0; q < 3; q++) {
+                double local[3] = {-half + 2 * half * i / (LATTICE - 1), ups[q], -half + 2 * half * j / (LATTICE - 1)};
+                float p[3];
+                to_world(axis, local, p);
+                slots[q] = slot_at(r, p, &cells[q]);
+            }
+            for (int q = 1; q < 3; q++)
+                if (cells[q] == cells[0]) {
+                    (*pairs)++;
+                    shared += slots[q] == slots[0];
+                }
+        }
+    return shared;
+}
+
+/* Whether two builds gave every cell the same planes (to 10^-5). */
+static int same_planes(const cell_regions *a, const cell_regions *b, size_t cells)
+{
+    if (a->g.slot_count != b->g.slot_count) return 0;
+    for (size_t c = 0; c < cells; c++) {
+        if (a->slot[c] != b->slot[c]) return 0;
+        if (a->slot[c] == LV_EMPTY_CELL || !(a->slot[c] & LV_CUT_CELL)) continue;
+        const lv_slot_region *ra = &a->regions[a->slot[c] & ~LV_CUT_CELL], *rb = &b->regions[b->slot[c] & ~LV_CUT_CELL];
+        if (ra->plane_count != rb->plane_count) return 0;
+        for (uint32_t i = 0; i < ra->plane_count; i++)
+            for (int k = 0; k < 4; k++)
+                if (fabsf(ra->planes[i][k] - rb->planes[i][k]) > 1e-5f) return 0;
+    }
+    return 1;
+}
+
+int main(void)
+{
+    const stack stacks[] = {
+        {0.6f, 0.6f, 0.001f, 0.03f},  {0.6f, 0.6f, 0.005f, 0.01f}, {0.04f, 0.8f, 0.001f, 0.03f},
+        {0.04f, 0.8f, 0.003f, 0.01f}, {0.6f, 0.3f, 0.002f, 0.03f}, {0.6f, 0.3f, 0.03f, 0.01f},
+    };
+    const int cell_counts[] = {12, 16, 24, 32};
+    const double offsets[] = {0.0, 0.37, 0.5};
+    for (size_t si = 0; si < sizeof stacks / sizeof stacks[0]; si++)
+        for (int axis = 0; axis < 3; axis++) {
+            const stack *u = &stacks[si];
+            int shared = 0, pairs = 0, built = 1, same = 1, cases = 0;
+            for (size_t ci = 0; ci < sizeof cell_counts / sizeof cell_counts[0]; ci++) {
+                int cells = cell_counts[ci];
+                double h = 2.0 / cells; /* the room's longest side over the cell count */
+                if (u->gap >= 0.25 * h) continue;
+                for (size_t oi = 0; oi < sizeof offsets / sizeof offsets[0]; oi++) {
+                    cell_regions r[3];
+                    memset(r, 0, sizeof r);
+                    built &= build(u, axis, 0, 0, cells, offsets[oi], &r[0]) &&
+                        build(u, axis, 1, 0, cells, offsets[oi], &r[1]) &&
+                        build(u, axis, 0, 1, cells, offsets[oi], &r[2]);
+                    if (built) {
+                        size_t count = (size_t)r[0].g.dims[0] * r[0].g.dims[1] * r[0].g.dims[2];
+                        for (int v = 0; v < 3; v++) {
+                            int p;
+                            shared += shared_regions(&r[v], u, axis, &p);
+                            pairs += p;
+                        }
+                        same &= same_planes(&r[0], &r[1], count) && same_planes(&r[0], &r[2], count);
+                        cases++;
+                    }
+                    for (int v = 0; v < 3; v++) release(&r[v]);
+                }
+            }
+            char name[200];
+            snprintf(name, sizeof name,
+                     "cell planes: block %g cm under a shelf %g cm wide, gap %g mm, shelf %g cm, along axis %d",
+                     1e2 * u->block, 1e2 * u->shelf, 1e3 * u->gap, 1e2 * u->thickness, axis);
+            CHECK(name, built && shared == 0 && pairs > 0, "%d of %d point pairs in one cell share a region (%d grids)",
+                  shared, pairs, cases);
+            snprintf(name, sizeof name,
+                     "cell planes: the same whatever the triangles' order (block %g cm, gap %g mm, axis %d)",
+                     1e2 * u->block, 1e3 * u->gap, axis);
+            CHECK(name, built && same, "the planes differ between orders");
+        }
+    CHECK_EXIT();
+}
