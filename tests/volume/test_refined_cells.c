@@ -9,8 +9,7 @@
  *     regions of a split cell together hold what the cell tallied in a
  *     volume traced without splitting (within the rounding of the pieces
  *     the new planes cut: 1e-5 of the bin's tally plus one piece's): all
- *     of it with the retrace, what it
- *     tallied after the split without;
+ *     of it with the retrace, what it tallied after the split without;
  * (b) the same tallies split the same cells, bit for bit; with the share
  *     of focused light that --refine on asks, no cell of the (diffuse)
  *     Cornell box splits and some round the glass ball do; cells that the
@@ -50,7 +49,7 @@ static LVCL_DEFINE_BINDER(t_jitter_lookup, T_JITTER_LOOKUP_ARGS, t_jitter_lookup
 #define SPLIT_ALL 1e-6
 #define FINE_ALL 1e-6
 
-    typedef struct {
+typedef struct {
     lvcl_light_volume *volume;
     int64_t *tallies;
     float *lit;
@@ -150,7 +149,8 @@ static uint32_t test_split_sums(const lvcl_session *ss, int cells, int subcells,
                 expected +=
                     (double)(plain.tallies[(pf[i] + s) * per + b] - (retrace ? 0 : before[(pf[i] + s) * per + b]));
             for (uint32_t s = 0; s < sc[i]; s++) got += (double)split.tallies[(sf[i] + s) * per + b];
-            /* Each piece a plane cuts rounds apart: a few units of 2^24 each. */
+            /* Each piece a plane cuts rounds apart, by a unit or so of the
+             * fixed-point tallies; one piece's tally is about 10^7 units. */
             double off = fabs(got - expected) / (fabs(expected) + LV_PIECE_TALLY * LV_TALLY_SCALE);
             if (off > worst) worst = off;
             sums_close &= off < 1e-5;
