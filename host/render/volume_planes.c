@@ -250,6 +250,7 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
 {
     size_t m = 0;
     for (int i = f->head[cell]; i >= 0; i = f->pool[i].next) m++;
+    if (m == 0) return 0;
     if (m > w->capacity) {
         size_t cap = m > 2 * w->capacity ? m : 2 * w->capacity;
         turned_facet *t = realloc(w->turned, cap * sizeof *t);
