@@ -32,6 +32,9 @@
 #define FACET_NORMAL 0.99999998
 #define FACET_OFFSET 1e-4 /* cells */
 #define FACETS_LOOKED_AT 8
+/* Planes of a cell that go first to clusters facing each other across a
+ * narrow gap (choose_planes): one gap's two sides. */
+#define GAP_PLANES 2
 
 typedef struct {
     double n[3];                  /* the first triangle's normal, canonical */
@@ -313,12 +316,13 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
     return count;
 }
 
-/* Whether cluster a is chosen before b: across a gap first, then the
- * heavier, and between equal weights (a room's symmetric corners) by
- * their sums, so that the choice does not hang on the triangles' order. */
-static int comes_first(const cluster *a, const cluster *b)
+/* Whether cluster a is chosen before b: across a gap first (while
+ * gaps_first), then the heavier, and between equal weights (a room's
+ * symmetric corners) by their sums, so that the choice does not hang on
+ * the triangles' order. */
+static int comes_first(const cluster *a, const cluster *b, int gaps_first)
 {
-    if (a->gap != b->gap) return a->gap > b->gap;
+    if (gaps_first && a->gap != b->gap) return a->gap > b->gap;
     if (fabs(a->area - b->area) > 1e-9 * fmax(a->area, b->area)) return a->area > b->area;
     for (int j = 0; j < 3; j++)
         if (a->sum_n[j] != b->sum_n[j]) return a->sum_n[j] > b->sum_n[j];
@@ -332,20 +336,23 @@ static int comes_first(const cluster *a, const cluster *b)
  * of each. A leg's top 1 mm under a table top then comes before the leg's
  * sides, which split air that meets around the leg anyway, while the
  * gap's thin layer of air, unsplit, would share a region with the leg's
- * inside or with what lies beyond the top. Returns their count. */
+ * inside or with what lies beyond the top. Gaps come first for
+ * GAP_PLANES planes, so that a crowded cell's heaviest other surface (a
+ * wall between rooms, say) still finds room. Returns their count. */
 static int choose_planes(const cell_scratch *w, int clusters, const double lo[3], double h, float planes[][4])
 {
-    int chosen[LV_GEOMETRY_PLANES], count = 0;
+    int chosen[LV_GEOMETRY_PLANES], count = 0, gaps = 0;
     for (int round = 0; round < LV_GEOMETRY_PLANES; round++) {
         int best = -1;
         for (int i = 0; i < clusters; i++) {
             int taken = 0;
             for (int j = 0; j < round; j++) taken |= chosen[j] == i;
-            if (!taken && (best < 0 || comes_first(&w->clusters[i], &w->clusters[best]))) best = i;
+            if (!taken && (best < 0 || comes_first(&w->clusters[i], &w->clusters[best], gaps < GAP_PLANES))) best = i;
         }
         if (best < 0) break;
         chosen[round] = best;
         const cluster *k = &w->clusters[best];
+        gaps += k->gap;
         double n[3], len = sqrt(dot3(k->sum_n, k->sum_n));
         if (!(len > 0)) continue;
         for (int j = 0; j < 3; j++) n[j] = k->sum_n[j] / len;
