@@ -151,25 +151,34 @@ const lv_grid_info *lvcl_volume_grid(const lvcl_light_volume *vol)
     return &vol->buf.info;
 }
 
-uint32_t lvcl_volume_slot_at(const lvcl_light_volume *vol, const float p[3])
+uint32_t lvcl_volume_grid_slot_at(const lv_grid_info *g, const uint32_t *cell_slot, const lv_slot_region *regions,
+                                  const float p[3], long *cell)
 {
-    const lv_grid_info *g = &vol->buf.info;
     float u[3];
     uint32_t c[3];
+    if (cell) *cell = -1;
     for (int k = 0; k < 3; k++) {
         float x = (p[k] - g->origin[k]) / g->cell_size;
         if (!(x >= 0.0f) || x >= (float)g->dims[k]) return LV_EMPTY_CELL;
         c[k] = (uint32_t)x;
         u[k] = x - (float)c[k];
     }
-    uint32_t base = lvcl_volume_slot(vol, c[0], c[1], c[2]);
-    if (base == LV_EMPTY_CELL) return base;
-    const lv_slot_region *r = &vol->regions[base];
+    size_t index = lvcl_volume_cell_index(g, (int)c[0], (int)c[1], (int)c[2]);
+    if (cell) *cell = (long)index;
+    uint32_t entry = cell_slot[index];
+    if (entry == LV_EMPTY_CELL) return entry;
+    uint32_t base = entry & ~LV_CUT_CELL;
+    const lv_slot_region *r = &regions[base];
     uint32_t pattern = 0;
     for (uint32_t i = 0; i < r->plane_count; i++)
         if (r->planes[i][0] * u[0] + r->planes[i][1] * u[1] + r->planes[i][2] * u[2] > r->planes[i][3])
             pattern |= 1u << i;
     return r->plane_count ? base + LV_REGION_OFFSET(r, pattern) : base;
+}
+
+uint32_t lvcl_volume_slot_at(const lvcl_light_volume *vol, const float p[3])
+{
+    return lvcl_volume_grid_slot_at(&vol->buf.info, vol->cell_slot, vol->regions, p, NULL);
 }
 
 uint32_t lvcl_volume_tally_set(const lvcl_light_volume *vol, uint32_t slot)

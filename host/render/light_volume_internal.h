@@ -87,6 +87,13 @@ lvcl_error lvcl_volume_assign_slots(const lvcl_packed_scene *p, lv_grid_info *g,
 lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
                                      lv_slot_region **regions, float **shares, size_t *share_count, lvcl_status *st);
 
+/* The slot of the region holding world point p in a grid whose cells'
+ * entries are cell_slot and whose slots' regions are `regions` (what
+ * lvcl_volume_build_regions made), or LV_EMPTY_CELL; *cell (unless NULL)
+ * gets p's cell index, or -1 outside the grid. */
+uint32_t lvcl_volume_grid_slot_at(const lv_grid_info *g, const uint32_t *cell_slot, const lv_slot_region *regions,
+                                  const float p[3], long *cell);
+
 /* One stored cell's planes (cell units, lv_slot_region's convention). */
 typedef struct {
     float planes[LV_REGION_PLANES][4];

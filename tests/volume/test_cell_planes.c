@@ -123,24 +123,7 @@ static void release(cell_regions *r)
 /* Point p's cell (its index, or -1 outside) and the slot of its region. */
 static uint32_t slot_at(const cell_regions *r, const float p[3], long *cell)
 {
-    const lv_grid_info *g = &r->g;
-    float u[3];
-    int c[3];
-    for (int k = 0; k < 3; k++) {
-        float x = (p[k] - g->origin[k]) / g->cell_size;
-        c[k] = (int)floorf(x);
-        u[k] = x - (float)c[k];
-        if (c[k] < 0 || c[k] >= (int)g->dims[k]) return *cell = -1, LV_EMPTY_CELL;
-    }
-    *cell = (long)lvcl_volume_cell_index(g, c[0], c[1], c[2]);
-    uint32_t entry = r->slot[*cell];
-    if (entry == LV_EMPTY_CELL || !(entry & LV_CUT_CELL)) return entry;
-    uint32_t base = entry & ~LV_CUT_CELL, pattern = 0;
-    const lv_slot_region *reg = &r->regions[base];
-    for (uint32_t i = 0; i < reg->plane_count; i++)
-        if (reg->planes[i][0] * u[0] + reg->planes[i][1] * u[1] + reg->planes[i][2] * u[2] > reg->planes[i][3])
-            pattern |= 1u << i;
-    return reg->plane_count ? base + LV_REGION_OFFSET(reg, pattern) : base;
+    return lvcl_volume_grid_slot_at(&r->g, r->slot, r->regions, p, cell);
 }
 
 /* Of the lattice points over the stack's footprint whose gap point shares
