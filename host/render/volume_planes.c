@@ -60,8 +60,8 @@ typedef struct {
 
 typedef struct {
     double sum_n[3], sum_d, area; /* on the group's side */
-    double facing_area[2];        /* of fronts along the group's normal, and against it */
-    double top_along;             /* the largest offset of a front along the group's normal */
+    double top_along;             /* the largest offset of a front along the group's normal; -HUGE_VAL if none */
+    int against;                  /* it holds a front against the group's normal */
     int clear, gap;               /* of glass; it faces another cluster across a gap */
 } cluster;
 
@@ -273,8 +273,8 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         t->order = order;
         t->area = k->area;
         t->clear = k->clear;
-        double len = sqrt(dot3(k->sum_n, k->sum_n));
-        for (int j = 0; j < 3; j++) t->n[j] = len > 0 ? k->sum_n[j] / len : k->n[j];
+        double len = sqrt(dot3(k->sum_n, k->sum_n)); /* > 0: a facet's triangles have area, one normal */
+        for (int j = 0; j < 3; j++) t->n[j] = k->sum_n[j] / len;
         t->d = k->sum_d / k->area;
         t->front = k->front;
     }
@@ -301,7 +301,7 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         int gap = facing && t->d - c->top_along > FACET_OFFSET * h && t->d - c->top_along < SAME_OFFSET * h;
         if (gap) c->gap = 1;
         /* Glass joins no opaque facet, nor the opposite face of a slab. */
-        int opposite = c && c->facing_area[t->front > 0 ? 1 : 0] > 0;
+        int opposite = c && (t->front > 0 ? c->against : c->top_along > -HUGE_VAL);
         if (!c || fabs(t->d - c->sum_d / c->area) >= SAME_OFFSET * h || facing || t->clear != c->clear ||
             (t->clear && opposite)) {
             c = &w->clusters[count++];
@@ -310,8 +310,8 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         for (int j = 0; j < 3; j++) c->sum_n[j] += t->area * t->n[j];
         c->sum_d += t->area * t->d;
         c->area += t->area;
-        c->facing_area[t->front > 0 ? 0 : 1] += t->area;
         if (t->front > 0) c->top_along = fmax(c->top_along, t->d);
+        else c->against = 1;
     }
     return count;
 }
