@@ -64,21 +64,12 @@ static void make_scene(const setup *u, lvcl_scene *s)
     harness_triangle_scene(tris, n, s);
     for (size_t i = 0; i < n; i++) material[i] = i < walls ? WALLS : GLASS;
     memcpy(s->tri_material, material, n * sizeof *material);
-    lvcl_material_desc *m = realloc(s->materials, MATERIALS * sizeof *m);
-    if (!m) exit(1);
-    s->materials = m;
-    s->material_count = MATERIALS;
-    m[GLASS] = m[WALLS];
+    lvcl_material_desc *m = harness_materials(s, MATERIALS);
     for (int c = 0; c < 3; c++) {
         m[WALLS].base_color[c] = 0.5f;
         m[WALLS].emissive[c] = 1.0f;
-        m[GLASS].base_color[c] = 1.0f;
-        m[GLASS].attenuation_color[c] = 1.0f;
     }
-    m[GLASS].transmission = 1.0f;
-    m[GLASS].ior = u->ior;
-    m[GLASS].has_volume = 1;
-    m[GLASS].attenuation_distance = INFINITY;
+    harness_make_glass(&m[GLASS], u->ior);
     const float eye[3] = {0.9f, 1.5f, 0.9f}, target[3] = {0.0f, 1.0f, 0.0f};
     harness_look_at(s, eye, target, 60.0f);
 }

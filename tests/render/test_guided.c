@@ -68,17 +68,12 @@ static void make_mirror_ball(lvcl_scene *s)
     harness_triangle_scene(tris, n, s);
     for (size_t i = 0; i < n; i++) material[i] = i < lamp_at ? 0 : i < ball_at ? 1 : 2;
     memcpy(s->tri_material, material, n * sizeof *material);
-    lvcl_material_desc *m = realloc(s->materials, 3 * sizeof *m);
-    if (!m) exit(1);
-    s->materials = m;
-    s->material_count = 3;
-    m[1] = m[2] = m[0];
+    lvcl_material_desc *m = harness_materials(s, 3);
     for (int k = 0; k < 3; k++) {
         m[0].base_color[k] = 0.6f;
-        m[1].base_color[k] = 0.0f;
-        m[1].emissive[k] = 80.0f;
         m[2].base_color[k] = 0.95f;
     }
+    harness_make_lamp(&m[1], 80.0f);
     m[2].metallic = 1.0f;
     m[2].roughness = 0.0f;
     const float eye[3] = {0.9f, 0.6f, 0.9f}, target[3] = {-0.3f, 1.1f, -0.3f};

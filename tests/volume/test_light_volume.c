@@ -258,11 +258,7 @@ static void test_visibility(void)
     lvcl_scene scene;
     harness_triangle_scene(tris, 5, &scene);
     /* Material 0 (floor) absorbs; material 1 (lamp) emits. */
-    lvcl_material_desc *m = realloc(scene.materials, 2 * sizeof *m);
-    if (!m) return;
-    scene.materials = m;
-    scene.material_count = 2;
-    m[1] = m[0];
+    lvcl_material_desc *m = harness_materials(&scene, 2);
     m[0].base_color[0] = m[0].base_color[1] = m[0].base_color[2] = 0.0f;
     m[1].emissive[0] = m[1].emissive[1] = m[1].emissive[2] = 5.0f;
     scene.tri_material[2] = scene.tri_material[3] = 1;

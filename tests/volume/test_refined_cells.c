@@ -231,12 +231,9 @@ static lvcl_session *ball_session(void)
         }
     lvcl_scene scene;
     harness_triangle_scene(tris, n, &scene);
-    lvcl_material_desc *m = realloc(scene.materials, 3 * sizeof *m);
-    if (!m) exit(1);
-    scene.materials = m;
-    scene.material_count = 3;
-    m[1] = m[2] = m[0];
-    for (int c = 0; c < 3; c++) m[1].base_color[c] = 0, m[1].emissive[c] = 5, m[2].base_color[c] = 1;
+    lvcl_material_desc *m = harness_materials(&scene, 3);
+    harness_make_lamp(&m[1], 5.0f);
+    for (int c = 0; c < 3; c++) m[2].base_color[c] = 1;
     m[2].transmission = 1;
     for (size_t i = lamp_at; i < lamp_at + 2; i++) scene.tri_material[i] = 1;
     for (size_t i = lamp_at + 2; i < n; i++) scene.tri_material[i] = 2;

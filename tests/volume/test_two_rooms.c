@@ -87,13 +87,9 @@ static void two_rooms(float thickness, const float bright[3], const float dim[3]
     }
     size_t count = (size_t)(t - tris) / 9;
     harness_triangle_scene(tris, count, s);
-    lvcl_material_desc *m = realloc(s->materials, 3 * sizeof *m);
-    if (!m) exit(1);
-    s->materials = m;
-    s->material_count = 3;
-    m[0].base_color[0] = m[0].base_color[1] = m[0].base_color[2] = 0.7f;
-    m[1] = m[2] = m[0];
+    lvcl_material_desc *m = harness_materials(s, 3);
     for (int k = 0; k < 3; k++) {
+        m[0].base_color[k] = 0.7f;
         m[1].base_color[k] = m[2].base_color[k] = 0.0f;
         m[1].emissive[k] = dim[k];
         m[2].emissive[k] = bright[k];
