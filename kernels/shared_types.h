@@ -246,9 +246,11 @@ typedef struct {
  * has bit i set where it is), their count P (0: one region), the cell's
  * first slot, which pattern this slot is, where its shares start in the
  * region_shares table (the region's volume as a fraction of the cell, then
- * per subcell the fraction of the subcell inside the region: 1 + k^3
- * floats, exact, from volume_shares.c; LV_NO_SHARES for a cell without
- * planes, whose one region is all of it), and the slot of each pattern
+ * per entry, a subcell the region has volume in, the fraction of the
+ * subcell inside the region: exact, from volume_shares.c; LV_NO_SHARES for
+ * a cell without planes, whose one region is all of it), which subcells
+ * are its entries and where they start (the subcell records above), and
+ * the slot of each pattern
  * (LV_REGION_OFFSET). Every slot of a cell repeats the cell's planes and
  * offsets, and whether its lookups jitter in half a cell. A pattern
  * whose region has no volume in the cell (3 planes leave at most 7 of 8)
@@ -266,6 +268,8 @@ typedef struct {
     lv_u32 shares;                               /* first entry in region_shares, or LV_NO_SHARES */
     lv_u32 offsets[(1 << LV_REGION_PLANES) / 4]; /* pattern m's slot - base_slot, 8 bits each */
     lv_u32 half_box; /* 1 in a cell refinement split where its light is focused: lookups jitter in half a cell */
+    lv_u32 present[2]; /* the subcells the region has volume in (bit i: subcell i, as the marks) */
+    lv_u32 entries;    /* its first entry in subcell_rays and lit_points */
 } lv_slot_region;
 
 /* The slot of pattern m of the cell whose slot table entry is *r, from its first slot. */
@@ -289,17 +293,29 @@ typedef struct {
 /* tally_slot[s]'s set, without the flags. */
 #define LV_TALLY_SET_OF(t) ((t) & ~(LV_FINE_DIRS | LV_RESTARTED))
 
-/* Subcell records, LV_SUBCELL_STRIDE 32-bit words per stored cell: a mask
- * of two words (bit x + k (y + k z) is switched on when a tallied segment
- * passes subcell (x, y, z); k^3 <= 64), then per subcell the visibility rays
- * cast from it, those that were not blocked, and a lit point: 8 bits of
- * priority (1-255), then a position in the subcell that light reached, 8
- * bits per axis; 0 if no particle hit a surface there. */
+/* Subcell records, in three buffers. subcell_marks: two words per slot, a
+ * mask (bit x + k (y + k z) is switched on when a tallied segment passes
+ * subcell (x, y, z); k^3 <= 64). Then per entry, a subcell that the slot's
+ * region has volume in (lv_slot_region.present; every subcell of a cell
+ * without planes): subcell_rays, two words (the visibility rays cast from
+ * it, those that were not blocked), and lit_points, one word (a lit point:
+ * 8 bits of priority (1-255), then a position in the subcell that light
+ * reached, 8 bits per axis; 0 if no particle hit a surface there). A slot's
+ * entries follow each other in subcell order from lv_slot_region.entries,
+ * so a cut cell's regions keep records of their own subcells only. */
 #define LV_SUBCELL_MAX 64
-#define LV_SUBCELL_CAST 2
-#define LV_SUBCELL_OPEN (2 + LV_SUBCELL_MAX)
-#define LV_SUBCELL_LIT_POINT (2 + 2 * LV_SUBCELL_MAX)
-#define LV_SUBCELL_STRIDE (2 + 3 * LV_SUBCELL_MAX)
+#define LV_MARK_WORDS 2
+#define LV_RAY_WORDS 2
+#define LV_NO_ENTRY 0xffffffffu
+#ifdef __OPENCL_C_VERSION__
+#define LV_POPCOUNT(x) popcount(x)
+#else
+#define LV_POPCOUNT(x) ((lv_u32)__builtin_popcount(x))
+#endif
+/* The entries of a presence mask {lo, hi} below subcell i (0 <= i < 64). */
+#define LV_ENTRIES_BELOW(lo, hi, i)                     \
+    ((i) < 32u ? LV_POPCOUNT((lo) & ((1u << (i)) - 1u)) \
+               : LV_POPCOUNT(lo) + LV_POPCOUNT((hi) & ((1u << ((i)-32u)) - 1u)))
 
 /* The bin table (lv_bin_table; kernels/volume/direction_map.h), floats.
  * First, for each group of LV_BIN_GROUP consecutive bins (the last one
@@ -401,9 +417,11 @@ typedef struct {
     ONE(const uint, cell_slot)         /* cell -> first slot (| LV_CUT_CELL) or LV_EMPTY_CELL */ \
     ONE(const lv_slot_region, regions) /* per slot: the cell's planes */                         \
     ONE(const uint, tally_slot)        /* per slot: its tally set */                             \
-    ONE(const float, region_shares)    /* per slot of a cut cell: 1 + k^3 */                     \
+    ONE(const float, region_shares)    /* per slot of a cut cell: 1 + its entries */             \
     SPLIT(long, tallies)               /* tally set x bin x RGB, 64-bit fixed point */           \
-    ONE(uint, subcells)                /* LV_SUBCELL_STRIDE words per slot */                    \
+    ONE(uint, subcell_marks)           /* LV_MARK_WORDS per slot */                              \
+    ONE(uint, subcell_rays)            /* LV_RAY_WORDS per subcell entry */                      \
+    ONE(uint, lit_points)              /* one per subcell entry */                               \
     ONE(float, lit_volume)             /* per slot, filled by lv_lit_volumes */
 
 #define LV_IGNORE_SPLIT(type, name, stride, per_part, what)

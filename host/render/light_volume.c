@@ -58,9 +58,10 @@ lvcl_error lvcl_volume_place(lvcl_light_volume *vol, lvcl_status *st)
     const lvcl_device *dev = vol->dev;
     const lv_grid_info *g = &vol->buf.info;
     int fits = lvcl_volume_layout_tallies(vol);
-    /* Beside the tallies: the cell index, and per slot a subcell record, a
-     * lit volume, its tally set and the cell's planes (one buffer each). */
-    size_t records = ((size_t)g->slot_count + 1) * (LV_SUBCELL_STRIDE + 2) * sizeof(uint32_t);
+    /* Beside the tallies: the cell index, per slot its subcell marks, a lit
+     * volume, its tally set and the cell's planes, and per subcell entry
+     * its rays and lit point (one buffer each). */
+    size_t records = lvcl_volume_record_bytes(vol) + ((size_t)g->slot_count + 1) * 2 * sizeof(uint32_t);
     size_t region_bytes = ((size_t)g->slot_count + 1) * sizeof(lv_slot_region);
     size_t share_bytes = (vol->region_share_count ? vol->region_share_count : 1) * sizeof(float);
     vol->device_bytes = vol->tally_bytes + vol->cell_count * sizeof(uint32_t) + records + region_bytes + share_bytes;
@@ -93,8 +94,11 @@ lvcl_error lvcl_volume_allocate(lvcl_light_volume *vol, lvcl_status *st)
         vol->buf.tally_slot = lvcl_buffer_create(dev, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                                  ((size_t)g->slot_count + 1) * sizeof(uint32_t), vol->tally_slot, &err);
     if (err == CL_SUCCESS) err = lvcl_volume_allocate_tallies(vol);
-    if (err == CL_SUCCESS)
-        vol->buf.subcells = lvcl_buffer_create(dev, CL_MEM_READ_WRITE, lvcl_volume_record_bytes(vol), NULL, &err);
+    size_t sections[3];
+    lvcl_volume_record_sections(vol, sections);
+    cl_mem *record_bufs[3] = {&vol->buf.subcell_marks, &vol->buf.subcell_rays, &vol->buf.lit_points};
+    for (int i = 0; i < 3 && err == CL_SUCCESS; i++) /* OpenCL refuses empty buffers */
+        *record_bufs[i] = lvcl_buffer_create(dev, CL_MEM_READ_WRITE, sections[i] ? sections[i] : 8, NULL, &err);
     if (err == CL_SUCCESS)
         vol->buf.lit_volume =
             lvcl_buffer_create(dev, CL_MEM_READ_WRITE, ((size_t)g->slot_count + 1) * sizeof(float), NULL, &err);
@@ -141,9 +145,19 @@ size_t lvcl_volume_part_bytes(const lvcl_light_volume *vol, int part)
     return sets ? sets * set_bytes : 8; /* OpenCL refuses empty buffers */
 }
 
+void lvcl_volume_record_sections(const lvcl_light_volume *vol, size_t bytes[3])
+{
+    size_t entries = vol->regions[vol->buf.info.slot_count].entries;
+    bytes[0] = ((size_t)vol->buf.info.slot_count + 1) * LV_MARK_WORDS * sizeof(uint32_t);
+    bytes[1] = entries * LV_RAY_WORDS * sizeof(uint32_t);
+    bytes[2] = entries * sizeof(uint32_t);
+}
+
 size_t lvcl_volume_record_bytes(const lvcl_light_volume *vol)
 {
-    return ((size_t)vol->buf.info.slot_count + 1) * LV_SUBCELL_STRIDE * sizeof(uint32_t);
+    size_t b[3];
+    lvcl_volume_record_sections(vol, b);
+    return b[0] + b[1] + b[2];
 }
 
 const lv_grid_info *lvcl_volume_grid(const lvcl_light_volume *vol)

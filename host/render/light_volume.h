@@ -183,8 +183,12 @@ lvcl_error lvcl_volume_reduce(lvcl_light_volume *const *vols, int count, lvcl_cl
 lvcl_error lvcl_volume_checksum(const lvcl_light_volume *vol, uint64_t *hash, lvcl_status *st);
 
 /* Reads the tallies back (tally_sets x bins x 3 int64, malloc'ed) and, if
- * masks is not NULL, the subcell records (LV_SUBCELL_STRIDE words per slot). */
-lvcl_error lvcl_volume_read(const lvcl_light_volume *vol, int64_t **tallies, uint32_t **masks, lvcl_status *st);
+ * records is not NULL, the subcell records in one block: LV_MARK_WORDS per
+ * slot (one spare slot more), then LV_RAY_WORDS per subcell entry, then a
+ * lit point per entry (shared_types.h). */
+lvcl_error lvcl_volume_read(const lvcl_light_volume *vol, int64_t **tallies, uint32_t **records, lvcl_status *st);
+/* The bytes of that block of subcell records. */
+size_t lvcl_volume_record_bytes(const lvcl_light_volume *vol);
 
 /* Reads back the lit volume of every slot as lv_lit_volumes computed it
  * (cell units, malloc'ed; valid after lvcl_volume_finish). */

@@ -164,7 +164,16 @@ cl_int lvcl_volume_allocate_tallies(lvcl_light_volume *vol);
 /* Bytes of tally buffer `part` (a buffer holds info.slots_per_part tally sets). */
 size_t lvcl_volume_part_bytes(const lvcl_light_volume *vol, int part);
 
-/* Bytes of the subcell records (one spare slot's worth). */
-size_t lvcl_volume_record_bytes(const lvcl_light_volume *vol);
+/* The entry of subcell i in the records of the slot whose region is *r
+ * (shared_types.h), or LV_NO_ENTRY where the region has no volume in it. */
+static inline uint32_t lvcl_region_entry(const lv_slot_region *r, uint32_t i)
+{
+    if (!(r->present[i >> 5] >> (i & 31u) & 1u)) return LV_NO_ENTRY;
+    return r->entries + LV_ENTRIES_BELOW(r->present[0], r->present[1], i);
+}
+
+/* The sizes of the subcell records' three buffers (shared_types.h), in the
+ * order of lvcl_volume_read's block: marks, rays, lit points. */
+void lvcl_volume_record_sections(const lvcl_light_volume *vol, size_t bytes[3]);
 
 #endif

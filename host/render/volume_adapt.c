@@ -184,14 +184,17 @@ static lvcl_error store_sets(lvcl_light_volume *vol, const int64_t *sets, lvcl_s
 /* The lit volume of an uncut slot as lv_cell_lit_volume computes it, in
  * double from the integer subcell record, so that the decision below
  * depends on integers alone. */
-static double record_lit_volume(const uint32_t *rec, uint32_t k)
+static double record_lit_volume(const lvcl_light_volume *vol, const uint32_t *records, uint32_t slot)
 {
+    uint32_t k = vol->buf.info.subcells;
     if (k == 0) return 1.0;
+    const uint32_t *marks = records + (size_t)slot * LV_MARK_WORDS;
+    const uint32_t *rays = records + LV_MARK_WORDS * ((size_t)vol->buf.info.slot_count + 1);
     double lit = 0, n = (double)(k * k * k);
     for (uint32_t i = 0; i < k * k * k; i++) {
-        if (!(rec[i >> 5] & (1u << (i & 31u)))) continue;
-        uint32_t cast = rec[LV_SUBCELL_CAST + i];
-        lit += cast ? (double)rec[LV_SUBCELL_OPEN + i] / cast : 1.0;
+        if (!(marks[i >> 5] & (1u << (i & 31u)))) continue;
+        const uint32_t *r = rays + (size_t)lvcl_region_entry(&vol->regions[slot], i) * LV_RAY_WORDS;
+        lit += r[0] ? (double)r[1] / r[0] : 1.0;
     }
     return lit / n > 1.0 / n ? lit / n : 1.0 / n;
 }
@@ -232,12 +235,13 @@ static void bin_centre(uint32_t bin, uint32_t n, double w[3])
  * by the signal, which grows with the particle count; at `scale` times the
  * particles traced the cells' differences (the bias of merging them) must
  * stay below `tolerance` times the noise they keep apart. */
-static int block_should_merge(const int64_t *tallies, const uint32_t *records, uint32_t k, const double *weights,
-                              const uint32_t *members, uint32_t count, uint32_t bins, double scale, double tolerance)
+static int block_should_merge(const int64_t *tallies, const lvcl_light_volume *vol, const uint32_t *records,
+                              const double *weights, const uint32_t *members, uint32_t count, uint32_t bins,
+                              double scale, double tolerance)
 {
     double lit[8], volume = 0;
     for (uint32_t i = 0; i < count; i++) {
-        lit[i] = record_lit_volume(records + (size_t)members[i] * LV_SUBCELL_STRIDE, k);
+        lit[i] = record_lit_volume(vol, records, members[i]);
         volume += lit[i];
     }
     /* Per cell and moment: the sum, and the sum with squared weights (its
@@ -306,7 +310,7 @@ lvcl_error lvcl_volume_adapt(lvcl_light_volume *vol, double expected_particles, 
         for (size_t bi = 0; bi < vol->block_count; bi++) {
             uint32_t count = start[bi + 1] - start[bi];
             int merge = count >= 2 &&
-                block_should_merge(tallies, records, g->subcells, weights, members + start[bi], count, g->bins, scale,
+                block_should_merge(tallies, vol, records, weights, members + start[bi], count, g->bins, scale,
                                    tolerance);
             set_of_block[bi] = merge ? LV_EMPTY_CELL - 1 : LV_EMPTY_CELL; /* to be numbered / not merged */
         }

@@ -435,6 +435,17 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
     return e;
 }
 
+/* The subcells (of k^3) a region has volume in, from its shares as
+ * lvcl_region_shares gives them (the region's volume first): its entries in
+ * the subcell records. */
+static uint64_t present_subcells(const float *share, uint32_t k)
+{
+    uint64_t present = 0;
+    for (uint32_t i = 0; k && i < k * k * k; i++)
+        if (share[1 + i] > 0.0f) present |= (uint64_t)1 << i;
+    return present;
+}
+
 lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl_cell_planes *planes,
                                        lvcl_known_shares known, void *ctx, uint32_t *slot, lv_slot_region **regions,
                                        float **shares, size_t *share_count, lvcl_status *st)
@@ -445,61 +456,71 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
     size_t stored = g->slot_count;
     /* Per stored cell: its first slot, its pattern -> slot offsets,
      * which patterns have a region of their own and where their shares
-     * start. */
+     * start; per slot, the subcells its region has volume in. */
     enum { MAX_PATTERNS = 1 << LV_REGION_PLANES, OFFSET_WORDS = MAX_PATTERNS / 4 };
     uint32_t k = g->subcells, per = 1u + (k ? k * k * k : 1u);
-    size_t total = 0, share_total = 0, share_cap = 0;
+    uint64_t all = k ? (k == 4 ? ~(uint64_t)0 : ((uint64_t)1 << (k * k * k)) - 1) : 0;
+    size_t total = 0, share_total = 0, share_cap = 0, present_cap = 0;
     uint32_t *base = malloc((stored ? stored : 1) * sizeof *base);
     uint32_t *offsets = calloc((stored ? stored : 1) * OFFSET_WORDS, sizeof *offsets);
     uint32_t *first = malloc((stored ? stored : 1) * sizeof *first);
-    uint64_t *kept = malloc((stored ? stored : 1) * sizeof *kept);
+    uint64_t *kept = malloc((stored ? stored : 1) * sizeof *kept), *present = NULL;
     float *sh = NULL, *tmp = malloc(MAX_PATTERNS * (1u + LV_SUBCELL_MAX) * sizeof *tmp);
     int failed = !base || !offsets || !first || !kept || !tmp;
     for (size_t s = 0; s < stored && !failed; s++) {
-        uint32_t count = planes[s].count;
+        uint32_t count = planes[s].count, patterns = 1u << count, index[MAX_PATTERNS], n = 0;
         base[s] = (uint32_t)total;
         first[s] = LV_NO_SHARES;
         kept[s] = 1;
-        if (!count) {
-            total++;
-            continue;
+        if (count) {
+            /* The exact shares (volume_shares.c); a pattern whose region
+             * has under a millionth of the cell gets no slot. */
+            if (!known || !known(ctx, (uint32_t)s, tmp))
+                lvcl_region_shares((const float(*)[4])planes[s].planes, (int)count, k, tmp);
+            kept[s] = 0;
+            for (uint32_t m = 0; m < patterns; m++)
+                if (tmp[m * per] > 1e-6f) kept[s] |= (uint64_t)1 << m, index[m] = n++;
+            if (!n) kept[s] = 1, index[0] = n++; /* rounding only: keep one */
+            for (uint32_t m = 0; m < patterns; m++) {
+                /* An empty pattern reads the kept one fewest planes away. */
+                uint32_t best = m;
+                for (uint32_t q = 0; !(kept[s] >> best & 1u) && q < patterns; q++)
+                    if (kept[s] >> q & 1u) best = q;
+                for (uint32_t q = 0; q < patterns && !(kept[s] >> m & 1u); q++)
+                    if (kept[s] >> q & 1u && __builtin_popcount(q ^ m) < __builtin_popcount(best ^ m)) best = q;
+                offsets[s * OFFSET_WORDS + m / 4] |= index[best] << (8u * (m % 4));
+            }
+        } else {
+            n = 1;
         }
-        /* The exact shares (volume_shares.c); a pattern whose region
-         * has under a millionth of the cell gets no slot. */
-        uint32_t patterns = 1u << count, index[MAX_PATTERNS], n = 0;
-        if (!known || !known(ctx, (uint32_t)s, tmp))
-            lvcl_region_shares((const float(*)[4])planes[s].planes, (int)count, k, tmp);
-        kept[s] = 0;
-        for (uint32_t m = 0; m < patterns; m++)
-            if (tmp[m * per] > 1e-6f) kept[s] |= (uint64_t)1 << m, index[m] = n++;
-        if (!n) kept[s] = 1, index[0] = n++; /* rounding only: keep one */
-        for (uint32_t m = 0; m < patterns; m++) {
-            /* An empty pattern reads the kept one fewest planes away. */
-            uint32_t best = m;
-            for (uint32_t q = 0; !(kept[s] >> best & 1u) && q < patterns; q++)
-                if (kept[s] >> q & 1u) best = q;
-            for (uint32_t q = 0; q < patterns && !(kept[s] >> m & 1u); q++)
-                if (kept[s] >> q & 1u && __builtin_popcount(q ^ m) < __builtin_popcount(best ^ m)) best = q;
-            offsets[s * OFFSET_WORDS + m / 4] |= index[best] << (8u * (m % 4));
-        }
-        if (share_total + (size_t)n * per > share_cap) {
-            size_t cap = share_cap ? 2 * share_cap : 65536;
-            while (cap < share_total + (size_t)n * per) cap *= 2;
-            float *grown = realloc(sh, cap * sizeof *sh);
-            if (!grown) {
+        if (total + n > present_cap || share_total + (size_t)n * per > share_cap) {
+            size_t pc = present_cap ? 2 * present_cap : 65536, sc = share_cap ? 2 * share_cap : 65536;
+            while (pc < total + n) pc *= 2;
+            while (sc < share_total + (size_t)n * per) sc *= 2;
+            uint64_t *grown_present = realloc(present, pc * sizeof *present);
+            if (grown_present) present = grown_present, present_cap = pc;
+            float *grown = realloc(sh, sc * sizeof *sh);
+            if (grown) sh = grown, share_cap = sc;
+            if (!grown_present || !grown) {
                 failed = 1;
                 break;
             }
-            sh = grown;
-            share_cap = cap;
         }
+        if (!count) {
+            present[total++] = all;
+            continue;
+        }
+        /* Each kept region's volume, then its entries' shares. */
         first[s] = (uint32_t)share_total;
         for (uint32_t m = 0; m < patterns; m++)
             if (kept[s] >> m & 1u) {
-                memcpy(sh + share_total, tmp + m * per, per * sizeof *sh);
-                share_total += per;
+                const float *from = tmp + m * per;
+                uint64_t mask = present_subcells(from, k);
+                present[total++] = mask;
+                sh[share_total++] = from[0];
+                for (uint32_t i = 0; k && i < k * k * k; i++)
+                    if (mask >> i & 1u) sh[share_total++] = from[1 + i];
             }
-        total += n;
     }
     lv_slot_region *r = NULL;
     if (!failed && !sh) sh = calloc(1, sizeof *sh);
@@ -509,23 +530,32 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
         free(offsets);
         free(first);
         free(kept);
+        free(present);
         free(tmp);
         free(sh);
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' regions");
     }
+    uint32_t entries = 0;
     for (size_t s = 0; s < stored; s++)
-        for (uint32_t m = 0, j = 0; m < 1u << planes[s].count; m++) {
+        for (uint32_t m = 0, j = 0, at = first[s]; m < 1u << planes[s].count; m++) {
             if (!(kept[s] >> m & 1u)) continue;
             lv_slot_region *e = &r[base[s] + j];
+            uint64_t mask = present[base[s] + j];
             memcpy(e->planes, planes[s].planes, sizeof e->planes);
             memcpy(e->offsets, &offsets[s * OFFSET_WORDS], sizeof e->offsets);
             e->plane_count = planes[s].count;
             e->base_slot = base[s];
             e->region = m;
-            e->shares = planes[s].count ? first[s] + j * per : LV_NO_SHARES;
+            e->shares = planes[s].count ? at : LV_NO_SHARES;
+            e->present[0] = (uint32_t)mask;
+            e->present[1] = (uint32_t)(mask >> 32);
+            e->entries = entries;
+            entries += (uint32_t)__builtin_popcountll(mask);
+            at += 1u + (uint32_t)__builtin_popcountll(mask);
             j++;
         }
     r[total].shares = LV_NO_SHARES;
+    r[total].entries = entries;
     *shares = sh;
     *share_count = share_total;
     for (size_t i = 0; i < cells; i++)
@@ -535,6 +565,7 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
     free(offsets);
     free(first);
     free(kept);
+    free(present);
     free(tmp);
     *regions = r;
     return LVCL_OK;

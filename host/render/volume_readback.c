@@ -4,15 +4,32 @@
 
 #include "light_volume_internal.h"
 
-lvcl_error lvcl_volume_read(const lvcl_light_volume *vol, int64_t **tallies, uint32_t **masks, lvcl_status *st)
+/* Moves the subcell records between the device's three buffers and the
+ * host's one block (lvcl_volume_read). */
+static cl_int move_records(const lvcl_light_volume *vol, uint32_t *records, int write)
+{
+    size_t bytes[3], at = 0;
+    lvcl_volume_record_sections(vol, bytes);
+    cl_mem bufs[3] = {vol->buf.subcell_marks, vol->buf.subcell_rays, vol->buf.lit_points};
+    cl_int err = CL_SUCCESS;
+    for (int i = 0; i < 3 && err == CL_SUCCESS; at += bytes[i], i++)
+        if (bytes[i])
+            err = write ? clEnqueueWriteBuffer(vol->dev->queue, bufs[i], CL_TRUE, 0, bytes[i], (char *)records + at, 0,
+                                               NULL, NULL)
+                        : clEnqueueReadBuffer(vol->dev->queue, bufs[i], CL_TRUE, 0, bytes[i], (char *)records + at, 0,
+                                              NULL, NULL);
+    return err;
+}
+
+lvcl_error lvcl_volume_read(const lvcl_light_volume *vol, int64_t **tallies, uint32_t **records, lvcl_status *st)
 {
     const lvcl_device *dev = vol->dev;
-    size_t mask_bytes = lvcl_volume_record_bytes(vol);
+    size_t record_bytes = lvcl_volume_record_bytes(vol);
     *tallies = malloc(vol->tally_bytes ? vol->tally_bytes : 8);
-    if (masks) *masks = malloc(mask_bytes);
-    if (!*tallies || (masks && !*masks)) {
+    if (records) *records = malloc(record_bytes);
+    if (!*tallies || (records && !*records)) {
         free(*tallies);
-        if (masks) free(*masks);
+        if (records) free(*records);
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory reading the light volume");
     }
     cl_int err = CL_SUCCESS;
@@ -22,15 +39,14 @@ lvcl_error lvcl_volume_read(const lvcl_light_volume *vol, int64_t **tallies, uin
                                   (char *)*tallies + offset, 0, NULL, NULL);
         offset += lvcl_volume_part_bytes(vol, i);
     }
-    if (err == CL_SUCCESS && masks)
-        err = clEnqueueReadBuffer(dev->queue, vol->buf.subcells, CL_TRUE, 0, mask_bytes, *masks, 0, NULL, NULL);
+    if (err == CL_SUCCESS && records) err = move_records(vol, *records, 0);
     lvcl_error e = lvcl_cl_check(err, "reading the light volume", st);
     if (e) {
         free(*tallies);
         *tallies = NULL;
-        if (masks) {
-            free(*masks);
-            *masks = NULL;
+        if (records) {
+            free(*records);
+            *records = NULL;
         }
     }
     return e;
@@ -61,9 +77,7 @@ lvcl_error lvcl_volume_write(lvcl_light_volume *vol, const int64_t *tallies, con
                                    (const char *)tallies + offset, 0, NULL, NULL);
         offset += lvcl_volume_part_bytes(vol, i);
     }
-    if (err == CL_SUCCESS && records)
-        err = clEnqueueWriteBuffer(vol->dev->queue, vol->buf.subcells, CL_TRUE, 0, lvcl_volume_record_bytes(vol),
-                                   records, 0, NULL, NULL);
+    if (err == CL_SUCCESS && records) err = move_records(vol, (uint32_t *)records, 1);
     return lvcl_cl_check(err, what, st);
 }
 
@@ -74,12 +88,15 @@ lvcl_error lvcl_volume_write_lit(lvcl_light_volume *vol, const float *lit, const
                          what, st);
 }
 
-/* How a subcell record's words add up (LV_SUBCELL_STRIDE words a slot):
- * the masks OR, the ray counters add, and the lit point is the largest, as
- * on one device. */
-#define RECORD_MASK_WORDS 2
-#define RECORD_COUNTER_WORDS (LV_SUBCELL_LIT_POINT - RECORD_MASK_WORDS)
-#define RECORD_LIT_WORDS (LV_SUBCELL_STRIDE - LV_SUBCELL_LIT_POINT)
+/* How the subcell records add up, a section of the host's block at a time
+ * (lvcl_volume_read): the marks OR, the ray counters add, and the lit point
+ * is the largest, as on one device. */
+static const lvcl_reduce_op record_ops[3] = {LVCL_REDUCE_OR_U32, LVCL_REDUCE_SUM_U32, LVCL_REDUCE_MAX_U32};
+
+static uint32_t combine(lvcl_reduce_op op, uint32_t a, uint32_t b)
+{
+    return op == LVCL_REDUCE_OR_U32 ? a | b : op == LVCL_REDUCE_SUM_U32 ? a + b : a > b ? a : b;
+}
 
 /* The particles of every volume, stored in each as the lookups' normalisation. */
 static uint64_t local_particles(lvcl_light_volume *const *vols, int count)
@@ -104,20 +121,16 @@ lvcl_error lvcl_volume_merge(lvcl_light_volume *const *vols, int count, lvcl_sta
 {
     int64_t *sum = NULL, *t = NULL;
     uint32_t *rec_sum = NULL, *rec = NULL;
-    const lv_grid_info *g = &vols[0]->buf.info;
     size_t tally_count = vols[0]->tally_bytes / sizeof(int64_t);
     lvcl_error e = lvcl_volume_read(vols[0], &sum, &rec_sum, st);
     for (int d = 1; d < count && !e; d++) {
         if ((e = lvcl_volume_read(vols[d], &t, &rec, st))) break;
         for (size_t i = 0; i < tally_count; i++) sum[i] += t[i];
-        for (size_t s = 0; s <= g->slot_count; s++) {
-            uint32_t *a = &rec_sum[s * LV_SUBCELL_STRIDE], *b = &rec[s * LV_SUBCELL_STRIDE];
-            size_t w = 0;
-            for (; w < RECORD_MASK_WORDS; w++) a[w] |= b[w];
-            for (; w < LV_SUBCELL_LIT_POINT; w++) a[w] += b[w];
-            for (; w < LV_SUBCELL_STRIDE; w++)
-                if (b[w] > a[w]) a[w] = b[w];
-        }
+        size_t bytes[3], at = 0;
+        lvcl_volume_record_sections(vols[0], bytes);
+        for (int p = 0; p < 3; at += bytes[p] / sizeof(uint32_t), p++)
+            for (size_t w = at; w < at + bytes[p] / sizeof(uint32_t); w++)
+                rec_sum[w] = combine(record_ops[p], rec_sum[w], rec[w]);
         free(t);
         free(rec);
         t = NULL;
@@ -133,28 +146,15 @@ lvcl_error lvcl_volume_reduce(lvcl_light_volume *const *vols, int count, lvcl_cl
 {
     int64_t *tallies = NULL;
     uint32_t *records = NULL;
-    size_t slots = (size_t)vols[0]->buf.info.slot_count + 1;
     uint64_t particles = local_particles(vols, count);
     lvcl_error e = lvcl_volume_read(vols[0], &tallies, &records, st);
-    /* Each kind of record word is reduced as one array. */
-    uint32_t *parts[3] = {NULL, NULL, NULL};
-    const size_t offsets[3] = {0, RECORD_MASK_WORDS, LV_SUBCELL_LIT_POINT};
-    const size_t widths[3] = {RECORD_MASK_WORDS, RECORD_COUNTER_WORDS, RECORD_LIT_WORDS};
-    const lvcl_reduce_op ops[3] = {LVCL_REDUCE_OR_U32, LVCL_REDUCE_SUM_U32, LVCL_REDUCE_MAX_U32};
-    for (int p = 0; p < 3 && !e; p++)
-        if (!(parts[p] = malloc(slots * widths[p] * sizeof(uint32_t))))
-            e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory adding the processes' light volumes");
-    for (int p = 0; p < 3 && !e; p++)
-        for (size_t s = 0; s < slots; s++)
-            memcpy(&parts[p][s * widths[p]], &records[s * LV_SUBCELL_STRIDE + offsets[p]], widths[p] * sizeof(uint32_t));
     if (!e) e = cluster->reduce(cluster, tallies, vols[0]->tally_bytes / sizeof(int64_t), LVCL_REDUCE_SUM_I64, st);
-    for (int p = 0; p < 3 && !e; p++) e = cluster->reduce(cluster, parts[p], slots * widths[p], ops[p], st);
+    size_t bytes[3], at = 0;
+    lvcl_volume_record_sections(vols[0], bytes);
+    for (int p = 0; p < 3 && !e; at += bytes[p] / sizeof(uint32_t), p++)
+        if (bytes[p]) e = cluster->reduce(cluster, records + at, bytes[p] / sizeof(uint32_t), record_ops[p], st);
     if (!e) e = cluster->reduce(cluster, &particles, 1, LVCL_REDUCE_SUM_U64, st);
-    for (int p = 0; p < 3 && !e; p++)
-        for (size_t s = 0; s < slots; s++)
-            memcpy(&records[s * LV_SUBCELL_STRIDE + offsets[p]], &parts[p][s * widths[p]], widths[p] * sizeof(uint32_t));
     if (!e) e = store_sum(vols, count, particles, tallies, records, st);
-    for (int p = 0; p < 3; p++) free(parts[p]);
     free(tallies);
     free(records);
     return e;

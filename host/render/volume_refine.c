@@ -73,12 +73,14 @@ static int add_middle_planes(lvcl_cell_planes *c)
     return added;
 }
 
-/* Device bytes one more slot costs (tallies, subcell record, lit volume,
- * tally set, planes), and the shares a slot of a cut cell holds. */
+/* Device bytes one more slot costs at most (tallies, subcell marks, lit
+ * volume, tally set, planes, a record entry per subcell), and the shares a
+ * slot of a cut cell holds at most. */
 static size_t slot_bytes(const lv_grid_info *g)
 {
-    return LV_SET_LONGS(g->bins) * sizeof(int64_t) + (LV_SUBCELL_STRIDE + 2) * sizeof(uint32_t) +
-        sizeof(lv_slot_region);
+    uint32_t k = g->subcells;
+    return LV_SET_LONGS(g->bins) * sizeof(int64_t) +
+        (LV_MARK_WORDS + 2 + (LV_RAY_WORDS + 1) * k * k * k) * sizeof(uint32_t) + sizeof(lv_slot_region);
 }
 
 static size_t share_bytes(const lv_grid_info *g)
@@ -261,9 +263,41 @@ static int old_shares(void *ctx, uint32_t s, float *out)
     for (uint32_t slot = base; slot < g->slot_count && o->vol->regions[slot].base_slot == base; slot++) {
         const lv_slot_region *r = &o->vol->regions[slot];
         if (r->shares == LV_NO_SHARES) return 0;
-        memcpy(out + r->region * per, o->vol->region_shares + r->shares, per * sizeof(float));
+        const float *share = o->vol->region_shares + r->shares;
+        float *to = out + r->region * per;
+        to[0] = share[0];
+        if (!k) to[1] = share[0]; /* the cell's one "subcell" */
+        for (uint32_t i = 0; k && i < k * k * k; i++) {
+            uint32_t entry = lvcl_region_entry(r, i);
+            to[1 + i] = entry == LV_NO_ENTRY ? 0.0f : share[1 + entry - r->entries];
+        }
     }
     return 1;
+}
+
+/* Gives new slot `slot` (of the grid ng, regions new_regions, records
+ * new_records) the subcell record of old slot `old`: the marks, and the
+ * entries of the subcells both regions have volume in (a split region
+ * holds a part of its old region's subcells). The blocks as
+ * lvcl_volume_read lays them out. */
+static void copy_record(const lvcl_light_volume *vol, const uint32_t *records, uint32_t old, const lv_grid_info *ng,
+                        const lv_slot_region *new_regions, uint32_t *new_records, uint32_t slot)
+{
+    const lv_grid_info *g = &vol->buf.info;
+    size_t old_rays = LV_MARK_WORDS * ((size_t)g->slot_count + 1), old_entries = vol->regions[g->slot_count].entries;
+    size_t new_rays = LV_MARK_WORDS * ((size_t)ng->slot_count + 1), new_entries = new_regions[ng->slot_count].entries;
+    const uint32_t *old_lit = records + old_rays + LV_RAY_WORDS * old_entries;
+    uint32_t *new_lit = new_records + new_rays + LV_RAY_WORDS * new_entries;
+    memcpy(&new_records[(size_t)slot * LV_MARK_WORDS], &records[(size_t)old * LV_MARK_WORDS],
+           LV_MARK_WORDS * sizeof(uint32_t));
+    uint32_t k = g->subcells;
+    for (uint32_t i = 0; i < k * k * k; i++) {
+        uint32_t from = lvcl_region_entry(&vol->regions[old], i), to = lvcl_region_entry(&new_regions[slot], i);
+        if (from == LV_NO_ENTRY || to == LV_NO_ENTRY) continue;
+        memcpy(&new_records[new_rays + (size_t)to * LV_RAY_WORDS], &records[old_rays + (size_t)from * LV_RAY_WORDS],
+               LV_RAY_WORDS * sizeof(uint32_t));
+        new_lit[to] = old_lit[from];
+    }
 }
 
 lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles, const lvcl_volume_settings *vs,
@@ -327,7 +361,8 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
             from = malloc(n * sizeof *from);
             new_tally_slot = malloc(n * sizeof *new_tally_slot);
             split_slot = calloc(n, 1);
-            new_records = calloc(n * LV_SUBCELL_STRIDE, sizeof(uint32_t));
+            new_records = calloc(LV_MARK_WORDS * n + (LV_RAY_WORDS + 1) * (size_t)new_regions[n - 1].entries + 1,
+                                 sizeof(uint32_t));
             if (!from || !new_tally_slot || !split_slot || !new_records)
                 e = lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory refining the light volume");
         }
@@ -348,8 +383,7 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
             int restarted = split_slot[slot] || f;
             new_tally_slot[slot] = (uint32_t)sets | (f ? LV_FINE_DIRS : 0u) | (restarted ? LV_RESTARTED : 0u);
             sets += f ? 4 : 1;
-            memcpy(&new_records[(size_t)slot * LV_SUBCELL_STRIDE], &records[(size_t)from[slot] * LV_SUBCELL_STRIDE],
-                   LV_SUBCELL_STRIDE * sizeof(uint32_t));
+            copy_record(vol, records, from[slot], &ng, new_regions, new_records, slot);
         }
         new_tally_slot[ng.slot_count] = 0;
         new_tallies = calloc(sets * per_set + 1, sizeof(int64_t));

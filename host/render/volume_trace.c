@@ -122,10 +122,14 @@ lvcl_error lvcl_volume_empty(lvcl_light_volume *vol, lvcl_status *st)
                                               lvcl_volume_part_bytes(vol, i), 0, NULL, NULL),
                           "clearing the light volume", st);
     cl_uint none = 0;
-    if (!e)
-        e = lvcl_cl_check(clEnqueueFillBuffer(dev->queue, vol->buf.subcells, &none, sizeof none, 0,
-                                              lvcl_volume_record_bytes(vol), 0, NULL, NULL),
-                          "clearing the subcells", st);
+    size_t bytes[3];
+    lvcl_volume_record_sections(vol, bytes);
+    cl_mem records[3] = {vol->buf.subcell_marks, vol->buf.subcell_rays, vol->buf.lit_points};
+    for (int i = 0; i < 3 && !e; i++)
+        if (bytes[i])
+            e = lvcl_cl_check(
+                clEnqueueFillBuffer(dev->queue, records[i], &none, sizeof none, 0, bytes[i], 0, NULL, NULL),
+                "clearing the subcells", st);
     return e;
 }
 
@@ -142,15 +146,13 @@ static lvcl_error clear_volume(lvcl_light_volume *vol, const lvcl_program *prog,
     return LVCL_OK;
 }
 
-/* Copies each slot's two subcell mask words into `seen` (packed, two words
- * a slot), which the next batch reads to skip marks already made. */
+/* Copies every slot's subcell marks into `seen`, which the next batch
+ * reads to skip marks already made. */
 static lvcl_error snapshot_masks(const lvcl_light_volume *vol, cl_mem seen, lvcl_status *st)
 {
     if (!vol->buf.info.subcells) return LVCL_OK;
-    size_t slots = (size_t)vol->buf.info.slot_count + 1, words = 2 * sizeof(cl_uint);
-    const size_t origin[3] = {0, 0, 0}, region[3] = {words, slots, 1};
-    return lvcl_cl_check(clEnqueueCopyBufferRect(vol->dev->queue, vol->buf.subcells, seen, origin, origin, region,
-                                                 LV_SUBCELL_STRIDE * sizeof(cl_uint), 0, words, 0, 0, NULL, NULL),
+    size_t bytes = ((size_t)vol->buf.info.slot_count + 1) * LV_MARK_WORDS * sizeof(cl_uint);
+    return lvcl_cl_check(clEnqueueCopyBuffer(vol->dev->queue, vol->buf.subcell_marks, seen, 0, 0, bytes, 0, NULL, NULL),
                          "copying the subcell masks", st);
 }
 
@@ -179,7 +181,8 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
     /* Per batch: segments traced, visibility rays cast. */
     cl_mem counter = lvcl_buffer_create(dev, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint), NULL, &err);
     if ((e = lvcl_cl_check(err, "allocating the ray counters", st))) return e;
-    size_t seen_bytes = vol->buf.info.subcells ? ((size_t)vol->buf.info.slot_count + 1) * 2 * sizeof(cl_uint) : 8;
+    size_t seen_bytes =
+        vol->buf.info.subcells ? ((size_t)vol->buf.info.slot_count + 1) * LV_MARK_WORDS * sizeof(cl_uint) : 8;
     cl_mem seen = lvcl_buffer_create(dev, CL_MEM_READ_WRITE, seen_bytes, NULL, &err);
     if ((e = lvcl_cl_check(err, "allocating the copy of the subcell masks", st))) {
         clReleaseMemObject(counter);

@@ -18,7 +18,9 @@ typedef struct {
     __global const lv_slot_region *regions; /* per slot: the cell's planes (shared_types.h) */
     __global const float *region_shares;    /* per slot of a cut cell: its exact shares (shared_types.h) */
     __global const uint *tally_slot;        /* per slot: its tally set (shared by a merged block) */
-    __global uint *subcells;                /* LV_SUBCELL_STRIDE words per slot (shared_types.h) */
+    __global uint *subcell_marks;           /* LV_MARK_WORDS per slot (shared_types.h) */
+    __global uint *subcell_rays;            /* LV_RAY_WORDS per subcell entry */
+    __global uint *lit_points;              /* one per subcell entry */
     __global const uint *subcells_seen;     /* the trace's copy of each slot's two mask words from before its batch */
     __global const float *lit_volume;       /* per slot, lv_cell_lit_volume after the trace (lookups only) */
     uint restarted_only;                    /* the trace: tally into LV_RESTARTED slots only, mark nothing */

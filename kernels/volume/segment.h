@@ -21,7 +21,7 @@ __attribute__((always_inline)) inline uint2 lv_new_subcells(const lv_grid *grid,
      * before the batch: OpenCL 1.2 has no atomic load, a plain load of a word
      * that other work-items update atomically is a data race, and reading the
      * live masks with atomic_or(.., 0) made the trace 38% slower. */
-    __global const uint *seen = grid->subcells_seen + (size_t)slot * 2;
+    __global const uint *seen = grid->subcells_seen + (size_t)slot * LV_MARK_WORDS;
     uint full = k == 4u ? 0xffffffffu : (1u << (k * k * k)) - 1u;
     uint was[2] = {seen[0], k == 4u ? seen[1] : full};
     if (was[0] == full && was[1] == full) return (uint2)(0u);
@@ -84,7 +84,7 @@ __attribute__((always_inline)) inline void lv_tally_piece(const lv_grid *grid, l
     int fine = (grid->tally_slot[slot] & LV_FINE_DIRS) != 0u;
     uint bin = fine ? bins.y : bins.x;
     lv_tally_queue(batch, lv_tally_bin(grid, slot, bin), weight * amount,
-                   grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE, marks);
+                   grid->subcell_marks + (size_t)slot * LV_MARK_WORDS, marks);
     if (concentrated) {
         uint n = lv_slot_dirs(grid, slot);
         lv_tally_correct(lv_axis_corrections(grid, slot), weight * amount, dir,

@@ -20,22 +20,35 @@
 inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
 {
     uint k = grid->g.subcells;
-    uint at = grid->regions[slot].shares;
-    __global const float *share = grid->region_shares + (at == LV_NO_SHARES ? 0u : at);
-    float region = at == LV_NO_SHARES ? 1.0f : share[0];
+    __global const lv_slot_region *r = grid->regions + slot;
+    __global const float *share = grid->region_shares + (r->shares == LV_NO_SHARES ? 0u : r->shares);
+    float region = r->shares == LV_NO_SHARES ? 1.0f : share[0];
     if (!(region > 0.0f)) return 1.0f;
     if (k == 0u) return region;
-    __global const uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
+    __global const uint *marks = grid->subcell_marks + (size_t)slot * LV_MARK_WORDS;
     float lit = 0.0f, n = (float)(k * k * k);
-    for (uint i = 0; i < k * k * k; i++) {
-        if (!(rec[i >> 5] & (1u << (i & 31u)))) continue;
-        uint cast = rec[LV_SUBCELL_CAST + i];
-        float open = cast ? (float)rec[LV_SUBCELL_OPEN + i] / (float)cast : 1.0f;
-        lit += (at == LV_NO_SHARES ? 1.0f : share[1u + i]) * open;
+    for (uint i = 0, e = 0; i < k * k * k; i++) {
+        if (!(r->present[i >> 5] & (1u << (i & 31u)))) continue;
+        uint entry = e++;
+        if (!(marks[i >> 5] & (1u << (i & 31u)))) continue;
+        __global const uint *rays = grid->subcell_rays + (size_t)(r->entries + entry) * LV_RAY_WORDS;
+        float open = rays[0] ? (float)rays[1] / (float)rays[0] : 1.0f;
+        lit += (r->shares == LV_NO_SHARES ? 1.0f : share[1u + entry]) * open;
     }
     /* Never below one subcell (some light passed, or the tallies are 0),
      * or the region's volume where that is smaller. */
     return fmax(lit / n, fmin(1.0f / n, region));
+}
+
+/* Where subcell i of slot's region keeps its rays and lit point, or
+ * LV_NO_ENTRY where the region has no volume in it (a point on its
+ * boundary, by rounding). */
+inline uint lv_subcell_entry(const lv_grid *grid, uint slot, uint i)
+{
+    __global const lv_slot_region *r = grid->regions + slot;
+    uint lo = r->present[0], hi = r->present[1];
+    if (!(r->present[i >> 5] >> (i & 31u) & 1u)) return LV_NO_ENTRY;
+    return r->entries + LV_ENTRIES_BELOW(lo, hi, i);
 }
 
 /* The index of the subcell holding p within its cell; also the cell's and
@@ -67,8 +80,9 @@ inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
     uint slot = lv_grid_slot_at(grid, q);
     if (slot == LV_EMPTY_CELL) return 0u;
     float3 cell, sub;
-    uint i = lv_subcell_at(grid, q, &cell, &sub);
+    uint entry = lv_subcell_entry(grid, slot, lv_subcell_at(grid, q, &cell, &sub));
     float3 x = lv_subcell_point(grid, cell, sub, lv_rng_next3(rng));
+    if (entry == LV_NO_ENTRY) return 0u;
     /* In a cut cell the point must lie in q's region: a few tries, then q. */
     __global const lv_slot_region *r = grid->regions + slot;
     if (r->plane_count) {
@@ -83,9 +97,9 @@ inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
             x = lv_subcell_point(grid, cell, sub, lv_rng_next3(rng));
         }
     }
-    __global uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
-    atomic_inc(&rec[LV_SUBCELL_CAST + i]);
-    if (!lv_occluded(sc, x, from - x, 0.999f, LV_NO_HIT, LV_NO_HIT)) atomic_inc(&rec[LV_SUBCELL_OPEN + i]);
+    __global uint *rays = grid->subcell_rays + (size_t)entry * LV_RAY_WORDS;
+    atomic_inc(&rays[0]);
+    if (!lv_occluded(sc, x, from - x, 0.999f, LV_NO_HIT, LV_NO_HIT)) atomic_inc(&rays[1]);
     return 1u;
 }
 
@@ -98,12 +112,12 @@ inline void lv_offer_lit_point(const lv_grid *grid, float3 q, lv_rng *rng)
     uint slot = lv_grid_slot_at(grid, q);
     if (slot == LV_EMPTY_CELL) return;
     float3 cell, sub;
-    uint i = lv_subcell_at(grid, q, &cell, &sub);
+    uint entry = lv_subcell_entry(grid, slot, lv_subcell_at(grid, q, &cell, &sub));
     float3 u = (q - lv_grid_origin(grid)) / grid->g.cell_size - cell;
     uint3 at = min(convert_uint3(clamp(u * (float)grid->g.subcells - sub, 0.0f, 1.0f) * 256.0f), (uint3)(255u));
     uint priority = 1u + min((uint)(lv_rng_next(rng) * 255.0f), 254u);
-    atomic_max(&grid->subcells[(size_t)slot * LV_SUBCELL_STRIDE + LV_SUBCELL_LIT_POINT + i],
-               priority << 24 | at.x << 16 | at.y << 8 | at.z);
+    if (entry == LV_NO_ENTRY) return;
+    atomic_max(&grid->lit_points[entry], priority << 24 | at.x << 16 | at.y << 8 | at.z);
 }
 
 /* Whether the light the volume holds reached q (with subcells). A tallied
@@ -120,9 +134,9 @@ inline int lv_point_lit(const lv_grid *grid, const lv_scene *sc, float3 q)
     if (slot == LV_EMPTY_CELL) return 0;
     float3 cell, sub;
     uint i = lv_subcell_at(grid, q, &cell, &sub);
-    __global const uint *rec = grid->subcells + (size_t)slot * LV_SUBCELL_STRIDE;
-    if (!(rec[i >> 5] >> (i & 31u) & 1u)) return 0;
-    uint word = rec[LV_SUBCELL_LIT_POINT + i];
+    if (!(grid->subcell_marks[(size_t)slot * LV_MARK_WORDS + (i >> 5)] >> (i & 31u) & 1u)) return 0;
+    uint entry = lv_subcell_entry(grid, slot, i);
+    uint word = entry == LV_NO_ENTRY ? 0u : grid->lit_points[entry];
     if (word == 0u) return 1;
     float3 at = ((float3)((float)(word >> 16 & 255u), (float)(word >> 8 & 255u), (float)(word & 255u)) + 0.5f) / 256.0f;
     float3 lit = lv_subcell_point(grid, cell, sub, at);
