@@ -525,18 +525,8 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
     lv_slot_region *r = NULL;
     if (!failed && !sh) sh = calloc(1, sizeof *sh);
     if (!failed && sh && total < LV_CUT_CELL - 1) r = calloc(total + 1, sizeof *r);
-    if (!r) {
-        free(base);
-        free(offsets);
-        free(first);
-        free(kept);
-        free(present);
-        free(tmp);
-        free(sh);
-        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' regions");
-    }
-    uint32_t entries = 0;
-    for (size_t s = 0; s < stored; s++)
+    uint64_t entries = 0;
+    for (size_t s = 0; r && s < stored; s++)
         for (uint32_t m = 0, j = 0, at = first[s]; m < 1u << planes[s].count; m++) {
             if (!(kept[s] >> m & 1u)) continue;
             lv_slot_region *e = &r[base[s] + j];
@@ -549,24 +539,34 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
             e->shares = planes[s].count ? at : LV_NO_SHARES;
             e->present[0] = (uint32_t)mask;
             e->present[1] = (uint32_t)(mask >> 32);
-            e->entries = entries;
+            e->entries = (uint32_t)entries;
             entries += (uint32_t)__builtin_popcountll(mask);
             at += 1u + (uint32_t)__builtin_popcountll(mask);
             j++;
         }
-    r[total].shares = LV_NO_SHARES;
-    r[total].entries = entries;
-    *shares = sh;
-    *share_count = share_total;
-    for (size_t i = 0; i < cells; i++)
-        if (slot[i] != LV_EMPTY_CELL) slot[i] = base[slot[i]] | (planes[slot[i]].count ? LV_CUT_CELL : 0u);
-    g->slot_count = (lv_u32)total;
+    lvcl_error e = !r ? lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' regions")
+        : entries > UINT32_MAX || share_total > UINT32_MAX
+        ? lvcl_fail(st, LVCL_ERR_TOO_LARGE,
+                    "the light volume would hold over 2^32 subcell records; use fewer --cells or --subcells")
+        : LVCL_OK;
+    if (e) {
+        free(r);
+        free(sh);
+    } else {
+        r[total].shares = LV_NO_SHARES;
+        r[total].entries = (uint32_t)entries;
+        *regions = r;
+        *shares = sh;
+        *share_count = share_total;
+        for (size_t i = 0; i < cells; i++)
+            if (slot[i] != LV_EMPTY_CELL) slot[i] = base[slot[i]] | (planes[slot[i]].count ? LV_CUT_CELL : 0u);
+        g->slot_count = (lv_u32)total;
+    }
     free(base);
     free(offsets);
     free(first);
     free(kept);
     free(present);
     free(tmp);
-    *regions = r;
-    return LVCL_OK;
+    return e;
 }
