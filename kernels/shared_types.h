@@ -249,7 +249,7 @@ typedef struct {
  * per entry, a subcell the region has volume in, the fraction of the
  * subcell inside the region: exact, from volume_shares.c; LV_NO_SHARES for
  * a cell without planes, whose one region is all of it), which subcells
- * are its entries and where they start (the subcell records above), and
+ * are its entries and where they start (the subcell records below), and
  * the slot of each pattern
  * (LV_REGION_OFFSET). Every slot of a cell repeats the cell's planes and
  * offsets, and whether its lookups jitter in half a cell. A pattern

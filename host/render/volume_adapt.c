@@ -192,8 +192,9 @@ static double record_lit_volume(const lvcl_light_volume *vol, const uint32_t *re
     const uint32_t *rays = records + LV_MARK_WORDS * ((size_t)vol->buf.info.slot_count + 1);
     double lit = 0, n = (double)(k * k * k);
     for (uint32_t i = 0; i < k * k * k; i++) {
-        if (!(marks[i >> 5] & (1u << (i & 31u)))) continue;
-        const uint32_t *r = rays + (size_t)lvcl_region_entry(&vol->regions[slot], i) * LV_RAY_WORDS;
+        uint32_t entry = lvcl_region_entry(&vol->regions[slot], i);
+        if (!(marks[i >> 5] & (1u << (i & 31u))) || entry == LV_NO_ENTRY) continue;
+        const uint32_t *r = rays + (size_t)entry * LV_RAY_WORDS;
         lit += r[0] ? (double)r[1] / r[0] : 1.0;
     }
     return lit / n > 1.0 / n ? lit / n : 1.0 / n;
