@@ -15,7 +15,13 @@
  *
  * Holds while the gap is narrower than a quarter cell: the two surfaces
  * facing each other across it take a cell's first two planes, the
- * heaviest other cluster its third. */
+ * heaviest other cluster its third.
+ *
+ * Also the subcell records' layout (shared_types.h) on some of these
+ * grids with k = 1 to 4 subcells: a region's entries are the subcells it
+ * has volume in, its shares theirs (against lvcl_region_shares), the
+ * regions of a cell cover every subcell, and the entries follow each other
+ * slot by slot. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -82,7 +88,7 @@ static size_t make_stack(const stack *u, int axis, int shelf_first, int reversed
 
 /* The regions of the scene of n triangles, or 0 where making them failed
  * (reported). */
-static int regions_of(const float *tris, size_t n, int cells, double offset, cell_regions *out)
+static int regions_of(const float *tris, size_t n, int cells, double offset, int subcells, cell_regions *out)
 {
     lvcl_scene scene;
     harness_triangle_scene(tris, n, &scene);
@@ -92,9 +98,9 @@ static int regions_of(const float *tris, size_t n, int cells, double offset, cel
     lvcl_accel accel = {0};
     lvcl_packed_scene packed = {0};
     lvcl_status st = {0};
-    /* No subcells: the planes do not depend on them, and their shares
-     * took seven in eight parts of this test's time. */
-    lvcl_volume_settings vs = {.cells = cells, .offset = offset, .dirs = 4, .subcells = 0, .particles = 1};
+    /* The planes do not depend on the subcells, and their shares took
+     * seven in eight parts of this test's time: the planes' checks have none. */
+    lvcl_volume_settings vs = {.cells = cells, .offset = offset, .dirs = 4, .subcells = subcells, .particles = 1};
     size_t count = 0;
     memset(out, 0, sizeof *out);
     int ok = !lvcl_accel_build(&scene, &accel, &st);
@@ -196,7 +202,7 @@ static int wall_beside_gaps(int cells, double offset, int *pairs, int *built)
     memset(&r, 0, sizeof r);
     int shared = 0;
     *pairs = 0;
-    *built = regions_of(tris, n, cells, offset, &r);
+    *built = regions_of(tris, n, cells, offset, 0, &r);
     const float heights[4] = {base + 0.001f, base + 0.007f, base + 0.013f, base + 0.019f};
     for (int i = 0; *built && i < 4; i++)
         for (int j = 0; j < LATTICE; j++) {
@@ -211,6 +217,46 @@ static int wall_beside_gaps(int cells, double offset, int *pairs, int *built)
         }
     release(&r);
     return shared;
+}
+
+/* Checks the subcell records' layout of r (k subcells); returns the
+ * number of faults, and counts the cut cells in *cut. */
+static int record_faults(const cell_regions *r, uint32_t k, size_t cells, int *cut)
+{
+    enum { PER = 1 + LV_SUBCELL_MAX };
+    const uint32_t sub = k * k * k;
+    const uint64_t all = sub == 64 ? ~(uint64_t)0 : ((uint64_t)1 << sub) - 1;
+    int faults = 0;
+    float full[(1 << LV_REGION_PLANES) * PER];
+    for (uint32_t s = 0; s < r->g.slot_count; s++) {
+        const lv_slot_region *e = &r->regions[s];
+        uint64_t present = e->present[0] | (uint64_t)e->present[1] << 32;
+        faults += r->regions[s + 1].entries != e->entries + (uint32_t)__builtin_popcountll(present);
+        faults += !e->plane_count && (present != all || e->shares != LV_NO_SHARES);
+    }
+    *cut = 0;
+    for (size_t c = 0; c < cells; c++) {
+        if (r->slot[c] == LV_EMPTY_CELL || !(r->slot[c] & LV_CUT_CELL)) continue;
+        uint32_t base = r->slot[c] & ~LV_CUT_CELL, count = r->regions[base].plane_count, per = 1 + sub;
+        (*cut)++;
+        lvcl_region_shares((const float(*)[4])r->regions[base].planes, (int)count, k, full);
+        uint64_t covered = 0;
+        for (uint32_t s = base; s < r->g.slot_count && r->regions[s].base_slot == base; s++) {
+            const lv_slot_region *e = &r->regions[s];
+            const float *want = full + e->region * per, *got = r->shares + e->shares;
+            faults += got[0] != want[0];
+            for (uint32_t i = 0; i < sub; i++) {
+                uint32_t entry = lvcl_region_entry(e, i);
+                faults += (entry != LV_NO_ENTRY) != (want[1 + i] > 0.0f);
+                if (entry != LV_NO_ENTRY) {
+                    faults += got[1 + entry - e->entries] != want[1 + i];
+                    covered |= (uint64_t)1 << i;
+                }
+            }
+        }
+        faults += covered != all;
+    }
+    return faults;
 }
 
 int main(void)
@@ -235,7 +281,7 @@ int main(void)
                     for (int v = 0; v < 3 && built; v++) {
                         float tris[MAX_TRIS * 9];
                         size_t n = make_stack(u, axis, v == 1, v == 2, tris);
-                        built &= regions_of(tris, n, cells, offsets[oi], &r[v]);
+                        built &= regions_of(tris, n, cells, offsets[oi], 0, &r[v]);
                     }
                     if (built) {
                         size_t count = (size_t)r[0].g.dims[0] * r[0].g.dims[1] * r[0].g.dims[2];
@@ -271,5 +317,22 @@ int main(void)
         }
     CHECK("cell planes: a wall beside three gaps keeps its plane", built && shared == 0 && pairs > 0,
           "%d of %d point pairs across the wall in one cell share a region", shared, pairs);
+    for (uint32_t k = 1; k <= 4; k++) {
+        int faults = 0, cut = 0, ok = 1;
+        for (int v = 0; v < 2 && ok; v++) {
+            float tris[MAX_TRIS * 9];
+            size_t n = make_stack(&stacks[v ? 4 : 2], v, 0, 0, tris);
+            cell_regions r;
+            int c = 0;
+            ok = regions_of(tris, n, v ? 24 : 16, v ? 0.37 : 0.0, (int)k, &r);
+            if (ok) faults += record_faults(&r, k, (size_t)r.g.dims[0] * r.g.dims[1] * r.g.dims[2], &c);
+            cut += c;
+            release(&r);
+        }
+        char name[160];
+        snprintf(name, sizeof name,
+                 "cell planes: %u^3 subcells: each region keeps records of the subcells it has volume in", k);
+        CHECK(name, ok && faults == 0 && cut > 0, "%d faults over %d cut cells", faults, cut);
+    }
     CHECK_EXIT();
 }
