@@ -302,7 +302,10 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
         uint64_t traced = lvcl_volume_stats_of(sd->volume).particles;
         double now = lvcl_seconds();
         b->planned_particles = best_particles(b, traced, end - now);
-        if (progress)
+        if (progress && !(b->seconds_per_particle > 0))
+            fprintf(stderr, "lvcl: %.0f s budget: too short to measure, so %.3g particles, then the gather\n",
+                    req->pass.time_limit, (double)b->planned_particles);
+        else if (progress)
             fprintf(stderr,
                     "lvcl: %.0f s budget: %.3g particles, then the gather (measured: volume relMSE %.3g / N, "
                     "gather %.3g / spp, %.3g s per 10^6 particles, %.3g s per sample)\n",
