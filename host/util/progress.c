@@ -28,8 +28,10 @@ void lvcl_progress_update(lvcl_progress *p, double done, double total, const cha
     bar[BAR_WIDTH] = 0;
     double elapsed = now - p->start;
     double eta = f > 0 ? elapsed * (1.0 - f) / f : 0.0;
-    fprintf(stderr, "\r%-8s [%s] %3.0f%%  %.0f/%.0f %s  %.1fs, %.1fs left ", p->label, bar, 100.0 * f, done, total,
-            unit, elapsed, eta);
+    /* Counts whole; seconds (a time limit's bar) to a tenth, or a 2 s gather reads "1/2 s". */
+    int places = unit[0] == 's' && unit[1] == 0;
+    fprintf(stderr, "\r%-8s [%s] %3.0f%%  %.*f/%.*f %s  %.1fs, %.1fs left ", p->label, bar, 100.0 * f, places, done,
+            places, total, unit, elapsed, eta);
     fflush(stderr);
 }
 
