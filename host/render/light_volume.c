@@ -153,6 +153,13 @@ void lvcl_volume_record_sections(const lvcl_light_volume *vol, size_t bytes[3])
     bytes[2] = entries * sizeof(uint32_t);
 }
 
+void lvcl_volume_record_buffers(const lvcl_light_volume *vol, cl_mem bufs[3])
+{
+    bufs[0] = vol->buf.subcell_marks;
+    bufs[1] = vol->buf.subcell_rays;
+    bufs[2] = vol->buf.lit_points;
+}
+
 size_t lvcl_volume_record_bytes(const lvcl_light_volume *vol)
 {
     size_t b[3];

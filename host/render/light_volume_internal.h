@@ -175,5 +175,7 @@ static inline uint32_t lvcl_region_entry(const lv_slot_region *r, uint32_t i)
 /* The sizes of the subcell records' three buffers (shared_types.h), in the
  * order of lvcl_volume_read's block: marks, rays, lit points. */
 void lvcl_volume_record_sections(const lvcl_light_volume *vol, size_t bytes[3]);
+/* Those three buffers, in the same order. */
+void lvcl_volume_record_buffers(const lvcl_light_volume *vol, cl_mem bufs[3]);
 
 #endif

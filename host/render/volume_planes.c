@@ -539,9 +539,10 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
             e->shares = planes[s].count ? at : LV_NO_SHARES;
             e->present[0] = (uint32_t)mask;
             e->present[1] = (uint32_t)(mask >> 32);
+            uint32_t count = (uint32_t)__builtin_popcountll(mask);
             e->entries = (uint32_t)entries;
-            entries += (uint32_t)__builtin_popcountll(mask);
-            at += 1u + (uint32_t)__builtin_popcountll(mask);
+            entries += count;
+            at += 1u + count;
             j++;
         }
     lvcl_error e = !r ? lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' regions")

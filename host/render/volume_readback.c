@@ -10,7 +10,8 @@ static cl_int move_records(const lvcl_light_volume *vol, uint32_t *records, int 
 {
     size_t bytes[3], at = 0;
     lvcl_volume_record_sections(vol, bytes);
-    cl_mem bufs[3] = {vol->buf.subcell_marks, vol->buf.subcell_rays, vol->buf.lit_points};
+    cl_mem bufs[3];
+    lvcl_volume_record_buffers(vol, bufs);
     cl_int err = CL_SUCCESS;
     for (int i = 0; i < 3 && err == CL_SUCCESS; at += bytes[i], i++)
         if (bytes[i])

@@ -124,7 +124,8 @@ lvcl_error lvcl_volume_empty(lvcl_light_volume *vol, lvcl_status *st)
     cl_uint none = 0;
     size_t bytes[3];
     lvcl_volume_record_sections(vol, bytes);
-    cl_mem records[3] = {vol->buf.subcell_marks, vol->buf.subcell_rays, vol->buf.lit_points};
+    cl_mem records[3];
+    lvcl_volume_record_buffers(vol, records);
     for (int i = 0; i < 3 && !e; i++)
         if (bytes[i])
             e = lvcl_cl_check(

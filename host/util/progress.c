@@ -1,6 +1,7 @@
 #include "progress.h"
 
 #include <stdio.h>
+#include <string.h>
 
 #include "timer.h"
 
@@ -29,7 +30,7 @@ void lvcl_progress_update(lvcl_progress *p, double done, double total, const cha
     double elapsed = now - p->start;
     double eta = f > 0 ? elapsed * (1.0 - f) / f : 0.0;
     /* Counts whole; seconds (a time limit's bar) to a tenth, or a 2 s gather reads "1/2 s". */
-    int places = unit[0] == 's' && unit[1] == 0;
+    int places = strcmp(unit, "s") == 0;
     fprintf(stderr, "\r%-8s [%s] %3.0f%%  %.*f/%.*f %s  %.1fs, %.1fs left ", p->label, bar, 100.0 * f, places, done,
             places, total, unit, elapsed, eta);
     fflush(stderr);
