@@ -6,7 +6,8 @@
  * adaptive cells merging every block the geometry allows (a block that
  * held the wall would join the rooms), and with refined cells splitting
  * every cell they can (the middle planes must not undo the wall's), and
- * with fine bins in every slot.
+ * with fine bins in every slot; and with the whole scene turned, so that
+ * the walls face no grid axis.
  *
  * (a) Leak: the bright lamp red and the dim one blue; the walls are grey,
  *     so the true red radiance in the dim room is 0 while its own blue
@@ -63,9 +64,20 @@ static void normalize3(float v[3])
     for (int k = 0; k < 3; k++) v[k] /= l;
 }
 
+/* v turned by yaw about y, then by pitch about x (radians), about the
+ * origin (the rooms' floor centre). */
+static void turn(float v[3], float yaw, float pitch)
+{
+    float x = cosf(yaw) * v[0] + sinf(yaw) * v[2], z = -sinf(yaw) * v[0] + cosf(yaw) * v[2];
+    float y = cosf(pitch) * v[1] - sinf(pitch) * z;
+    v[2] = sinf(pitch) * v[1] + cosf(pitch) * z;
+    v[0] = x, v[1] = y;
+}
+
 /* thickness 0: the wall is one double-sided polygon. bright, dim: the
- * lamps' RGB radiance. */
-static void two_rooms(float thickness, const float bright[3], const float dim[3], lvcl_scene *s)
+ * lamps' RGB radiance. yaw, pitch: the whole scene turned (turn()), so
+ * that no wall need face a grid axis. */
+static void two_rooms(float thickness, const float bright[3], const float dim[3], float yaw, float pitch, lvcl_scene *s)
 {
     float tris[(12 + 12 + 4) * 9], *t = tris;
     const float lo[3] = {-X, 0, -Z}, hi[3] = {X, Y, Z};
@@ -86,6 +98,7 @@ static void two_rooms(float thickness, const float bright[3], const float dim[3]
         t = add_quad(t, a, b, c, d);
     }
     size_t count = (size_t)(t - tris) / 9;
+    for (size_t v = 0; v < 3 * count; v++) turn(tris + 3 * v, yaw, pitch);
     harness_triangle_scene(tris, count, s);
     lvcl_material_desc *m = harness_materials(s, 3);
     for (int k = 0; k < 3; k++) {
@@ -97,7 +110,9 @@ static void two_rooms(float thickness, const float bright[3], const float dim[3]
     for (size_t i = walls; i < count; i++) s->tri_material[i] = i < walls + 2 ? 1 : 2;
     /* The camera in the dim room, looking at the wall. */
     lvcl_camera_desc *cam = &s->camera;
-    const float eye[3] = {1.9f, 1.2f, 0.0f}, target[3] = {WALL_X, 1.1f, 0.0f};
+    float eye[3] = {1.9f, 1.2f, 0.0f}, target[3] = {WALL_X, 1.1f, 0.0f};
+    turn(eye, yaw, pitch);
+    turn(target, yaw, pitch);
     cam->present = 1;
     memcpy(cam->position, eye, sizeof eye);
     for (int k = 0; k < 3; k++) cam->back[k] = eye[k] - target[k];
@@ -130,6 +145,7 @@ typedef struct {
     float cell_size; /* metres, 0: from cells */
     double refine;   /* refined cells' density, 0 = off */
     double fine;     /* refined directions' peak, 0 = off */
+    float yaw, pitch; /* the scene turned, degrees (turn()) */
 } setup;
 
 static int render(float thickness, const float bright[3], const float dim[3], const setup *u, uint64_t particles,
@@ -137,7 +153,8 @@ static int render(float thickness, const float bright[3], const float dim[3], co
 {
     lvcl_scene scene;
     lvcl_status st = {0};
-    two_rooms(thickness, bright, dim, &scene);
+    const float degree = 3.14159265f / 180.0f;
+    two_rooms(thickness, bright, dim, u->yaw * degree, u->pitch * degree, &scene);
     lvcl_render_request req = harness_request(LVCL_MODE_LV, size, spp, u->cells, particles);
     req.volume.subcells = u->subcells;
     req.volume.offset = u->offset;
@@ -191,6 +208,12 @@ static void test_leak(void)
         {0.0f, 0.0f, 0, 0, .cell_size = ON_WALL(13), .refine = REFINE_ALL},
         {0.0f, 0.5f, 32, 4, .fine = FINE_ALL},
         {0.02f, 0.37f, 16, 0, .fine = FINE_ALL},
+        {0.0f, 0.37f, 32, 4, .yaw = 30},
+        {0.02f, 0.5f, 32, 4, .yaw = 17, .pitch = 11},
+        {0.005f, 0.0f, 16, 0, .yaw = 45},
+        {0.06f, 0.37f, 32, 2, .yaw = 8, .pitch = 23},
+        {0.02f, 0.5f, 16, 3, .yaw = 61, .pitch = 5, .refine = REFINE_ALL},
+        {0.0f, 0.0f, 32, 4, .yaw = 37, .pitch = 14, .merge = MERGE_ALL},
     };
     const float ratios[] = {25.0f, 1000.0f};
     double worst = 0;
@@ -205,9 +228,10 @@ static void test_leak(void)
         if (!render(u->thickness, bright, dim, u, 100000, 32, 4, &r)) return;
         double red = channel_mean(&r, 0), blue = channel_mean(&r, 2), leak = red / (ratio * blue);
         free(r.rgb);
-        printf("  leak: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m, %.0fx: "
-               "red %.3g, blue %.3g\n",
-               u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, ratio, red, blue);
+        printf("  leak: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m, turned "
+               "%g/%g deg, %.0fx: red %.3g, blue %.3g\n",
+               u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, u->yaw, u->pitch,
+               ratio, red, blue);
         if (!(leak <= worst)) worst = leak;
         CHECK("two rooms: the bright room's light does not leak into the dim one", blue > 0 && leak < 1e-4,
               "wall %.3f m, offset %.2f, %d cells, %d subcells, %.0fx: red / (ratio blue) = %.3g", u->thickness,
@@ -227,7 +251,9 @@ static void test_on_off(void)
                             {0.02f, 0.5f, 16, 0, MERGE_ALL},
                             {0.0f, 0.0f, 0, 4, MERGE_ALL, ON_WALL(20)},
                             {0.02f, 0.37f, 32, 4, .refine = REFINE_ALL},
-                            {0.0f, 0.5f, 16, 0, .refine = REFINE_ALL}};
+                            {0.0f, 0.5f, 16, 0, .refine = REFINE_ALL},
+                            {0.02f, 0.37f, 32, 4, .yaw = 30},
+                            {0.0f, 0.5f, 16, 2, .yaw = 17, .pitch = 11}};
     const int size = 32, block = 8, nb = size / block;
     for (size_t i = 0; i < sizeof setups / sizeof *setups; i++) {
         const setup *u = &setups[i];
@@ -254,10 +280,10 @@ static void test_on_off(void)
             }
         for (int k = 0; k < nb * nb; k++) var += (d[k] - mean) * (d[k] - mean) / (nb * nb - 1);
         for (int k = 0; k < nb * nb; k++) worst = fmax(worst, fabs(d[k]) / sqrt(var));
-        printf("  on/off: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m: mean "
-               "ratio %.4f, worst block %.2f standard deviations (block difference sd %.3g)\n",
-               u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, ratio, worst,
-               sqrt(var));
+        printf("  on/off: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m, turned "
+               "%g/%g deg: mean ratio %.4f, worst block %.2f standard deviations (block difference sd %.3g)\n",
+               u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, u->yaw, u->pitch,
+               ratio, worst, sqrt(var));
         CHECK("two rooms: the dim room's mean is the same with the bright lamp on and off within 3%",
               fabs(ratio - 1) < 0.03, "wall %.3f m, offset %.2f, %d cells, %d subcells: on / off %.4f", u->thickness,
               u->offset, u->cells, u->subcells, ratio);
