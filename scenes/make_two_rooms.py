@@ -6,9 +6,13 @@ leaks the bright room's light through the cells the wall cuts (the true
 ratio, and the path tracer's, is 1).
 
     python3 scenes/make_two_rooms.py OUT.gltf --thickness 0.02 --ratio 25 [--bright-off]
+        [--shell 0.1] [--yaw 12 --pitch 7]
 
---thickness 0 makes the wall one double-sided polygon. The geometry is the
-same as tests/volume/test_two_rooms.c builds in memory."""
+--thickness 0 makes the wall one double-sided polygon; --shell S builds the
+outer walls, floor and ceiling as slabs S thick; --yaw and --pitch turn the
+whole scene (degrees, about y and then x), so that no wall faces a grid
+axis. The geometry is the same as tests/volume/test_two_rooms.c builds in
+memory."""
 import argparse
 import math
 import os
@@ -21,7 +25,14 @@ X, Y, Z, WALL_X = 2.0, 2.5, 1.0, 0.37   # rooms x in [-X, X], split at WALL_X
 DIM_LE = 4.0                            # the dim room's lamp radiance
 
 
-def two_rooms(path, thickness, ratio, bright_on, colours=False):
+def turn(p, yaw, pitch):
+    """p turned by yaw about y, then by pitch about x (radians)."""
+    x = math.cos(yaw) * p[0] + math.sin(yaw) * p[2]
+    z = -math.sin(yaw) * p[0] + math.cos(yaw) * p[2]
+    return (x, math.cos(pitch) * p[1] - math.sin(pitch) * z, math.sin(pitch) * p[1] + math.cos(pitch) * z)
+
+
+def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, yaw=0.0, pitch=0.0):
     """colours: the bright lamp red and the dim one blue (grey walls keep
     the channels apart), so that any red in the dim room is a leak."""
     WHITE, DIM, BRIGHT = range(3)
@@ -35,7 +46,19 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False):
     else:
         materials.append(lambert("bright lamp (off)", (0.0, 0.0, 0.0)))
     room = Mesh("rooms", WHITE)
-    box(room, (-X, 0.0, -Z), (X, Y, Z), inward=True)
+    lo, hi = (-X, 0.0, -Z), (X, Y, Z)
+    if shell > 0:
+        # Six slabs round the rooms, overlapping at the edges.
+        for axis in range(3):
+            for side in range(2):
+                slo, shi = [c - shell for c in lo], [c + shell for c in hi]
+                if side:
+                    slo[axis] = hi[axis]
+                else:
+                    shi[axis] = lo[axis]
+                box(room, tuple(slo), tuple(shi))
+    else:
+        box(room, lo, hi, inward=True)
     if thickness > 0:
         box(room, (WALL_X - thickness / 2, 0.0, -Z), (WALL_X + thickness / 2, Y, Z))
     else:
@@ -46,7 +69,10 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False):
         lamp.quad([(x0, Y - 0.001, -0.3), (x1, Y - 0.001, -0.3), (x1, Y - 0.001, 0.3), (x0, Y - 0.001, 0.3)],
                   (0.0, -1.0, 0.0))
         meshes.append(lamp)
-    eye, target = (1.9, 1.2, 0.0), (WALL_X, 1.1, 0.0)
+    yaw, pitch = math.radians(yaw), math.radians(pitch)
+    for m in meshes:
+        m.positions = [turn(p, yaw, pitch) for p in m.positions]
+    eye, target = turn((1.9, 1.2, 0.0), yaw, pitch), turn((WALL_X, 1.1, 0.0), yaw, pitch)
     camera = {"yfov": math.radians(70.0), "aspect": 1.0, "translation": list(eye), "rotation": look_at(eye, target)}
     write_gltf(path, meshes, materials, camera,
                "two closed rooms sharing a %g m wall at x = %g; lamps %g (camera's room) and %g" %
@@ -60,8 +86,12 @@ def main():
     ap.add_argument("--ratio", type=float, default=25.0, help="bright lamp radiance over the dim one's")
     ap.add_argument("--bright-off", action="store_true", help="the bright room's lamp emits nothing")
     ap.add_argument("--colours", action="store_true", help="bright lamp red, dim lamp blue: red in the dim room is a leak")
+    ap.add_argument("--shell", type=float, default=0.0,
+                    help="outer walls, floor and ceiling as slabs this thick, metres (0: one polygon each)")
+    ap.add_argument("--yaw", type=float, default=0.0, help="the scene turned about y, degrees")
+    ap.add_argument("--pitch", type=float, default=0.0, help="then about x, degrees")
     a = ap.parse_args()
-    two_rooms(a.out, a.thickness, a.ratio, not a.bright_off, a.colours)
+    two_rooms(a.out, a.thickness, a.ratio, not a.bright_off, a.colours, a.shell, a.yaw, a.pitch)
 
 
 if __name__ == "__main__":

@@ -139,6 +139,55 @@ size_t harness_add_box(float *t, size_t n, const float lo[3], const float hi[3])
     return n;
 }
 
+void harness_turn(float v[3], float yaw, float pitch)
+{
+    float x = cosf(yaw) * v[0] + sinf(yaw) * v[2], z = -sinf(yaw) * v[0] + cosf(yaw) * v[2];
+    float y = cosf(pitch) * v[1] - sinf(pitch) * z;
+    v[2] = sinf(pitch) * v[1] + cosf(pitch) * z;
+    v[0] = x, v[1] = y;
+}
+
+size_t harness_two_rooms(float *tris, float wall, float shell, float yaw, float pitch, size_t *walls)
+{
+    const float X = HARNESS_ROOMS_X, Y = HARNESS_ROOMS_Y, Z = HARNESS_ROOMS_Z, W = HARNESS_WALL_X;
+    const float lo[3] = {-X, 0, -Z}, hi[3] = {X, Y, Z};
+    size_t n = 0;
+    if (shell > 0) {
+        /* Six slabs round the rooms, overlapping at the edges. */
+        for (int axis = 0; axis < 3; axis++)
+            for (int side = 0; side < 2; side++) {
+                float slo[3], shi[3];
+                for (int k = 0; k < 3; k++) slo[k] = lo[k] - shell, shi[k] = hi[k] + shell;
+                if (side) slo[axis] = hi[axis];
+                else shi[axis] = lo[axis];
+                n = harness_add_box(tris, n, slo, shi);
+            }
+    } else {
+        n = harness_add_box(tris, n, lo, hi);
+        for (size_t i = 0; i < n; i++) /* turned inward: swap each triangle's last two corners */
+            for (int k = 0; k < 3; k++) {
+                float c = tris[9 * i + 3 + k];
+                tris[9 * i + 3 + k] = tris[9 * i + 6 + k];
+                tris[9 * i + 6 + k] = c;
+            }
+    }
+    if (wall > 0) {
+        const float wlo[3] = {W - wall / 2, 0, -Z}, whi[3] = {W + wall / 2, Y, Z};
+        n = harness_add_box(tris, n, wlo, whi);
+    } else {
+        const float corner[3] = {W, 0, -Z}, up[3] = {0, Y, 0}, across[3] = {0, 0, 2 * Z};
+        n = harness_add_quad(tris, n, corner, up, across); /* facing +x */
+    }
+    *walls = n;
+    const float ly = Y - 0.001f, x[2][2] = {{1.0f, 1.6f}, {-1.4f, -0.8f}};
+    for (int l = 0; l < 2; l++) {
+        const float corner[3] = {x[l][0], ly, -0.3f}, along[3] = {x[l][1] - x[l][0], 0, 0}, across[3] = {0, 0, 0.6f};
+        n = harness_add_quad(tris, n, corner, along, across); /* facing down */
+    }
+    for (size_t v = 0; v < 3 * n; v++) harness_turn(tris + 3 * v, yaw, pitch);
+    return n;
+}
+
 void harness_look_at(lvcl_scene *s, const float eye[3], const float target[3], float yfov_deg)
 {
     lvcl_camera_desc *cam = &s->camera;

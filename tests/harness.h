@@ -25,6 +25,26 @@ void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *scene);
 size_t harness_add_quad(float *t, size_t n, const float a[3], const float u[3], const float v[3]);
 size_t harness_add_box(float *t, size_t n, const float lo[3], const float hi[3]);
 
+/* v turned by yaw about y, then by pitch about x (radians), about the origin. */
+void harness_turn(float v[3], float yaw, float pitch);
+
+/* Two closed rooms sharing a wall (issue 12; scenes/make_two_rooms.py
+ * builds the same): x in [-X, X], floor y = 0 to ceiling Y, z in [-Z, Z],
+ * the wall centred on x = HARNESS_WALL_X, one lamp under the ceiling of
+ * each room (the room x > HARNESS_WALL_X's first). wall 0: one double-sided
+ * polygon. shell > 0: the outer walls, floor and ceiling are slabs that
+ * thick, else one polygon each, facing into the rooms (the walls are
+ * double-sided, but the cells' planes read a solid's fronts). The whole
+ * turned by yaw and pitch (harness_turn), so that no wall need face a
+ * grid axis. Writes at most HARNESS_TWO_ROOMS_TRIANGLES triangles to tris;
+ * returns their count, and in *walls the count before the lamps. */
+#define HARNESS_ROOMS_X 2.0f
+#define HARNESS_ROOMS_Y 2.5f
+#define HARNESS_ROOMS_Z 1.0f
+#define HARNESS_WALL_X 0.37f
+#define HARNESS_TWO_ROOMS_TRIANGLES (6 * 12 + 12 + 4)
+size_t harness_two_rooms(float *tris, float wall, float shell, float yaw, float pitch, size_t *walls);
+
 /* Gives scene s `count` materials, each a copy of its first (the grey
  * harness_triangle_scene made), and returns them. */
 lvcl_material_desc *harness_materials(lvcl_scene *s, size_t count);

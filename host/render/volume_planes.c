@@ -63,6 +63,9 @@ typedef struct {
     double top_along;             /* the largest offset of a front along the group's normal; -HUGE_VAL if none */
     int against;                  /* it holds a front against the group's normal */
     int clear, gap;               /* of glass; it faces another cluster across a gap */
+    double along_area;            /* the area of its fronts along the group's normal */
+    int group;                    /* of parallel clusters (cluster_cell) */
+    int backs_onto_previous;      /* it and the group's cluster below it face away from each other (solid between) */
 } cluster;
 
 /* Scratch space for one cell's clustering, kept from cell to cell. */
@@ -296,37 +299,59 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
     for (size_t i = 0; i < m; i++) {
         const turned_facet *t = &w->turned[i];
         cluster *c = count > 0 && w->turned[i - 1].group == t->group ? &w->clusters[count - 1] : NULL;
-        /* A front against the group's normal faces a front along it below. */
-        int facing = c && t->front < 0 && c->top_along < t->d;
-        int gap = facing && t->d - c->top_along > FACET_OFFSET * h && t->d - c->top_along < SAME_OFFSET * h;
+        /* A front against the group's normal faces a front along it below
+         * it; within a facet's tolerance they touch (a solid standing on
+         * the floor hides its bottom face in the floor's plane). */
+        int facing = c && t->front < 0 && t->d - c->top_along > FACET_OFFSET * h;
+        int gap = facing && t->d - c->top_along < SAME_OFFSET * h;
         if (gap) c->gap = 1;
         /* Glass joins no opaque facet, nor the opposite face of a slab. */
         int opposite = c && (t->front > 0 ? c->against : c->top_along > -HUGE_VAL);
         if (!c || fabs(t->d - c->sum_d / c->area) >= SAME_OFFSET * h || facing || t->clear != c->clear ||
             (t->clear && opposite)) {
             c = &w->clusters[count++];
-            *c = (cluster){.top_along = -HUGE_VAL, .clear = t->clear, .gap = gap};
+            *c = (cluster){.top_along = -HUGE_VAL, .clear = t->clear, .gap = gap, .group = t->group};
         }
         for (int j = 0; j < 3; j++) c->sum_n[j] += t->area * t->n[j];
         c->sum_d += t->area * t->d;
         c->area += t->area;
-        if (t->front > 0) c->top_along = fmax(c->top_along, t->d);
+        if (t->front > 0) c->top_along = fmax(c->top_along, t->d), c->along_area += t->area;
         else c->against = 1;
+    }
+    /* Opaque neighbours of a group whose fronts face away from each other,
+     * the lower one's mostly against the normal and the upper one's mostly
+     * along it: a solid's two faces (a slab thicker than a quarter cell).
+     * Mostly: a wall standing on the floor hides its bottom face in the
+     * floor's plane, facing the other way. */
+    for (int i = 1; i < count; i++) {
+        const cluster *below = &w->clusters[i - 1];
+        cluster *c = &w->clusters[i];
+        c->backs_onto_previous = c->group == below->group && !c->clear && !below->clear &&
+            2 * below->along_area < below->area && 2 * c->along_area > c->area;
     }
     return count;
 }
 
 /* Whether cluster a is chosen before b: across a gap first (while
- * gaps_first), then the heavier, and between equal weights (a room's
- * symmetric corners) by their sums, so that the choice does not hang on
- * the triangles' order. */
-static int comes_first(const cluster *a, const cluster *b, int gaps_first)
+ * gaps_first), then those whose solid's other face is not chosen yet
+ * (spare: the face it backs onto is), then the heavier, and between equal
+ * weights (a room's symmetric corners) by their sums, so that the choice
+ * does not hang on the triangles' order. */
+static int comes_first(const cluster *a, int a_spare, const cluster *b, int b_spare, int gaps_first)
 {
     if (gaps_first && a->gap != b->gap) return a->gap > b->gap;
+    if (a_spare != b_spare) return b_spare;
     if (fabs(a->area - b->area) > 1e-9 * fmax(a->area, b->area)) return a->area > b->area;
     for (int j = 0; j < 3; j++)
         if (a->sum_n[j] != b->sum_n[j]) return a->sum_n[j] > b->sum_n[j];
     return a->sum_d > b->sum_d;
+}
+
+static int is_chosen(const int *chosen, int count, int cluster)
+{
+    for (int j = 0; j < count; j++)
+        if (chosen[j] == cluster) return 1;
+    return 0;
 }
 
 /* The planes of one stored cell (corner lo) from its clusters (count of
@@ -343,11 +368,13 @@ static int choose_planes(const cell_scratch *w, int clusters, const double lo[3]
 {
     int chosen[LV_GEOMETRY_PLANES], count = 0, gaps = 0;
     for (int round = 0; round < LV_GEOMETRY_PLANES; round++) {
-        int best = -1;
+        int best = -1, best_spare = 0;
         for (int i = 0; i < clusters; i++) {
-            int taken = 0;
-            for (int j = 0; j < round; j++) taken |= chosen[j] == i;
-            if (!taken && (best < 0 || comes_first(&w->clusters[i], &w->clusters[best], gaps < GAP_PLANES))) best = i;
+            if (is_chosen(chosen, round, i)) continue;
+            int spare = (w->clusters[i].backs_onto_previous && is_chosen(chosen, round, i - 1)) ||
+                (i + 1 < clusters && w->clusters[i + 1].backs_onto_previous && is_chosen(chosen, round, i + 1));
+            if (best < 0 || comes_first(&w->clusters[i], spare, &w->clusters[best], best_spare, gaps < GAP_PLANES))
+                best = i, best_spare = spare;
         }
         if (best < 0) break;
         chosen[round] = best;

@@ -219,6 +219,43 @@ static int wall_beside_gaps(int cells, double offset, int *pairs, int *built)
     return shared;
 }
 
+/* Two rooms sharing a wall (harness_two_rooms) in a building of slabs
+ * `shell` thick, turned by yaw and pitch (degrees): of the point pairs 4 mm
+ * either side of the wall (a lattice over it, up to 4 mm from the floor,
+ * the ceiling and the outer walls), returns how many share a cell and a
+ * region; *pairs counts those sharing a cell. Where the wall meets an
+ * outer wall and the floor, a cell holds five or more clusters (both
+ * faces of each slab), and the wall must keep a plane. */
+static int wall_in_building(float wall, float shell, float yaw, float pitch, int cells, double offset, int *pairs,
+                            int *built)
+{
+    float tris[HARNESS_TWO_ROOMS_TRIANGLES * 9];
+    const float degree = 3.14159265f / 180.0f;
+    size_t walls, n = harness_two_rooms(tris, wall, shell, yaw * degree, pitch * degree, &walls);
+    cell_regions r;
+    int shared = 0;
+    *pairs = 0;
+    *built = regions_of(tris, n, cells, offset, 0, &r);
+    const float inset = 0.004f, y_span = HARNESS_ROOMS_Y - 2 * inset, z_span = 2 * HARNESS_ROOMS_Z - 2 * inset;
+    for (int i = 0; *built && i < 2 * LATTICE; i++)
+        for (int j = 0; j < 2 * LATTICE; j++) {
+            float y = inset + y_span * (float)i / (2 * LATTICE - 1);
+            float z = -HARNESS_ROOMS_Z + inset + z_span * (float)j / (2 * LATTICE - 1);
+            float here[3] = {HARNESS_WALL_X + wall / 2 + inset, y, z},
+                  there[3] = {HARNESS_WALL_X - wall / 2 - inset, y, z};
+            harness_turn(here, yaw * degree, pitch * degree);
+            harness_turn(there, yaw * degree, pitch * degree);
+            long ca, cb;
+            uint32_t a = slot_at(&r, here, &ca), b = slot_at(&r, there, &cb);
+            if (ca == cb && ca >= 0) {
+                (*pairs)++;
+                shared += a == b;
+            }
+        }
+    if (*built) release(&r);
+    return shared;
+}
+
 /* Checks the subcell records' layout of r (k subcells); returns the
  * number of faults, and counts the cut cells in *cut. */
 static int record_faults(const cell_regions *r, uint32_t k, size_t cells, int *cut)
@@ -317,6 +354,27 @@ int main(void)
         }
     CHECK("cell planes: a wall beside three gaps keeps its plane", built && shared == 0 && pairs > 0,
           "%d of %d point pairs across the wall in one cell share a region", shared, pairs);
+    const float wall_widths[] = {0.0f, 0.005f, 0.03f, 0.1f, 0.2f}, shells[] = {0.0f, 0.02f, 0.05f, 0.1f, 0.3f};
+    const float turns[][2] = {{0, 0}, {12, 7}, {30, 0}, {61, 23}};
+    for (size_t wi = 0; wi < sizeof wall_widths / sizeof *wall_widths; wi++)
+        for (size_t si = 0; si < sizeof shells / sizeof *shells; si++) {
+            int shared = 0, pairs = 0, built = 1;
+            for (size_t ti = 0; ti < sizeof turns / sizeof *turns; ti++)
+                for (size_t ci = 0; ci < sizeof cell_counts / sizeof *cell_counts; ci++)
+                    for (size_t oi = 0; oi < 2; oi++) {
+                        int p, b;
+                        shared += wall_in_building(wall_widths[wi], shells[si], turns[ti][0], turns[ti][1],
+                                                   cell_counts[ci], offsets[oi], &p, &b);
+                        pairs += p;
+                        built &= b;
+                    }
+            char name[160];
+            snprintf(name, sizeof name,
+                     "cell planes: a wall %g cm thick between rooms of slabs %g cm thick keeps its plane",
+                     1e2 * wall_widths[wi], 1e2 * shells[si]);
+            CHECK(name, built && shared == 0 && pairs > 0,
+                  "%d of %d point pairs across the wall in one cell share a region", shared, pairs);
+        }
     for (uint32_t k = 1; k <= 4; k++) {
         int faults = 0, cut = 0, ok = 1;
         for (int v = 0; v < 2 && ok; v++) {

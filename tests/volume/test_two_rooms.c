@@ -25,81 +25,15 @@
 #include "../check.h"
 #include "../harness.h"
 
-#define X 2.0f
-#define Y 2.5f
-#define Z 1.0f
-#define WALL_X 0.37f
 #define DIM_LE 4.0f
 
-static float *add_quad(float *t, const float a[3], const float b[3], const float c[3], const float d[3])
+/* bright, dim: the lamps' RGB radiance; the rest as harness_two_rooms. */
+static void two_rooms(float thickness, float shell, const float bright[3], const float dim[3], float yaw, float pitch,
+                      lvcl_scene *s)
 {
-    const float *q[6] = {a, b, c, a, c, d};
-    for (int i = 0; i < 6; i++) memcpy(t + 3 * i, q[i], 3 * sizeof(float));
-    return t + 18;
-}
-
-/* The faces of the box lo..hi (winding does not matter: the walls are
- * double-sided). */
-static float *add_box(float *t, const float lo[3], const float hi[3])
-{
-    for (int axis = 0; axis < 3; axis++) {
-        int u = (axis + 1) % 3, v = (axis + 2) % 3;
-        for (int side = 0; side < 2; side++) {
-            float c[4][3];
-            const float uv[4][2] = {{lo[u], lo[v]}, {hi[u], lo[v]}, {hi[u], hi[v]}, {lo[u], hi[v]}};
-            for (int i = 0; i < 4; i++) {
-                c[i][axis] = side ? hi[axis] : lo[axis];
-                c[i][u] = uv[i][0];
-                c[i][v] = uv[i][1];
-            }
-            t = add_quad(t, c[0], c[1], c[2], c[3]);
-        }
-    }
-    return t;
-}
-
-static void normalize3(float v[3])
-{
-    float l = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (int k = 0; k < 3; k++) v[k] /= l;
-}
-
-/* v turned by yaw about y, then by pitch about x (radians), about the
- * origin (the rooms' floor centre). */
-static void turn(float v[3], float yaw, float pitch)
-{
-    float x = cosf(yaw) * v[0] + sinf(yaw) * v[2], z = -sinf(yaw) * v[0] + cosf(yaw) * v[2];
-    float y = cosf(pitch) * v[1] - sinf(pitch) * z;
-    v[2] = sinf(pitch) * v[1] + cosf(pitch) * z;
-    v[0] = x, v[1] = y;
-}
-
-/* thickness 0: the wall is one double-sided polygon. bright, dim: the
- * lamps' RGB radiance. yaw, pitch: the whole scene turned (turn()), so
- * that no wall need face a grid axis. */
-static void two_rooms(float thickness, const float bright[3], const float dim[3], float yaw, float pitch, lvcl_scene *s)
-{
-    float tris[(12 + 12 + 4) * 9], *t = tris;
-    const float lo[3] = {-X, 0, -Z}, hi[3] = {X, Y, Z};
-    t = add_box(t, lo, hi);
-    if (thickness > 0) {
-        const float wlo[3] = {WALL_X - thickness / 2, 0, -Z}, whi[3] = {WALL_X + thickness / 2, Y, Z};
-        t = add_box(t, wlo, whi);
-    } else {
-        const float a[3] = {WALL_X, 0, -Z}, b[3] = {WALL_X, Y, -Z}, c[3] = {WALL_X, Y, Z}, d[3] = {WALL_X, 0, Z};
-        t = add_quad(t, a, b, c, d);
-    }
-    size_t walls = (size_t)(t - tris) / 9;
-    /* Lamps facing down: (x0, z0), (x1, z0), (x1, z1) winds to -y. */
-    const float ly = Y - 0.001f, x[2][2] = {{1.0f, 1.6f}, {-1.4f, -0.8f}};
-    for (int l = 0; l < 2; l++) {
-        const float a[3] = {x[l][0], ly, -0.3f}, b[3] = {x[l][1], ly, -0.3f}, c[3] = {x[l][1], ly, 0.3f},
-                    d[3] = {x[l][0], ly, 0.3f};
-        t = add_quad(t, a, b, c, d);
-    }
-    size_t count = (size_t)(t - tris) / 9;
-    for (size_t v = 0; v < 3 * count; v++) turn(tris + 3 * v, yaw, pitch);
-    harness_triangle_scene(tris, count, s);
+    float tris[HARNESS_TWO_ROOMS_TRIANGLES * 9];
+    size_t walls, n = harness_two_rooms(tris, thickness, shell, yaw, pitch, &walls);
+    harness_triangle_scene(tris, n, s);
     lvcl_material_desc *m = harness_materials(s, 3);
     for (int k = 0; k < 3; k++) {
         m[0].base_color[k] = 0.7f;
@@ -107,24 +41,12 @@ static void two_rooms(float thickness, const float bright[3], const float dim[3]
         m[1].emissive[k] = dim[k];
         m[2].emissive[k] = bright[k];
     }
-    for (size_t i = walls; i < count; i++) s->tri_material[i] = i < walls + 2 ? 1 : 2;
+    for (size_t i = walls; i < n; i++) s->tri_material[i] = i < walls + 2 ? 1 : 2;
     /* The camera in the dim room, looking at the wall. */
-    lvcl_camera_desc *cam = &s->camera;
-    float eye[3] = {1.9f, 1.2f, 0.0f}, target[3] = {WALL_X, 1.1f, 0.0f};
-    turn(eye, yaw, pitch);
-    turn(target, yaw, pitch);
-    cam->present = 1;
-    memcpy(cam->position, eye, sizeof eye);
-    for (int k = 0; k < 3; k++) cam->back[k] = eye[k] - target[k];
-    normalize3(cam->back);
-    /* right = up_world x back, up = back x right */
-    cam->right[0] = cam->back[2], cam->right[1] = 0, cam->right[2] = -cam->back[0];
-    normalize3(cam->right);
-    cam->up[0] = cam->back[1] * cam->right[2] - cam->back[2] * cam->right[1];
-    cam->up[1] = cam->back[2] * cam->right[0] - cam->back[0] * cam->right[2];
-    cam->up[2] = cam->back[0] * cam->right[1] - cam->back[1] * cam->right[0];
-    cam->yfov = 70.0f * 3.14159265f / 180.0f;
-    cam->aspect = 1.0f;
+    float eye[3] = {1.9f, 1.2f, 0.0f}, target[3] = {HARNESS_WALL_X, 1.1f, 0.0f};
+    harness_turn(eye, yaw, pitch);
+    harness_turn(target, yaw, pitch);
+    harness_look_at(s, eye, target, 70.0f);
 }
 
 /* A merge tolerance that merges every block free of geometry. */
@@ -132,7 +54,7 @@ static void two_rooms(float thickness, const float bright[3], const float dim[3]
 /* Cells whose boundaries hold the one-polygon wall (the grid starts a cell
  * below x = -X): its cells on both sides are uncut, and only the adaptive
  * cells' test for a wall between two cells of a block keeps them apart. */
-#define ON_WALL(n) ((WALL_X + X) / (float)(n))
+#define ON_WALL(n) ((HARNESS_WALL_X + HARNESS_ROOMS_X) / (float)(n))
 /* A refinement density that splits every cell with a plane to spare, and
  * a peak that gives every slot with light fine bins. */
 #define REFINE_ALL 1e-6
@@ -146,6 +68,7 @@ typedef struct {
     double refine;   /* refined cells' density, 0 = off */
     double fine;     /* refined directions' peak, 0 = off */
     float yaw, pitch; /* the scene turned, degrees (turn()) */
+    float shell;      /* the outer walls, floor and ceiling as slabs this thick, metres (0: one polygon each) */
 } setup;
 
 static int render(float thickness, const float bright[3], const float dim[3], const setup *u, uint64_t particles,
@@ -154,7 +77,7 @@ static int render(float thickness, const float bright[3], const float dim[3], co
     lvcl_scene scene;
     lvcl_status st = {0};
     const float degree = 3.14159265f / 180.0f;
-    two_rooms(thickness, bright, dim, u->yaw * degree, u->pitch * degree, &scene);
+    two_rooms(thickness, u->shell, bright, dim, u->yaw * degree, u->pitch * degree, &scene);
     lvcl_render_request req = harness_request(LVCL_MODE_LV, size, spp, u->cells, particles);
     req.volume.subcells = u->subcells;
     req.volume.offset = u->offset;
@@ -214,6 +137,12 @@ static void test_leak(void)
         {0.06f, 0.37f, 32, 2, .yaw = 8, .pitch = 23},
         {0.02f, 0.5f, 16, 3, .yaw = 61, .pitch = 5, .refine = REFINE_ALL},
         {0.0f, 0.0f, 32, 4, .yaw = 37, .pitch = 14, .merge = MERGE_ALL},
+        {0.06f, 0.37f, 32, 4, .shell = 0.1f},
+        {0.2f, 0.5f, 32, 4, .shell = 0.06f},
+        {0.06f, 0.0f, 16, 0, .shell = 0.3f},
+        {0.1f, 0.5f, 32, 2, .shell = 0.1f, .yaw = 30},
+        {0.03f, 0.37f, 24, 4, .shell = 0.05f, .yaw = 12, .pitch = 7},
+        {0.2f, 0.37f, 32, 4, .shell = 0.2f, .refine = REFINE_ALL},
     };
     const float ratios[] = {25.0f, 1000.0f};
     double worst = 0;
