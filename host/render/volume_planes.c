@@ -17,6 +17,14 @@
  * reflection traps there, would share a region with what lies beyond,
  * and a lookup would read that light. */
 #define SAME_OFFSET 0.25 /* cells */
+/* Parallel facets (normals within a degree) of one front, one beyond the
+ * other by more than this (cells), are two layers (a panel against a wall,
+ * two walls of one polygon each round a narrow corridor) and stay apart:
+ * joined, the air in front of the nearer would share a region with what
+ * lies behind it. Facets of a curved or rippled surface within a degree of
+ * each other lie side by side, their offsets far closer than this. */
+#define LAYER_NORMAL 0.99985
+#define LAYER_OFFSET 0.05
 /* A plane must cut the cell by more than this (cells) to split it. */
 #define CUT_MARGIN 1e-3
 /* A part of a mesh's tree that spans at most two cells along every axis
@@ -61,6 +69,8 @@ typedef struct {
 typedef struct {
     double sum_n[3], sum_d, area; /* on the group's side */
     double top_along;             /* the largest offset of a front along the group's normal; -HUGE_VAL if none */
+    double top_against;           /* and of a front against it */
+    double along_n[3], against_n[3]; /* the normals of those two facets */
     int against;                  /* it holds a front against the group's normal */
     int clear, gap;               /* of glass; it faces another cluster across a gap */
     double along_area;            /* the area of its fronts along the group's normal */
@@ -307,16 +317,30 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         if (gap) c->gap = 1;
         /* Glass joins no opaque facet, nor the opposite face of a slab. */
         int opposite = c && (t->front > 0 ? c->against : c->top_along > -HUGE_VAL);
-        if (!c || fabs(t->d - c->sum_d / c->area) >= SAME_OFFSET * h || facing || t->clear != c->clear ||
+        /* A layer beyond a parallel facet of the same front, unless it
+         * touches a facet of the other front (the face a wall standing on
+         * the floor hides in it). */
+        double top = c ? (t->front > 0 ? c->top_along : c->top_against) : -HUGE_VAL;
+        double other = c ? (t->front > 0 ? c->top_against : c->top_along) : -HUGE_VAL;
+        int layer = top > -HUGE_VAL && t->d - top > LAYER_OFFSET * h &&
+            dot3(t->n, t->front > 0 ? c->along_n : c->against_n) > LAYER_NORMAL && t->d - other > FACET_OFFSET * h;
+        if (!c || fabs(t->d - c->sum_d / c->area) >= SAME_OFFSET * h || facing || layer || t->clear != c->clear ||
             (t->clear && opposite)) {
             c = &w->clusters[count++];
-            *c = (cluster){.top_along = -HUGE_VAL, .clear = t->clear, .gap = gap, .group = t->group};
+            *c = (cluster){
+                .top_along = -HUGE_VAL, .top_against = -HUGE_VAL, .clear = t->clear, .gap = gap, .group = t->group};
         }
         for (int j = 0; j < 3; j++) c->sum_n[j] += t->area * t->n[j];
         c->sum_d += t->area * t->d;
         c->area += t->area;
-        if (t->front > 0) c->top_along = fmax(c->top_along, t->d), c->along_area += t->area;
-        else c->against = 1;
+        /* Sorted by offset: this facet is the cluster's topmost of its front. */
+        if (t->front > 0) {
+            c->top_along = t->d, c->along_area += t->area;
+            memcpy(c->along_n, t->n, sizeof c->along_n);
+        } else {
+            c->top_against = t->d, c->against = 1;
+            memcpy(c->against_n, t->n, sizeof c->against_n);
+        }
     }
     /* Opaque neighbours of a group whose fronts face away from each other,
      * the lower one's mostly against the normal and the upper one's mostly

@@ -256,6 +256,55 @@ static int wall_in_building(float wall, float shell, float yaw, float pitch, int
     return shared;
 }
 
+/* Two parallel layers facing the same way, `apart` metres apart, in a
+ * closed room, away from its edges: a panel (`panel` 1: a box of that
+ * depth standing on the floor against a wall of one polygon, up to 0.9 m)
+ * or a corridor (0: a second wall of one polygon behind the first). Both
+ * face +x, so neither faces the other across a gap nor backs onto it.
+ * Returns how many point pairs sharing a cell share a region: the air
+ * just in front of the wall (above the panel) and just behind it, and for
+ * the corridor its middle and the air in front and beyond. */
+static int layers_apart(int panel, float apart, int cells, double offset, int *pairs, int *built)
+{
+    const float wall = 0.37f;
+    float tris[MAX_TRIS * 9];
+    size_t n = 0;
+    const float room_lo[3] = {-1, 0, -1}, room_hi[3] = {1, 2, 1};
+    n = harness_add_box(tris, n, room_lo, room_hi);
+    const float up[3] = {0, 2, 0}, across[3] = {0, 0, 2};
+    const float front[3] = {wall, 0, -1}, back[3] = {wall - apart, 0, -1};
+    n = harness_add_quad(tris, n, front, up, across); /* facing +x */
+    if (panel) {
+        const float lo[3] = {wall, 0, -0.5f}, hi[3] = {wall + apart, 0.9f, 0.5f};
+        n = harness_add_box(tris, n, lo, hi);
+    } else {
+        n = harness_add_quad(tris, n, back, up, across);
+    }
+    cell_regions r;
+    int shared = 0;
+    *pairs = 0;
+    *built = regions_of(tris, n, cells, offset, 0, &r);
+    const float inset = 0.004f;
+    const float xs[3][2] = {{wall + inset, wall - inset}, /* the panel: in front of the wall and behind */
+                            {wall - apart / 2, wall + inset},
+                            {wall - apart / 2, wall - apart - inset}};
+    for (int k = panel ? 0 : 1; *built && k < (panel ? 1 : 3); k++)
+        for (int i = 0; i < LATTICE; i++)
+            for (int j = 0; j < LATTICE; j++) {
+                float y = (panel ? 0.95f : 0.6f) + 0.8f * (float)i / (LATTICE - 1),
+                      z = -0.4f + 0.8f * (float)j / (LATTICE - 1);
+                const float a[3] = {xs[k][0], y, z}, b[3] = {xs[k][1], y, z};
+                long ca, cb;
+                uint32_t sa = slot_at(&r, a, &ca), sb = slot_at(&r, b, &cb);
+                if (ca == cb && ca >= 0) {
+                    (*pairs)++;
+                    shared += sa == sb;
+                }
+            }
+    if (*built) release(&r);
+    return shared;
+}
+
 /* Checks the subcell records' layout of r (k subcells); returns the
  * number of faults, and counts the cut cells in *cut. */
 static int record_faults(const cell_regions *r, uint32_t k, size_t cells, int *cut)
@@ -375,6 +424,26 @@ int main(void)
             CHECK(name, built && shared == 0 && pairs > 0,
                   "%d of %d point pairs across the wall in one cell share a region", shared, pairs);
         }
+    for (int panel = 0; panel < 2; panel++) {
+        const float aparts[] = {0.02f, 0.03f, 0.05f};
+        int shared = 0, pairs = 0, built = 1, grids = 0;
+        for (size_t ai = 0; ai < sizeof aparts / sizeof *aparts; ai++)
+            for (size_t ci = 0; ci < sizeof cell_counts / sizeof *cell_counts; ci++)
+                for (size_t oi = 0; oi < sizeof offsets / sizeof *offsets; oi++) {
+                    double h = 2.0 / cell_counts[ci];
+                    if (aparts[ai] <= 0.06 * h || aparts[ai] >= 0.25 * h)
+                        continue; /* see LAYER_OFFSET; beyond a quarter cell no cluster joins them */
+                    int p, b;
+                    shared += layers_apart(panel, aparts[ai], cell_counts[ci], offsets[oi], &p, &b);
+                    pairs += p;
+                    built &= b;
+                    grids++;
+                }
+        CHECK(panel ? "cell planes: a panel 2 to 5 cm deep against a wall stays a plane of its own"
+                    : "cell planes: a corridor 2 to 5 cm wide between walls of one polygon keeps both walls",
+              built && shared == 0 && pairs > 0 && grids > 0,
+              "%d of %d point pairs in one cell share a region (%d grids)", shared, pairs, grids);
+    }
     for (uint32_t k = 1; k <= 4; k++) {
         int faults = 0, cut = 0, ok = 1;
         for (int v = 0; v < 2 && ok; v++) {
