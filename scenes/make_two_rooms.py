@@ -6,10 +6,11 @@ leaks the bright room's light through the cells the wall cuts (the true
 ratio, and the path tracer's, is 1).
 
     python3 scenes/make_two_rooms.py OUT.gltf --thickness 0.02 --ratio 25 [--bright-off]
-        [--shell 0.1] [--yaw 12 --pitch 7]
+        [--shell 0.1] [--panel 0.04] [--yaw 12 --pitch 7]
 
 --thickness 0 makes the wall one double-sided polygon; --shell S builds the
-outer walls, floor and ceiling as slabs S thick; --yaw and --pitch turn the
+outer walls, floor and ceiling as slabs S thick; --panel D stands a
+cupboard D deep against the wall in the camera's room; --yaw and --pitch turn the
 whole scene (degrees, about y and then x), so that no wall faces a grid
 axis. The geometry is the same as tests/volume/test_two_rooms.c builds in
 memory."""
@@ -32,7 +33,7 @@ def turn(p, yaw, pitch):
     return (x, math.cos(pitch) * p[1] - math.sin(pitch) * z, math.sin(pitch) * p[1] + math.cos(pitch) * z)
 
 
-def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, yaw=0.0, pitch=0.0):
+def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel=0.0, yaw=0.0, pitch=0.0):
     """colours: the bright lamp red and the dim one blue (grey walls keep
     the channels apart), so that any red in the dim room is a leak."""
     WHITE, DIM, BRIGHT = range(3)
@@ -63,6 +64,9 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, yaw=0
         box(room, (WALL_X - thickness / 2, 0.0, -Z), (WALL_X + thickness / 2, Y, Z))
     else:
         room.quad([(WALL_X, 0.0, -Z), (WALL_X, Y, -Z), (WALL_X, Y, Z), (WALL_X, 0.0, Z)], (1.0, 0.0, 0.0))
+    if panel > 0:
+        x0 = WALL_X + thickness / 2
+        box(room, (x0, 0.0, -0.5), (x0 + panel, 0.9, 0.5))
     meshes = [room]
     for name, mat, x0, x1 in (("dim lamp", DIM, 1.0, 1.6), ("bright lamp", BRIGHT, -1.4, -0.8)):
         lamp = Mesh(name, mat)
@@ -88,10 +92,12 @@ def main():
     ap.add_argument("--colours", action="store_true", help="bright lamp red, dim lamp blue: red in the dim room is a leak")
     ap.add_argument("--shell", type=float, default=0.0,
                     help="outer walls, floor and ceiling as slabs this thick, metres (0: one polygon each)")
+    ap.add_argument("--panel", type=float, default=0.0,
+                    help="a cupboard this deep against the wall in the camera's room, metres (0: none)")
     ap.add_argument("--yaw", type=float, default=0.0, help="the scene turned about y, degrees")
     ap.add_argument("--pitch", type=float, default=0.0, help="then about x, degrees")
     a = ap.parse_args()
-    two_rooms(a.out, a.thickness, a.ratio, not a.bright_off, a.colours, a.shell, a.yaw, a.pitch)
+    two_rooms(a.out, a.thickness, a.ratio, not a.bright_off, a.colours, a.shell, a.panel, a.yaw, a.pitch)
 
 
 if __name__ == "__main__":

@@ -147,7 +147,7 @@ void harness_turn(float v[3], float yaw, float pitch)
     v[0] = x, v[1] = y;
 }
 
-size_t harness_two_rooms(float *tris, float wall, float shell, float yaw, float pitch, size_t *walls)
+size_t harness_two_rooms(float *tris, float wall, float shell, float panel, float yaw, float pitch, size_t *walls)
 {
     const float X = HARNESS_ROOMS_X, Y = HARNESS_ROOMS_Y, Z = HARNESS_ROOMS_Z, W = HARNESS_WALL_X;
     const float lo[3] = {-X, 0, -Z}, hi[3] = {X, Y, Z};
@@ -177,6 +177,10 @@ size_t harness_two_rooms(float *tris, float wall, float shell, float yaw, float 
     } else {
         const float corner[3] = {W, 0, -Z}, up[3] = {0, Y, 0}, across[3] = {0, 0, 2 * Z};
         n = harness_add_quad(tris, n, corner, up, across); /* facing +x */
+    }
+    if (panel > 0) {
+        const float plo[3] = {W + wall / 2, 0, -0.5f}, phi[3] = {W + wall / 2 + panel, 0.9f, 0.5f};
+        n = harness_add_box(tris, n, plo, phi);
     }
     *walls = n;
     const float ly = Y - 0.001f, x[2][2] = {{1.0f, 1.6f}, {-1.4f, -0.8f}};

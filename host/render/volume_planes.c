@@ -64,6 +64,7 @@ typedef struct {
     int group, order; /* the group of parallel facets; the facet's place in the cell */
     double n[3], d, area, front;
     int clear;
+    int hidden; /* against a larger facet of the other front, in its plane */
 } turned_facet;
 
 typedef struct {
@@ -256,6 +257,31 @@ static int by_group_and_offset(const void *pa, const void *pb)
     return (a->order > b->order) - (a->order < b->order);
 }
 
+/* Whether facet a, in b's plane, hides b. */
+static int hides(const turned_facet *a, const turned_facet *b)
+{
+    return a->front != b->front && dot3(a->n, b->n) > LAYER_NORMAL &&
+        (a->area > b->area || (a->area == b->area && b->front < 0));
+}
+
+/* Marks the facets (sorted by group and offset) that lie in the plane of
+ * a larger parallel facet of the other front: the face a wall standing on
+ * the floor, or a cupboard against a wall, hides in that surface. The
+ * larger one stands for the plane; the hidden one would pair with it as
+ * two faces of one solid, or as a layer beyond the facets below. Of two
+ * equal ones the one against the group's normal is hidden, so the marks
+ * do not hang on the triangles' order. */
+static void mark_hidden(turned_facet *t, size_t m, double h)
+{
+    for (size_t i = 0; i < m; i++) {
+        t[i].hidden = 0;
+        for (size_t j = i; j-- > 0 && t[j].group == t[i].group && t[i].d - t[j].d <= FACET_OFFSET * h;)
+            t[i].hidden |= hides(&t[j], &t[i]);
+        for (size_t j = i + 1; j < m && t[j].group == t[i].group && t[j].d - t[i].d <= FACET_OFFSET * h; j++)
+            t[i].hidden |= hides(&t[j], &t[i]);
+    }
+}
+
 /* Clusters one cell's facets into w->clusters; returns their count, or -1
  * out of memory. Facets fall into groups of parallel ones (within 25
  * degrees of the group's first, either way round); each group, in order
@@ -305,9 +331,11 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         for (int j = 0; j < 3; j++) t->n[j] *= s;
     }
     qsort(w->turned, m, sizeof *w->turned, by_group_and_offset);
+    mark_hidden(w->turned, m, h);
     int count = 0;
     for (size_t i = 0; i < m; i++) {
         const turned_facet *t = &w->turned[i];
+        if (t->hidden) continue;
         cluster *c = count > 0 && w->turned[i - 1].group == t->group ? &w->clusters[count - 1] : NULL;
         /* A front against the group's normal faces a front along it below
          * it; within a facet's tolerance they touch (a solid standing on
@@ -317,13 +345,10 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         if (gap) c->gap = 1;
         /* Glass joins no opaque facet, nor the opposite face of a slab. */
         int opposite = c && (t->front > 0 ? c->against : c->top_along > -HUGE_VAL);
-        /* A layer beyond a parallel facet of the same front, unless it
-         * touches a facet of the other front (the face a wall standing on
-         * the floor hides in it). */
+        /* A layer beyond a parallel facet of the same front. */
         double top = c ? (t->front > 0 ? c->top_along : c->top_against) : -HUGE_VAL;
-        double other = c ? (t->front > 0 ? c->top_against : c->top_along) : -HUGE_VAL;
         int layer = top > -HUGE_VAL && t->d - top > LAYER_OFFSET * h &&
-            dot3(t->n, t->front > 0 ? c->along_n : c->against_n) > LAYER_NORMAL && t->d - other > FACET_OFFSET * h;
+            dot3(t->n, t->front > 0 ? c->along_n : c->against_n) > LAYER_NORMAL;
         if (!c || fabs(t->d - c->sum_d / c->area) >= SAME_OFFSET * h || facing || layer || t->clear != c->clear ||
             (t->clear && opposite)) {
             c = &w->clusters[count++];

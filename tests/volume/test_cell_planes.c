@@ -231,7 +231,7 @@ static int wall_in_building(float wall, float shell, float yaw, float pitch, int
 {
     float tris[HARNESS_TWO_ROOMS_TRIANGLES * 9];
     const float degree = 3.14159265f / 180.0f;
-    size_t walls, n = harness_two_rooms(tris, wall, shell, yaw * degree, pitch * degree, &walls);
+    size_t walls, n = harness_two_rooms(tris, wall, shell, 0, yaw * degree, pitch * degree, &walls);
     cell_regions r;
     int shared = 0;
     *pairs = 0;

@@ -6,8 +6,10 @@
  * adaptive cells merging every block the geometry allows (a block that
  * held the wall would join the rooms), and with refined cells splitting
  * every cell they can (the middle planes must not undo the wall's), and
- * with fine bins in every slot; and with the whole scene turned, so that
- * the walls face no grid axis.
+ * with fine bins in every slot; with the whole scene turned, so that the
+ * walls face no grid axis; with outer walls, floor and ceiling of slabs
+ * (a cell where the wall meets them holds five or more surfaces); and
+ * with a cupboard against the wall (its front a few centimetres from it).
  *
  * (a) Leak: the bright lamp red and the dim one blue; the walls are grey,
  *     so the true red radiance in the dim room is 0 while its own blue
@@ -28,11 +30,11 @@
 #define DIM_LE 4.0f
 
 /* bright, dim: the lamps' RGB radiance; the rest as harness_two_rooms. */
-static void two_rooms(float thickness, float shell, const float bright[3], const float dim[3], float yaw, float pitch,
-                      lvcl_scene *s)
+static void two_rooms(float thickness, float shell, float panel, const float bright[3], const float dim[3], float yaw,
+                      float pitch, lvcl_scene *s)
 {
     float tris[HARNESS_TWO_ROOMS_TRIANGLES * 9];
-    size_t walls, n = harness_two_rooms(tris, thickness, shell, yaw, pitch, &walls);
+    size_t walls, n = harness_two_rooms(tris, thickness, shell, panel, yaw, pitch, &walls);
     harness_triangle_scene(tris, n, s);
     lvcl_material_desc *m = harness_materials(s, 3);
     for (int k = 0; k < 3; k++) {
@@ -69,6 +71,7 @@ typedef struct {
     double fine;     /* refined directions' peak, 0 = off */
     float yaw, pitch; /* the scene turned, degrees (turn()) */
     float shell;      /* the outer walls, floor and ceiling as slabs this thick, metres (0: one polygon each) */
+    float panel;      /* a cupboard this deep against the wall in the dim room, metres (0: none) */
 } setup;
 
 static int render(float thickness, const float bright[3], const float dim[3], const setup *u, uint64_t particles,
@@ -77,7 +80,7 @@ static int render(float thickness, const float bright[3], const float dim[3], co
     lvcl_scene scene;
     lvcl_status st = {0};
     const float degree = 3.14159265f / 180.0f;
-    two_rooms(thickness, u->shell, bright, dim, u->yaw * degree, u->pitch * degree, &scene);
+    two_rooms(thickness, u->shell, u->panel, bright, dim, u->yaw * degree, u->pitch * degree, &scene);
     lvcl_render_request req = harness_request(LVCL_MODE_LV, size, spp, u->cells, particles);
     req.volume.subcells = u->subcells;
     req.volume.offset = u->offset;
@@ -143,6 +146,10 @@ static void test_leak(void)
         {0.1f, 0.5f, 32, 2, .shell = 0.1f, .yaw = 30},
         {0.03f, 0.37f, 24, 4, .shell = 0.05f, .yaw = 12, .pitch = 7},
         {0.2f, 0.37f, 32, 4, .shell = 0.2f, .refine = REFINE_ALL},
+        {0.0f, 0.37f, 16, 2, .panel = 0.05f},
+        {0.02f, 0.5f, 12, 4, .panel = 0.03f, .shell = 0.1f},
+        {0.0f, 0.0f, 24, 0, .panel = 0.04f, .yaw = 20, .pitch = 6},
+        {0.06f, 0.92f, 16, 4, .panel = 0.3f, .shell = 0.05f},
     };
     const float ratios[] = {25.0f, 1000.0f};
     double worst = 0;
@@ -158,9 +165,9 @@ static void test_leak(void)
         double red = channel_mean(&r, 0), blue = channel_mean(&r, 2), leak = red / (ratio * blue);
         free(r.rgb);
         printf("  leak: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m, turned "
-               "%g/%g deg, %.0fx: red %.3g, blue %.3g\n",
+               "%g/%g deg, slabs %g m, cupboard %g m, %.0fx: red %.3g, blue %.3g\n",
                u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, u->yaw, u->pitch,
-               ratio, red, blue);
+               u->shell, u->panel, ratio, red, blue);
         if (!(leak <= worst)) worst = leak;
         CHECK("two rooms: the bright room's light does not leak into the dim one", blue > 0 && leak < 1e-4,
               "wall %.3f m, offset %.2f, %d cells, %d subcells, %.0fx: red / (ratio blue) = %.3g", u->thickness,

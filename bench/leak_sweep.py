@@ -1,0 +1,86 @@
+#!/usr/bin/env python3
+"""Random two-room set-ups against the light volume's leak test (issue 12):
+each draws a wall (one polygon to 20 cm), outer walls of one polygon or of
+slabs, a cupboard against the wall or none, a turn of the whole scene, a
+grid (12 to 40 cells, any offset), --subcells and a brightness ratio; the
+bright lamp is red and the dim one blue, so any red in the dim room is the
+bright room's light read through the wall (its true value, and the path
+tracer's, is 0).
+
+    python3 bench/leak_sweep.py [--seed S] [--count N] [--build build]
+
+One JSON object per set-up (its parameters, the dim room's mean red and
+blue, and leak = red / (ratio x blue)), then a summary: how many leaked
+(leak >= 1e-4, the bound of tests/volume/test_two_rooms.c) and the worst.
+Set-ups draw 10^5 particles and 4 samples of a 32 x 32 image: a leak is
+there or not, and shows at that count. Takes about a second a set-up."""
+import argparse
+import json
+import os
+import random
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes"))
+from make_two_rooms import two_rooms  # noqa: E402
+
+LEAK = 1e-4
+
+
+def draw(r):
+    return {
+        "wall_m": r.choice([0.0, 0.005, 0.02, 0.03, 0.06, 0.1, 0.2]),
+        "slabs_m": r.choice([0.0, 0.0, 0.02, 0.05, 0.1, 0.3]),
+        "cupboard_m": r.choice([0.0, 0.0, 0.03, 0.05, 0.3]),
+        "yaw_deg": r.choice([0.0, round(r.uniform(0, 90), 1)]),
+        "pitch_deg": r.choice([0.0, round(r.uniform(0, 30), 1)]),
+        "cells": r.choice([12, 16, 20, 24, 32, 40]),
+        "grid_offset": r.choice([0.0, 0.37, 0.5, round(r.random(), 2)]),
+        "subcells": r.choice([0, 2, 3, 4, 4]),
+        "ratio": r.choice([25, 1000]),
+    }
+
+
+def dim_room_mean(build, exr):
+    """The image's mean (r, g, b), as build/lvcl-compare reports it."""
+    text = subprocess.run([os.path.join(build, "lvcl-compare"), exr, exr], check=True, capture_output=True,
+                          text=True).stdout
+    return json.loads(text)["mean"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--count", type=int, default=50)
+    ap.add_argument("--build", default="build")
+    a = ap.parse_args()
+    r = random.Random(a.seed)
+    leaks, worst = 0, 0.0
+    with tempfile.TemporaryDirectory() as tmp:
+        scene, image = os.path.join(tmp, "rooms.gltf"), os.path.join(tmp, "rooms.exr")
+        for _ in range(a.count):
+            u = draw(r)
+            with open(os.devnull, "w") as quiet:
+                saved, sys.stdout = sys.stdout, quiet
+                try:
+                    two_rooms(scene, u["wall_m"], u["ratio"], True, colours=True, shell=u["slabs_m"],
+                              panel=u["cupboard_m"], yaw=u["yaw_deg"], pitch=u["pitch_deg"])
+                finally:
+                    sys.stdout = saved
+            subprocess.run([os.path.join(a.build, "lvcl"), "-q", "--mode", "lv", "--cells", str(u["cells"]),
+                            "--grid-offset", str(u["grid_offset"]), "--subcells", str(u["subcells"]),
+                            "--particles", "1e5", "--spp", "4", "--width", "32", "--height", "32", "--seed", "5",
+                            "-o", image, scene], check=True)
+            red, _, blue = dim_room_mean(a.build, image)
+            u["red"], u["blue"] = red, blue
+            u["leak"] = red / (u["ratio"] * blue) if blue > 0 else float("inf")
+            leaks += u["leak"] >= LEAK
+            worst = max(worst, u["leak"])
+            print(json.dumps(dict({"bench": "leak_sweep"}, **u)), flush=True)
+    print(json.dumps({"bench": "leak_sweep", "summary": True, "setups": a.count, "leaked": leaks,
+                      "worst_leak": worst, "bound": LEAK}))
+
+
+if __name__ == "__main__":
+    main()
