@@ -12,6 +12,11 @@
  * whichever order the triangles come in. And where a wall between two
  * rooms shares its cells with three such gaps (two shelves stacked over
  * a block against it), the wall keeps a plane: the gaps take two at most.
+ * So does a wall between two rooms built of slabs, where it meets them (a
+ * cell holds both faces of each slab: a solid's second face is spare),
+ * with the rooms turned so that no wall faces a grid axis. And a panel
+ * against a wall, or a second wall of one polygon behind it round a
+ * narrow corridor, stays a plane of its own (a layer, not one cluster).
  *
  * Holds while the gap is narrower than a quarter cell: the two surfaces
  * facing each other across it take a cell's first two planes, the
