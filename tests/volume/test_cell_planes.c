@@ -137,6 +137,17 @@ static uint32_t slot_at(const cell_regions *r, const float p[3], long *cell)
     return lvcl_volume_grid_slot_at(&r->g, r->slot, r->regions, p, cell);
 }
 
+/* Whether points a and b share a cell and its region; counts the pairs
+ * that share a cell in *pairs. */
+static int share_region(const cell_regions *r, const float a[3], const float b[3], int *pairs)
+{
+    long ca, cb;
+    uint32_t sa = slot_at(r, a, &ca), sb = slot_at(r, b, &cb);
+    if (ca != cb || ca < 0) return 0;
+    (*pairs)++;
+    return sa == sb;
+}
+
 /* Of the lattice points over the stack's footprint whose gap point shares
  * a cell with the point beyond the shelf (or inside the block), how many
  * share its region too. */
@@ -213,12 +224,7 @@ static int wall_beside_gaps(int cells, double offset, int *pairs, int *built)
         for (int j = 0; j < LATTICE; j++) {
             float z = -0.2f + 0.4f * (float)j / (LATTICE - 1);
             const float here[3] = {wall - 0.005f, heights[i], z}, there[3] = {wall + 0.025f, heights[i], z};
-            long ca, cb;
-            uint32_t a = slot_at(&r, here, &ca), b = slot_at(&r, there, &cb);
-            if (ca == cb) {
-                (*pairs)++;
-                shared += a == b;
-            }
+            shared += share_region(&r, here, there, pairs);
         }
     release(&r);
     return shared;
@@ -250,12 +256,7 @@ static int wall_in_building(float wall, float shell, float yaw, float pitch, int
                   there[3] = {HARNESS_WALL_X - wall / 2 - inset, y, z};
             harness_turn(here, yaw * degree, pitch * degree);
             harness_turn(there, yaw * degree, pitch * degree);
-            long ca, cb;
-            uint32_t a = slot_at(&r, here, &ca), b = slot_at(&r, there, &cb);
-            if (ca == cb && ca >= 0) {
-                (*pairs)++;
-                shared += a == b;
-            }
+            shared += share_region(&r, here, there, pairs);
         }
     if (*built) release(&r);
     return shared;
@@ -299,12 +300,7 @@ static int layers_apart(int panel, float apart, int cells, double offset, int *p
                 float y = (panel ? 0.95f : 0.6f) + 0.8f * (float)i / (LATTICE - 1),
                       z = -0.4f + 0.8f * (float)j / (LATTICE - 1);
                 const float a[3] = {xs[k][0], y, z}, b[3] = {xs[k][1], y, z};
-                long ca, cb;
-                uint32_t sa = slot_at(&r, a, &ca), sb = slot_at(&r, b, &cb);
-                if (ca == cb && ca >= 0) {
-                    (*pairs)++;
-                    shared += sa == sb;
-                }
+                shared += share_region(&r, a, b, pairs);
             }
     if (*built) release(&r);
     return shared;
