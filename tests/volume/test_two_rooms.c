@@ -9,7 +9,8 @@
  * with fine bins in every slot; with the whole scene turned, so that the
  * walls face no grid axis; with outer walls, floor and ceiling of slabs
  * (a cell where the wall meets them holds five or more surfaces); and
- * with a cupboard against the wall (its front a few centimetres from it).
+ * with a cupboard against the wall (its front a few centimetres from it);
+ * and with walls of rough metal and of rough plastic.
  *
  * (a) Leak: the bright lamp red and the dim one blue; the walls are grey,
  *     so the true red radiance in the dim room is 0 while its own blue
@@ -29,9 +30,15 @@
 
 #define DIM_LE 4.0f
 
+/* The walls' material: glTF's metallic, roughness and specular factors
+ * (all zero: the harness's grey diffuse). */
+typedef struct {
+    float metallic, roughness, specular;
+} finish;
+
 /* bright, dim: the lamps' RGB radiance; the rest as harness_two_rooms. */
-static void two_rooms(float thickness, float shell, float panel, const float bright[3], const float dim[3], float yaw,
-                      float pitch, lvcl_scene *s)
+static void two_rooms(float thickness, float shell, float panel, finish walls_finish, const float bright[3],
+                      const float dim[3], float yaw, float pitch, lvcl_scene *s)
 {
     float tris[HARNESS_TWO_ROOMS_TRIANGLES * 9];
     size_t walls, n = harness_two_rooms(tris, thickness, shell, panel, yaw, pitch, &walls);
@@ -39,6 +46,9 @@ static void two_rooms(float thickness, float shell, float panel, const float bri
     lvcl_material_desc *m = harness_materials(s, 3);
     for (int k = 0; k < 3; k++) {
         m[0].base_color[k] = 0.7f;
+        m[0].metallic = walls_finish.metallic;
+        m[0].roughness = walls_finish.roughness;
+        m[0].specular = walls_finish.specular;
         m[1].base_color[k] = m[2].base_color[k] = 0.0f;
         m[1].emissive[k] = dim[k];
         m[2].emissive[k] = bright[k];
@@ -72,6 +82,7 @@ typedef struct {
     float yaw, pitch; /* the scene turned, degrees (turn()) */
     float shell;      /* the outer walls, floor and ceiling as slabs this thick, metres (0: one polygon each) */
     float panel;      /* a cupboard this deep against the wall in the dim room, metres (0: none) */
+    finish walls;
 } setup;
 
 static int render(float thickness, const float bright[3], const float dim[3], const setup *u, uint64_t particles,
@@ -80,7 +91,7 @@ static int render(float thickness, const float bright[3], const float dim[3], co
     lvcl_scene scene;
     lvcl_status st = {0};
     const float degree = 3.14159265f / 180.0f;
-    two_rooms(thickness, u->shell, u->panel, bright, dim, u->yaw * degree, u->pitch * degree, &scene);
+    two_rooms(thickness, u->shell, u->panel, u->walls, bright, dim, u->yaw * degree, u->pitch * degree, &scene);
     lvcl_render_request req = harness_request(LVCL_MODE_LV, size, spp, u->cells, particles);
     req.volume.subcells = u->subcells;
     req.volume.offset = u->offset;
@@ -150,6 +161,9 @@ static void test_leak(void)
         {0.02f, 0.5f, 12, 4, .panel = 0.03f, .shell = 0.1f},
         {0.0f, 0.0f, 24, 0, .panel = 0.04f, .yaw = 20, .pitch = 6},
         {0.06f, 0.92f, 16, 4, .panel = 0.3f, .shell = 0.05f},
+        {0.02f, 0.37f, 32, 4, .walls = {1.0f, 0.3f}},
+        {0.0f, 0.5f, 16, 2, .walls = {0.0f, 0.2f, 1.0f}, .yaw = 25},
+        {0.06f, 0.0f, 24, 0, .walls = {1.0f, 0.15f}, .shell = 0.1f},
     };
     const float ratios[] = {25.0f, 1000.0f};
     double worst = 0;
@@ -164,10 +178,11 @@ static void test_leak(void)
         if (!render(u->thickness, bright, dim, u, 100000, 32, 4, &r)) return;
         double red = channel_mean(&r, 0), blue = channel_mean(&r, 2), leak = red / (ratio * blue);
         free(r.rgb);
-        printf("  leak: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m, turned "
-               "%g/%g deg, slabs %g m, cupboard %g m, %.0fx: red %.3g, blue %.3g\n",
-               u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, u->yaw, u->pitch,
-               u->shell, u->panel, ratio, red, blue);
+        printf(
+            "  leak: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m, turned "
+            "%g/%g deg, slabs %g m, cupboard %g m, metallic %g roughness %g specular %g, %.0fx: red %.3g, blue %.3g\n",
+            u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, u->yaw, u->pitch,
+            u->shell, u->panel, u->walls.metallic, u->walls.roughness, u->walls.specular, ratio, red, blue);
         if (!(leak <= worst)) worst = leak;
         CHECK("two rooms: the bright room's light does not leak into the dim one", blue > 0 && leak < 1e-4,
               "wall %.3f m, offset %.2f, %d cells, %d subcells, %.0fx: red / (ratio blue) = %.3g", u->thickness,
@@ -189,7 +204,8 @@ static void test_on_off(void)
                             {0.02f, 0.37f, 32, 4, .refine = REFINE_ALL},
                             {0.0f, 0.5f, 16, 0, .refine = REFINE_ALL},
                             {0.02f, 0.37f, 32, 4, .yaw = 30},
-                            {0.0f, 0.5f, 16, 2, .yaw = 17, .pitch = 11}};
+                            {0.0f, 0.5f, 16, 2, .yaw = 17, .pitch = 11},
+                            {0.02f, 0.37f, 24, 4, .shell = 0.1f}};
     const int size = 32, block = 8, nb = size / block;
     for (size_t i = 0; i < sizeof setups / sizeof *setups; i++) {
         const setup *u = &setups[i];
@@ -217,9 +233,10 @@ static void test_on_off(void)
         for (int k = 0; k < nb * nb; k++) var += (d[k] - mean) * (d[k] - mean) / (nb * nb - 1);
         for (int k = 0; k < nb * nb; k++) worst = fmax(worst, fabs(d[k]) / sqrt(var));
         printf("  on/off: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m, turned "
-               "%g/%g deg: mean ratio %.4f, worst block %.2f standard deviations (block difference sd %.3g)\n",
+               "%g/%g deg, slabs %g m: mean ratio %.4f, worst block %.2f standard deviations (block "
+               "difference sd %.3g)\n",
                u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, u->yaw, u->pitch,
-               ratio, worst, sqrt(var));
+               u->shell, ratio, worst, sqrt(var));
         CHECK("two rooms: the dim room's mean is the same with the bright lamp on and off within 3%",
               fabs(ratio - 1) < 0.03, "wall %.3f m, offset %.2f, %d cells, %d subcells: on / off %.4f", u->thickness,
               u->offset, u->cells, u->subcells, ratio);
