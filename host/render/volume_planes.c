@@ -72,9 +72,7 @@ typedef struct {
     double top_along;             /* the largest offset of a front along the group's normal; -HUGE_VAL if none */
     double top_against;           /* and of a front against it */
     double along_n[3], against_n[3]; /* the normals of those two facets */
-    int against;                  /* it holds a front against the group's normal */
-    int clear, gap;               /* of glass; it faces another cluster across a gap */
-    double along_area;            /* the area of its fronts along the group's normal */
+    int clear, gap;                  /* of glass; it faces another cluster across a gap */
     int group;                    /* of parallel clusters (cluster_cell) */
     int backs_onto_previous;      /* it and the group's cluster below it face away from each other (solid between) */
 } cluster;
@@ -338,13 +336,12 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         if (t->hidden) continue;
         cluster *c = count > 0 && w->turned[i - 1].group == t->group ? &w->clusters[count - 1] : NULL;
         /* A front against the group's normal faces a front along it below
-         * it; within a facet's tolerance they touch (a solid standing on
-         * the floor hides its bottom face in the floor's plane). */
+         * it; within a facet's tolerance they touch. */
         int facing = c && t->front < 0 && t->d - c->top_along > FACET_OFFSET * h;
         int gap = facing && t->d - c->top_along < SAME_OFFSET * h;
         if (gap) c->gap = 1;
         /* Glass joins no opaque facet, nor the opposite face of a slab. */
-        int opposite = c && (t->front > 0 ? c->against : c->top_along > -HUGE_VAL);
+        int opposite = c && (t->front > 0 ? c->top_against : c->top_along) > -HUGE_VAL;
         /* A layer beyond a parallel facet of the same front. */
         double top = c ? (t->front > 0 ? c->top_along : c->top_against) : -HUGE_VAL;
         int layer = top > -HUGE_VAL && t->d - top > LAYER_OFFSET * h &&
@@ -360,23 +357,21 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         c->area += t->area;
         /* Sorted by offset: this facet is the cluster's topmost of its front. */
         if (t->front > 0) {
-            c->top_along = t->d, c->along_area += t->area;
+            c->top_along = t->d;
             memcpy(c->along_n, t->n, sizeof c->along_n);
         } else {
-            c->top_against = t->d, c->against = 1;
+            c->top_against = t->d;
             memcpy(c->against_n, t->n, sizeof c->against_n);
         }
     }
     /* Opaque neighbours of a group whose fronts face away from each other,
-     * the lower one's mostly against the normal and the upper one's mostly
-     * along it: a solid's two faces (a slab thicker than a quarter cell).
-     * Mostly: a wall standing on the floor hides its bottom face in the
-     * floor's plane, facing the other way. */
+     * the lower one's all against the normal and the upper one's all along
+     * it: a solid's two faces (a slab thicker than a quarter cell). */
     for (int i = 1; i < count; i++) {
         const cluster *below = &w->clusters[i - 1];
         cluster *c = &w->clusters[i];
         c->backs_onto_previous = c->group == below->group && !c->clear && !below->clear &&
-            2 * below->along_area < below->area && 2 * c->along_area > c->area;
+            below->top_along == -HUGE_VAL && c->top_against == -HUGE_VAL;
     }
     return count;
 }
