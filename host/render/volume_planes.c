@@ -334,7 +334,7 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
     for (size_t i = 0; i < m; i++) {
         const turned_facet *t = &w->turned[i];
         if (t->hidden) continue;
-        cluster *c = count > 0 && w->turned[i - 1].group == t->group ? &w->clusters[count - 1] : NULL;
+        cluster *c = count > 0 && w->clusters[count - 1].group == t->group ? &w->clusters[count - 1] : NULL;
         /* A front against the group's normal faces a front along it below
          * it; within a facet's tolerance they touch. */
         int facing = c && t->front < 0 && t->d - c->top_along > FACET_OFFSET * h;
