@@ -139,8 +139,9 @@ size_t harness_add_box(float *t, size_t n, const float lo[3], const float hi[3])
     return n;
 }
 
-void harness_turn(float v[3], float yaw, float pitch)
+void harness_turn(float v[3], float yaw_deg, float pitch_deg)
 {
+    const float yaw = yaw_deg * 3.14159265f / 180.0f, pitch = pitch_deg * 3.14159265f / 180.0f;
     float x = cosf(yaw) * v[0] + sinf(yaw) * v[2], z = -sinf(yaw) * v[0] + cosf(yaw) * v[2];
     float y = cosf(pitch) * v[1] - sinf(pitch) * z;
     v[2] = sinf(pitch) * v[1] + cosf(pitch) * z;

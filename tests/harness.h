@@ -25,8 +25,8 @@ void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *scene);
 size_t harness_add_quad(float *t, size_t n, const float a[3], const float u[3], const float v[3]);
 size_t harness_add_box(float *t, size_t n, const float lo[3], const float hi[3]);
 
-/* v turned by yaw about y, then by pitch about x (radians), about the origin. */
-void harness_turn(float v[3], float yaw, float pitch);
+/* v turned by yaw about y, then by pitch about x (degrees), about the origin. */
+void harness_turn(float v[3], float yaw_deg, float pitch_deg);
 
 /* Two closed rooms sharing a wall (issue 12; scenes/make_two_rooms.py
  * builds the same): x in [-X, X], floor y = 0 to ceiling Y, z in [-Z, Z],

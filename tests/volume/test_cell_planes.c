@@ -241,8 +241,7 @@ static int wall_in_building(float wall, float shell, float yaw, float pitch, int
                             int *built)
 {
     float tris[HARNESS_TWO_ROOMS_TRIANGLES * 9];
-    const float degree = 3.14159265f / 180.0f;
-    size_t walls, n = harness_two_rooms(tris, wall, shell, 0, yaw * degree, pitch * degree, &walls);
+    size_t walls, n = harness_two_rooms(tris, wall, shell, 0, yaw, pitch, &walls);
     cell_regions r;
     int shared = 0;
     *pairs = 0;
@@ -254,8 +253,8 @@ static int wall_in_building(float wall, float shell, float yaw, float pitch, int
             float z = -HARNESS_ROOMS_Z + inset + z_span * (float)j / (2 * LATTICE - 1);
             float here[3] = {HARNESS_WALL_X + wall / 2 + inset, y, z},
                   there[3] = {HARNESS_WALL_X - wall / 2 - inset, y, z};
-            harness_turn(here, yaw * degree, pitch * degree);
-            harness_turn(there, yaw * degree, pitch * degree);
+            harness_turn(here, yaw, pitch);
+            harness_turn(there, yaw, pitch);
             shared += share_region(&r, here, there, pairs);
         }
     if (*built) release(&r);

@@ -46,13 +46,13 @@ static void two_rooms(float thickness, float shell, float panel, finish walls_fi
     lvcl_material_desc *m = harness_materials(s, 3);
     for (int k = 0; k < 3; k++) {
         m[0].base_color[k] = 0.7f;
-        m[0].metallic = walls_finish.metallic;
-        m[0].roughness = walls_finish.roughness;
-        m[0].specular = walls_finish.specular;
         m[1].base_color[k] = m[2].base_color[k] = 0.0f;
         m[1].emissive[k] = dim[k];
         m[2].emissive[k] = bright[k];
     }
+    m[0].metallic = walls_finish.metallic;
+    m[0].roughness = walls_finish.roughness;
+    m[0].specular = walls_finish.specular;
     for (size_t i = walls; i < n; i++) s->tri_material[i] = i < walls + 2 ? 1 : 2;
     /* The camera in the dim room, looking at the wall. */
     float eye[3] = {1.9f, 1.2f, 0.0f}, target[3] = {HARNESS_WALL_X, 1.1f, 0.0f};
@@ -79,7 +79,7 @@ typedef struct {
     float cell_size; /* metres, 0: from cells */
     double refine;   /* refined cells' density, 0 = off */
     double fine;     /* refined directions' peak, 0 = off */
-    float yaw, pitch; /* the scene turned, degrees (turn()) */
+    float yaw, pitch; /* the scene turned, degrees (harness_turn) */
     float shell;      /* the outer walls, floor and ceiling as slabs this thick, metres (0: one polygon each) */
     float panel;      /* a cupboard this deep against the wall in the dim room, metres (0: none) */
     finish walls;
@@ -90,8 +90,7 @@ static int render(float thickness, const float bright[3], const float dim[3], co
 {
     lvcl_scene scene;
     lvcl_status st = {0};
-    const float degree = 3.14159265f / 180.0f;
-    two_rooms(thickness, u->shell, u->panel, u->walls, bright, dim, u->yaw * degree, u->pitch * degree, &scene);
+    two_rooms(thickness, u->shell, u->panel, u->walls, bright, dim, u->yaw, u->pitch, &scene);
     lvcl_render_request req = harness_request(LVCL_MODE_LV, size, spp, u->cells, particles);
     req.volume.subcells = u->subcells;
     req.volume.offset = u->offset;
