@@ -5,12 +5,15 @@ the dim room with the bright lamp on and off tells whether the light volume
 leaks the bright room's light through the cells the wall cuts (the true
 ratio, and the path tracer's, is 1).
 
-    python3 scenes/make_two_rooms.py OUT.gltf --thickness 0.02 --ratio 25 [--bright-off]
-        [--shell 0.1] [--panel 0.04] [--yaw 12 --pitch 7]
+    python3 scenes/make_two_rooms.py OUT.gltf --thickness 0.02 --ratio 25 [--bright-off | --dim-off]
+        [--shell 0.1] [--panel 0.04] [--door 0.1] [--yaw 12 --pitch 7]
 
 --thickness 0 makes the wall one double-sided polygon; --shell S builds the
 outer walls, floor and ceiling as slabs S thick; --panel D stands a
-cupboard D deep against the wall in the camera's room; --yaw and --pitch turn the
+cupboard D deep against the wall in the camera's room; --door W leaves a
+doorway W wide and 2 m tall in the wall, so that with --dim-off the
+camera's room is lit only through it (issue 14's door ajar, where guided
+paths help most); --yaw and --pitch turn the
 whole scene (degrees, about y and then x), so that no wall faces a grid
 axis. The geometry is the same as tests/volume/test_two_rooms.c builds in
 memory."""
@@ -33,14 +36,22 @@ def turn(p, yaw, pitch):
     return (x, math.cos(pitch) * p[1] - math.sin(pitch) * z, math.sin(pitch) * p[1] + math.cos(pitch) * z)
 
 
-def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel=0.0, yaw=0.0, pitch=0.0):
+DOOR_Z, DOOR_TOP = -0.6, 2.0             # a doorway's near edge and its height
+
+
+def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel=0.0, yaw=0.0, pitch=0.0,
+              door=0.0, dim_on=True):
     """colours: the bright lamp red and the dim one blue (grey walls keep
     the channels apart), so that any red in the dim room is a leak."""
     WHITE, DIM, BRIGHT = range(3)
-    dim_f, dim_s = emission((0.0, 0.0, DIM_LE) if colours else (DIM_LE,) * 3)
+    dim_le = DIM_LE if dim_on else 0.0
     bright_le = DIM_LE * ratio if bright_on else 0.0
-    materials = [lambert("white", (0.7, 0.7, 0.7)),
-                 lambert("dim lamp", (0.0, 0.0, 0.0), emissive=dim_f, strength=dim_s)]
+    materials = [lambert("white", (0.7, 0.7, 0.7))]
+    if dim_on:
+        f, s = emission((0.0, 0.0, dim_le) if colours else (dim_le,) * 3)
+        materials.append(lambert("dim lamp", (0.0, 0.0, 0.0), emissive=f, strength=s))
+    else:
+        materials.append(lambert("dim lamp (off)", (0.0, 0.0, 0.0)))
     if bright_on:
         f, s = emission((bright_le, 0.0, 0.0) if colours else (bright_le,) * 3)
         materials.append(lambert("bright lamp", (0.0, 0.0, 0.0), emissive=f, strength=s))
@@ -60,10 +71,15 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
                 box(room, tuple(slo), tuple(shi))
     else:
         box(room, lo, hi, inward=True)
-    if thickness > 0:
-        box(room, (WALL_X - thickness / 2, 0.0, -Z), (WALL_X + thickness / 2, Y, Z))
-    else:
-        room.quad([(WALL_X, 0.0, -Z), (WALL_X, Y, -Z), (WALL_X, Y, Z), (WALL_X, 0.0, Z)], (1.0, 0.0, 0.0))
+    # The wall in pieces round the doorway (one piece without one):
+    # (z0, z1, y0) spans, full height from y0.
+    pieces = [(-Z, DOOR_Z, 0.0), (DOOR_Z + door, Z, 0.0), (DOOR_Z, DOOR_Z + door, DOOR_TOP)] if door > 0 \
+        else [(-Z, Z, 0.0)]
+    for z0, z1, y0 in pieces:
+        if thickness > 0:
+            box(room, (WALL_X - thickness / 2, y0, z0), (WALL_X + thickness / 2, Y, z1))
+        else:
+            room.quad([(WALL_X, y0, z0), (WALL_X, Y, z0), (WALL_X, Y, z1), (WALL_X, y0, z1)], (1.0, 0.0, 0.0))
     if panel > 0:
         x0 = WALL_X + thickness / 2
         box(room, (x0, 0.0, -0.5), (x0 + panel, 0.9, 0.5))
@@ -79,8 +95,8 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
     eye, target = turn((1.9, 1.2, 0.0), yaw, pitch), turn((WALL_X, 1.1, 0.0), yaw, pitch)
     camera = {"yfov": math.radians(70.0), "aspect": 1.0, "translation": list(eye), "rotation": look_at(eye, target)}
     write_gltf(path, meshes, materials, camera,
-               "two closed rooms sharing a %g m wall at x = %g; lamps %g (camera's room) and %g" %
-               (thickness, WALL_X, DIM_LE, bright_le))
+               "two closed rooms sharing a %g m wall at x = %g%s; lamps %g (camera's room) and %g" %
+               (thickness, WALL_X, ", a doorway %g m wide" % door if door > 0 else "", dim_le, bright_le))
 
 
 def main():
@@ -89,15 +105,21 @@ def main():
     ap.add_argument("--thickness", type=float, default=0.02, help="wall thickness, metres (0: one polygon)")
     ap.add_argument("--ratio", type=float, default=25.0, help="bright lamp radiance over the dim one's")
     ap.add_argument("--bright-off", action="store_true", help="the bright room's lamp emits nothing")
+    ap.add_argument("--dim-off", action="store_true", help="the camera's room's lamp emits nothing")
     ap.add_argument("--colours", action="store_true", help="bright lamp red, dim lamp blue: red in the dim room is a leak")
     ap.add_argument("--shell", type=float, default=0.0,
                     help="outer walls, floor and ceiling as slabs this thick, metres (0: one polygon each)")
     ap.add_argument("--panel", type=float, default=0.0,
                     help="a cupboard this deep against the wall in the camera's room, metres (0: none)")
+    ap.add_argument("--door", type=float, default=0.0,
+                    help="a doorway this wide (2 m tall) in the wall, metres (0: none)")
     ap.add_argument("--yaw", type=float, default=0.0, help="the scene turned about y, degrees")
     ap.add_argument("--pitch", type=float, default=0.0, help="then about x, degrees")
     a = ap.parse_args()
-    two_rooms(a.out, a.thickness, a.ratio, not a.bright_off, a.colours, a.shell, a.panel, a.yaw, a.pitch)
+    if a.bright_off and a.dim_off:
+        ap.error("--bright-off and --dim-off together leave the scene dark")
+    two_rooms(a.out, a.thickness, a.ratio, not a.bright_off, a.colours, a.shell, a.panel, a.yaw, a.pitch, a.door,
+              not a.dim_off)
 
 
 if __name__ == "__main__":

@@ -139,6 +139,18 @@ size_t harness_add_box(float *t, size_t n, const float lo[3], const float hi[3])
     return n;
 }
 
+size_t harness_add_room(float *t, size_t n, const float lo[3], const float hi[3])
+{
+    size_t end = harness_add_box(t, n, lo, hi);
+    for (size_t i = n; i < end; i++) /* turned inward: swap each triangle's last two corners */
+        for (int k = 0; k < 3; k++) {
+            float c = t[9 * i + 3 + k];
+            t[9 * i + 3 + k] = t[9 * i + 6 + k];
+            t[9 * i + 6 + k] = c;
+        }
+    return end;
+}
+
 void harness_turn(float v[3], float yaw_deg, float pitch_deg)
 {
     const float yaw = yaw_deg * 3.14159265f / 180.0f, pitch = pitch_deg * 3.14159265f / 180.0f;
@@ -164,13 +176,7 @@ size_t harness_two_rooms(float *tris, float wall, float shell, float panel, floa
                 n = harness_add_box(tris, n, slo, shi);
             }
     } else {
-        n = harness_add_box(tris, n, lo, hi);
-        for (size_t i = 0; i < n; i++) /* turned inward: swap each triangle's last two corners */
-            for (int k = 0; k < 3; k++) {
-                float c = tris[9 * i + 3 + k];
-                tris[9 * i + 3 + k] = tris[9 * i + 6 + k];
-                tris[9 * i + 6 + k] = c;
-            }
+        n = harness_add_room(tris, n, lo, hi);
     }
     if (wall > 0) {
         const float wlo[3] = {W - wall / 2, 0, -Z}, whi[3] = {W + wall / 2, Y, Z};

@@ -20,10 +20,12 @@ void harness_build(const lvcl_device *dev, lvcl_program *prog);
 void harness_triangle_scene(const float *tris, size_t count, lvcl_scene *scene);
 
 /* Appends to the triangle list t (9 floats each, n so far) the quad from
- * corner a along edges u and v, facing u x v, or the box lo..hi with its
- * faces facing out; returns the new count. */
+ * corner a along edges u and v, facing u x v, the box lo..hi with its
+ * faces facing out, or the room lo..hi (a box facing in); returns the new
+ * count. */
 size_t harness_add_quad(float *t, size_t n, const float a[3], const float u[3], const float v[3]);
 size_t harness_add_box(float *t, size_t n, const float lo[3], const float hi[3]);
+size_t harness_add_room(float *t, size_t n, const float lo[3], const float hi[3]);
 
 /* v turned by yaw about y, then by pitch about x (degrees), about the origin. */
 void harness_turn(float v[3], float yaw_deg, float pitch_deg);

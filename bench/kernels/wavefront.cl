@@ -23,7 +23,8 @@ inline lv_path lv_wf_load(uint i, __global const float4 *ray_origin, __global co
     p.prev_delta = as_int(l.w);
     p.depth = depth[i].x;
     p.eta_scale = as_float(depth[i].y);
-    p.rough = 0u; /* only guided paths count them */
+    p.rough = 0u; /* only guided paths count them and keep a level */
+    p.level = 0.0f;
     p.chain.from = cf.xyz;
     p.chain.pdf = cf.w;
     p.chain.dir = cd.xyz;

@@ -20,6 +20,7 @@ typedef struct {
     uint depth;           /* ray's number among the segments, from 1 */
     uint rough;           /* rough surfaces passed (guided paths' guide serves the first LV_GUIDE_VERTICES) */
     lv_glass_chain chain; /* the delta scatters since the last vertex that sampled lights */
+    float level;          /* guided paths: the volume's light at the first rough surface with any (lv_guide_roulette) */
 } lv_path;
 
 inline lv_path lv_path_start(lv_ray r)
@@ -33,6 +34,7 @@ inline lv_path lv_path_start(lv_ray r)
     p.prev_delta = 1; /* the camera ray counts as a delta sample */
     p.depth = 1u;
     p.rough = 0u;
+    p.level = 0.0f;
     p.chain = lv_glass_chain_start((float3)(0.0f), r.dir, 0.0f, 0);
     return p;
 }
@@ -51,7 +53,7 @@ __attribute__((always_inline)) inline int lv_path_shade(const lv_scene *sc, cons
                                                         lv_rng *rng, uint max_depth, int see_through,
                                                         lv_shadow_ray *shadow, int *has_shadow)
 {
-    const lv_walk walk = {LV_RADIANCE, LV_ROULETTE_ON, (float3)(p->eta_scale)};
+    lv_walk walk = {LV_RADIANCE, LV_ROULETTE_ON, (float3)(p->eta_scale)};
     *has_shadow = 0;
     if (h.tri == LV_NO_HIT) return 0;
     lv_surface s = lv_surface_at(sc, p->ray, h);
@@ -69,9 +71,11 @@ __attribute__((always_inline)) inline int lv_path_shade(const lv_scene *sc, cons
     /* The guide serves the surfaces whose light the volume may answer for
      * in lv mode (rough, opaque, no delta lobe), the first few on a path. */
     int rough = guide && lv_bsdf_gathers(sh.b.type, sh.b.alpha);
+    uint slot = rough ? lv_guide_slot(guide, s.p, sh.ng_out) : LV_EMPTY_CELL;
     lv_guide_vertex gv;
-    int guided = rough && p->rough < LV_GUIDE_VERTICES && lv_guide_at(guide, s.p, sh.f.n, sh.ng_out, &gv);
+    int guided = rough && p->rough < LV_GUIDE_VERTICES && lv_guide_at(guide, slot, s.p, sh.f.n, sh.ng_out, &gv);
     p->rough += rough ? 1u : 0u;
+    if (rough) walk.reference *= lv_guide_roulette(guide, slot, &p->level);
     if (p->depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b) &&
         lv_light_sample_ray(sc, &s, h, &sh, guided ? &gv : 0, rng, shadow)) {
         shadow->li = p->beta * shadow->li;

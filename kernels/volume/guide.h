@@ -228,19 +228,57 @@ inline int lv_guide_lobe_only(lv_guide_vertex *gv, float lobe)
     return lobe > 0.0f;
 }
 
+/* The slot whose light a rough surface at p (geometric normal ng, on the
+ * side light arrives from) reads: the region of the cell just in front. */
+inline uint lv_guide_slot(const lv_guide *g, float3 p, float3 ng)
+{
+    return lv_grid_slot_at(&g->grid, lv_front_point(&g->grid, p, ng));
+}
+
+/* The mean radiance (luminance, over all its bins) of the indirect light
+ * that slot holds, 0 where it holds none: how much light a path going on
+ * from there can expect to find, up to the surface's reflectance. */
+inline float lv_guide_level(const lv_guide *g, uint slot)
+{
+    if (slot == LV_EMPTY_CELL) return 0.0f;
+    float lit = g->grid.lit_volume[slot];
+    if (!(lit > 0.0f)) return 0.0f;
+    uint n = lv_slot_dirs(&g->grid, slot), bins = 2u * n * n, rooms = bins / g->grid.g.bins;
+    __global const float *stats = g->stats + 2 * (size_t)LV_TALLY_SET_OF(g->grid.tally_slot[slot]);
+    float sum = 0.0f;
+    for (uint r = 0; r < rooms; r++) sum += stats[2 * r];
+    return sum / (float)bins * lv_tally_to_radiance(&g->grid, lit, n);
+}
+
+/* Roulette by the volume's light (guided paths): where a path reaches a
+ * part of the scene brighter than its first rough surface with light (the
+ * slots' levels), its odds of going on rise in proportion, up to
+ * LV_ROULETTE_BRIGHTER times plain roulette's (and at most its 0.95), so
+ * that paths into the lit room behind a door ajar live on. Returns the
+ * factor for roulette's reference (scatter.h), between
+ * 1 / LV_ROULETTE_BRIGHTER and 1, and keeps the first level in *first.
+ * The odds never fall below plain roulette's, so a wrong volume costs
+ * time, never noise; any odds keep the estimate unbiased. */
+#define LV_ROULETTE_BRIGHTER 16.0f
+inline float lv_guide_roulette(const lv_guide *g, uint slot, float *first)
+{
+    float level = lv_guide_level(g, slot);
+    if (!(*first > 0.0f)) *first = level;
+    return level > *first ? fmax(*first / level, 1.0f / LV_ROULETTE_BRIGHTER) : 1.0f;
+}
+
 /* Sets up the guide at surface point p, with shading normal ns and
- * geometric normal ng on the side light arrives from. Reads the region of
- * the cell in front of p, where that side's light is tallied. Its lobe of
- * concentrated light takes its part of the guide's share first
- * (lv_guide_lobe), the bins the rest where their peak test passes. Where
- * the bins toward the lights hold a share m of its light (at least
- * LV_GUIDE_MIN_LIGHT_MASS), directions toward the lights get m of the
- * bins' share. Returns 0 (share 0) where the volume holds no light there,
- * or none worth a guide. */
-inline int lv_guide_at(const lv_guide *g, float3 p, float3 ns, float3 ng, lv_guide_vertex *gv)
+ * geometric normal ng on the side light arrives from. Reads `slot`, the
+ * region of the cell in front of p (lv_guide_slot), where that side's
+ * light is tallied. Its lobe of concentrated light takes its part of the
+ * guide's share first (lv_guide_lobe), the bins the rest where their peak
+ * test passes. Where the bins toward the lights hold a share m of its
+ * light (at least LV_GUIDE_MIN_LIGHT_MASS), directions toward the lights
+ * get m of the bins' share. Returns 0 (share 0) where the volume holds no
+ * light there, or none worth a guide. */
+inline int lv_guide_at(const lv_guide *g, uint slot, float3 p, float3 ns, float3 ng, lv_guide_vertex *gv)
 {
     gv->share = gv->lobe_share = 0.0f;
-    uint slot = lv_grid_slot_at(&g->grid, lv_front_point(&g->grid, p, ng));
     if (slot == LV_EMPTY_CELL) return 0;
     uint set = LV_TALLY_SET_OF(g->grid.tally_slot[slot]);
     gv->n = lv_slot_dirs(&g->grid, slot);
