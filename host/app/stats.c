@@ -117,10 +117,11 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
                 ",\n  \"guided_choice\": {\"guided_cost\": %.6g, \"plain_cost\": %.6g, \"paths\": \"%s\", "
                 "\"guided_cost_error\": %.6g, \"plain_cost_error\": %.6g, \"guide_noise\": %.6g, "
                 "\"guide_noise_per_particle\": %.6g, \"seconds_per_particle\": %.6g, "
-                "\"planned_particles\": %llu, \"measure_seconds\": %.4f, \"pilot_seconds\": %.4f}",
+                "\"planned_particles\": %llu, \"measure_seconds\": %.4f, \"pilot_seconds\": %.4f, "
+                "\"pilot_spp\": %d}",
                 g->guided_cost, g->plain_cost, g->plain ? "plain" : "guided", g->guided_cost_error, g->plain_cost_error,
                 g->guide_noise, g->guide_noise_per_particle, g->seconds_per_particle,
-                (unsigned long long)g->planned_particles, g->measure_seconds, g->pilot_seconds);
+                (unsigned long long)g->planned_particles, g->measure_seconds, g->pilot_seconds, g->pilot_spp);
     /* Each device's share of the work. */
     fprintf(f, ",\n  \"devices\": [");
     for (int d = 0; d < devices; d++) {

@@ -75,6 +75,7 @@ typedef struct {
     int plain;                       /* the path tracer's paths rendered the image: the plan's error was the lower */
     double measure_seconds;          /* the measured passes and their pilots */
     double pilot_seconds;            /* the pilots alone */
+    int pilot_spp;                   /* samples per pixel of each pilot, by the budget and a warm-up sample's time */
 } lvcl_guided_report;
 
 /* One device's share of the last camera pass. */

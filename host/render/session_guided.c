@@ -25,10 +25,17 @@
 #define FIRST_PASS (1u << 17)
 /* A trace slower than measured stops this far past its planned time. */
 #define PLAN_SLACK 1.1
-/* Samples per pixel of each pilot, at the image's own size: half-size
+/* Samples per pixel of each pilot, at the image's own size (half-size
  * pilots favoured the guide by 10-25% against whole renders, their pixels
- * averaging over more of what it does not help with (docs/guided.md). */
-#define PILOT_SPP 2
+ * averaging over more of what it does not help with): as many as the six
+ * pilot images can take in PILOT_SHARE of the budget, from PILOT_SPP_MIN
+ * to PILOT_SPP_MAX. Few samples miss the rare long paths whose weight
+ * roulette raised, most of plain paths' noise where light comes through a
+ * doorway: 2 samples measured guided paths' cost there at 0.85 of plain
+ * paths', 8 at 0.6 (docs/guided.md). */
+#define PILOT_SPP_MIN 2
+#define PILOT_SPP_MAX 8
+#define PILOT_SHARE 0.05
 
 /* Traces the volume vs asks for on every device and fills each device's
  * guide table from it. */
@@ -43,29 +50,44 @@ static lvcl_error trace_guide(lvcl_session *s, const lvcl_volume_settings *vs, l
 /* Before a timed render: a small trace, its guide table and the warm-up
  * images (lvcl_session_warm_camera_pass) of guided and of plain paths,
  * thrown away (the timed trace starts a new volume), so that neither the
- * budget nor the pilots pay for PoCL's first-launch compiles. */
+ * budget nor the pilots pay for PoCL's first-launch compiles; then one
+ * guided sample of the image, whose seconds go to *sample_seconds. */
 static lvcl_error warm_up(lvcl_session *s, const lvcl_render_request *req, const lvcl_render_request *plain,
-                          const lvcl_volume_settings *vs, lvcl_status *st)
+                          const lvcl_volume_settings *vs, double *sample_seconds, lvcl_status *st)
 {
     lvcl_volume_settings warm = *vs;
     warm.particles = LVCL_WARM_UP_PARTICLES;
     warm.progress = 0;
     lvcl_error e = trace_guide(s, &warm, st);
     if (!e) e = lvcl_session_warm_camera_pass(s, req, st);
-    return e ? e : lvcl_session_warm_camera_pass(s, plain, st);
+    if (!e) e = lvcl_session_warm_camera_pass(s, plain, st);
+    lvcl_render_result img = {0};
+    double t = lvcl_seconds();
+    if (!e) e = lvcl_session_pilot(s, req, 1, 0, 1, &img, st);
+    *sample_seconds = lvcl_seconds() - t;
+    free(img.rgb);
+    return e;
 }
 
-/* Two pilots of req's paths, of samples [0, PILOT_SPP) and
- * [PILOT_SPP, 2 PILOT_SPP) whatever the guide, as pair *pairs: into
- * img[2 *pairs] and img[2 *pairs + 1], their seconds into seconds[*pairs]
- * and added to *spent; counts the pair. */
-static lvcl_error pilot_pair(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *img, double *seconds,
-                             int *pairs, double *spent, lvcl_status *st)
+/* Pilot samples per pixel for a budget of `budget` seconds where one
+ * sample of the image takes sample_seconds (the header's PILOT_SHARE). */
+static int pilot_spp(double budget, double sample_seconds)
+{
+    double spp = PILOT_SHARE * budget / (6.0 * fmax(sample_seconds, 1e-6));
+    return spp >= PILOT_SPP_MAX ? PILOT_SPP_MAX : spp <= PILOT_SPP_MIN ? PILOT_SPP_MIN : (int)spp;
+}
+
+/* Two pilots of req's paths, of samples [0, spp) and [spp, 2 spp)
+ * whatever the guide, as pair *pairs: into img[2 *pairs] and
+ * img[2 *pairs + 1], their seconds into seconds[*pairs] and added to
+ * *spent; counts the pair. */
+static lvcl_error pilot_pair(lvcl_session *s, const lvcl_render_request *req, int spp, lvcl_render_result *img,
+                             double *seconds, int *pairs, double *spent, lvcl_status *st)
 {
     lvcl_render_result *pair = &img[2 * *pairs];
     double t = lvcl_seconds();
-    lvcl_error e = lvcl_session_pilot(s, req, 1, 0, PILOT_SPP, &pair[0], st);
-    if (!e) e = lvcl_session_pilot(s, req, 1, PILOT_SPP, PILOT_SPP, &pair[1], st);
+    lvcl_error e = lvcl_session_pilot(s, req, 1, 0, spp, &pair[0], st);
+    if (!e) e = lvcl_session_pilot(s, req, 1, spp, spp, &pair[1], st);
     seconds[*pairs] = lvcl_seconds() - t;
     *spent += seconds[*pairs];
     ++*pairs;
@@ -103,7 +125,8 @@ static lvcl_error trace_more(lvcl_session *s, const lvcl_volume_settings *vs, ui
  * (the header's) and the trace it asks for. With --particles the trace is
  * those particles, whole, and the costs only choose the paths. */
 static lvcl_error plan_guide(lvcl_session *s, const lvcl_render_request *req, const lvcl_render_request *plain,
-                             const lvcl_volume_settings *vs, double end, lvcl_guided_report *g, lvcl_status *st)
+                             const lvcl_volume_settings *vs, double end, int spp, lvcl_guided_report *g,
+                             lvcl_status *st)
 {
     double start = lvcl_seconds();
     lvcl_volume_settings pass = *vs;
@@ -116,7 +139,7 @@ static lvcl_error plan_guide(lvcl_session *s, const lvcl_render_request *req, co
     double seconds[3] = {0};
     int pairs = 0;
     lvcl_error e = trace_guide(s, &pass, st);
-    if (!e && !fixed) e = pilot_pair(s, req, img, seconds, &pairs, &g->pilot_seconds, st);
+    if (!e && !fixed) e = pilot_pair(s, req, spp, img, seconds, &pairs, &g->pilot_seconds, st);
     /* Unless that took a quarter of the budget already, which is better
      * spent on paths than on measuring: the guide doubles. */
     int second = !e && !fixed && lvcl_seconds() - start < (end - start) / 4;
@@ -126,8 +149,8 @@ static lvcl_error plan_guide(lvcl_session *s, const lvcl_render_request *req, co
         g->seconds_per_particle = (lvcl_seconds() - t) / first;
         traced = 2 * (uint64_t)first;
     }
-    if (!e && (second || fixed)) e = pilot_pair(s, req, img, seconds, &pairs, &g->pilot_seconds, st);
-    if (!e) e = pilot_pair(s, plain, img, seconds, &pairs, &g->pilot_seconds, st);
+    if (!e && (second || fixed)) e = pilot_pair(s, req, spp, img, seconds, &pairs, &g->pilot_seconds, st);
+    if (!e) e = pilot_pair(s, plain, spp, img, seconds, &pairs, &g->pilot_seconds, st);
     /* Every kind's error is weighed by the same denominators, from all
      * the pilots. */
     float *den = e ? NULL : lvcl_pilot_denominators(img, 2 * pairs);
@@ -187,10 +210,12 @@ lvcl_error lvcl_session_render_guided(lvcl_session *s, const lvcl_render_request
     }
     lvcl_render_request plain = *req;
     plain.mode = LVCL_MODE_PT;
-    lvcl_error e = warm_up(s, req, &plain, &vs, st);
+    double sample_seconds;
+    lvcl_error e = warm_up(s, req, &plain, &vs, &sample_seconds, st);
     if (e) return e;
     double start = lvcl_seconds();
-    if ((e = plan_guide(s, req, &plain, &vs, start + pass.time_limit, &s->guided, st))) return e;
+    s->guided.pilot_spp = pilot_spp(pass.time_limit, sample_seconds);
+    if ((e = plan_guide(s, req, &plain, &vs, start + pass.time_limit, s->guided.pilot_spp, &s->guided, st))) return e;
     /* At least one sample is taken, however long the trace and pilots took. */
     pass.time_limit = fmax(pass.time_limit - (lvcl_seconds() - start), 1e-3);
     return lvcl_session_camera_pass(s, s->guided.plain ? &plain : req, req->width, req->height, &pass, out, st);
