@@ -124,18 +124,28 @@ inline int lv_guide_prepare(lv_guide_vertex *gv, float share)
     return gv->share > 0.0f;
 }
 
+/* The summed luminance of a tally set's bins, from its `rooms` entries of
+ * the guide table's stats (a set of fine bins takes four sets' room, each
+ * with its own), and their largest in *top. */
+inline float lv_guide_set_stats(__global const float *stats, uint rooms, float *top)
+{
+    float sum = 0.0f;
+    *top = 0.0f;
+    for (uint r = 0; r < rooms; r++) {
+        sum += stats[2 * r];
+        *top = fmax(*top, stats[2 * r + 1]);
+    }
+    return sum;
+}
+
 /* The share the guide of a tally set of `bins` bins gets, from the sum and
  * the largest of their luminance in the guide table: over `rooms` entries,
  * as a set of fine bins takes four sets' room, each with its own. Their
  * summed luminance comes back in *sum. */
 inline float lv_guide_share(__global const float *stats, uint rooms, uint bins, float *sum, int *peaked)
 {
-    float top = 0.0f;
-    *sum = 0.0f;
-    for (uint r = 0; r < rooms; r++) {
-        *sum += stats[2 * r];
-        top = fmax(top, stats[2 * r + 1]);
-    }
+    float top;
+    *sum = lv_guide_set_stats(stats, rooms, &top);
     /* Luminance weights add to 1, so the luminance counts pieces as one
      * channel does (pieces that lost power count as less than one). */
     float pieces = *sum * (1.0f / (LV_TALLY_SCALE * LV_PIECE_TALLY));
@@ -244,9 +254,7 @@ inline float lv_guide_level(const lv_guide *g, uint slot)
     float lit = g->grid.lit_volume[slot];
     if (!(lit > 0.0f)) return 0.0f;
     uint n = lv_slot_dirs(&g->grid, slot), bins = 2u * n * n, rooms = bins / g->grid.g.bins;
-    __global const float *stats = g->stats + 2 * (size_t)LV_TALLY_SET_OF(g->grid.tally_slot[slot]);
-    float sum = 0.0f;
-    for (uint r = 0; r < rooms; r++) sum += stats[2 * r];
+    float top, sum = lv_guide_set_stats(g->stats + 2 * (size_t)LV_TALLY_SET_OF(g->grid.tally_slot[slot]), rooms, &top);
     return sum / (float)bins * lv_tally_to_radiance(&g->grid, lit, n);
 }
 
