@@ -160,7 +160,8 @@ void harness_turn(float v[3], float yaw_deg, float pitch_deg)
     v[0] = x, v[1] = y;
 }
 
-size_t harness_two_rooms(float *tris, float wall, float shell, float panel, float yaw, float pitch, size_t *walls)
+size_t harness_two_rooms(float *tris, float wall, float shell, float panel, float door, float yaw, float pitch,
+                         size_t *walls)
 {
     const float X = HARNESS_ROOMS_X, Y = HARNESS_ROOMS_Y, Z = HARNESS_ROOMS_Z, W = HARNESS_WALL_X;
     const float lo[3] = {-X, 0, -Z}, hi[3] = {X, Y, Z};
@@ -178,12 +179,19 @@ size_t harness_two_rooms(float *tris, float wall, float shell, float panel, floa
     } else {
         n = harness_add_room(tris, n, lo, hi);
     }
-    if (wall > 0) {
-        const float wlo[3] = {W - wall / 2, 0, -Z}, whi[3] = {W + wall / 2, Y, Z};
-        n = harness_add_box(tris, n, wlo, whi);
-    } else {
-        const float corner[3] = {W, 0, -Z}, up[3] = {0, Y, 0}, across[3] = {0, 0, 2 * Z};
-        n = harness_add_quad(tris, n, corner, up, across); /* facing +x */
+    /* The wall in pieces round the doorway (one piece without one): their
+     * z spans, full height from their foot. */
+    const float dz = HARNESS_DOOR_Z,
+                pieces[3][3] = {{-Z, door > 0 ? dz : Z, 0}, {dz + door, Z, 0}, {dz, dz + door, HARNESS_DOOR_TOP}};
+    for (int k = 0; k < (door > 0 ? 3 : 1); k++) {
+        const float z0 = pieces[k][0], z1 = pieces[k][1], y0 = pieces[k][2];
+        if (wall > 0) {
+            const float wlo[3] = {W - wall / 2, y0, z0}, whi[3] = {W + wall / 2, Y, z1};
+            n = harness_add_box(tris, n, wlo, whi);
+        } else {
+            const float corner[3] = {W, y0, z0}, up[3] = {0, Y - y0, 0}, across[3] = {0, 0, z1 - z0};
+            n = harness_add_quad(tris, n, corner, up, across); /* facing +x */
+        }
     }
     if (panel > 0) {
         const float plo[3] = {W + wall / 2, 0, -0.5f}, phi[3] = {W + wall / 2 + panel, 0.9f, 0.5f};

@@ -38,7 +38,9 @@ void harness_turn(float v[3], float yaw_deg, float pitch_deg);
  * thick, else one polygon each, facing into the rooms (the walls are
  * double-sided, but the cells' planes read a solid's fronts). panel > 0:
  * a box that deep stands on the floor against the wall in the room
- * x > HARNESS_WALL_X (0.9 m high, 1 m wide: a cupboard). The whole
+ * x > HARNESS_WALL_X (0.9 m high, 1 m wide: a cupboard). door > 0: a
+ * doorway that wide from z = HARNESS_DOOR_Z, HARNESS_DOOR_TOP high, in
+ * the wall. The whole
  * turned by yaw and pitch (harness_turn), so that no wall need face a
  * grid axis. Writes at most HARNESS_TWO_ROOMS_TRIANGLES triangles to tris;
  * returns their count, and in *walls the count before the lamps. */
@@ -46,8 +48,11 @@ void harness_turn(float v[3], float yaw_deg, float pitch_deg);
 #define HARNESS_ROOMS_Y 2.5f
 #define HARNESS_ROOMS_Z 1.0f
 #define HARNESS_WALL_X 0.37f
-#define HARNESS_TWO_ROOMS_TRIANGLES (6 * 12 + 12 + 12 + 4)
-size_t harness_two_rooms(float *tris, float wall, float shell, float panel, float yaw, float pitch, size_t *walls);
+#define HARNESS_DOOR_Z (-0.6f)
+#define HARNESS_DOOR_TOP 2.0f
+#define HARNESS_TWO_ROOMS_TRIANGLES (6 * 12 + 3 * 12 + 12 + 4)
+size_t harness_two_rooms(float *tris, float wall, float shell, float panel, float door, float yaw, float pitch,
+                         size_t *walls);
 
 /* Gives scene s `count` materials, each a copy of its first (the grey
  * harness_triangle_scene made), and returns them. */

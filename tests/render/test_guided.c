@@ -85,24 +85,18 @@ static void make_mirror_ball(lvcl_scene *s)
 /* The scene name render() makes with make_door_ajar. */
 #define DOOR_AJAR "door ajar"
 
-/* Two grey rooms (4 x 2.5 x 2 m in all) split by a wall 10 cm thick with a
- * doorway 10 cm wide and 2 m tall; the lamp lights one room, the camera
- * looks into the other, lit only through the doorway: most of its light
- * arrives after several bounces, which plain roulette ends early. */
+/* Two grey rooms (harness_two_rooms) split by a wall 10 cm thick with a
+ * doorway 10 cm wide and 2 m tall; the lamp lights one room (the other's
+ * is grey), the camera looks into the other, lit only through the
+ * doorway: most of its light arrives after several bounces, which plain
+ * roulette ends early. */
 static void make_door_ajar(lvcl_scene *s)
 {
-    static float tris[(4 * 12 + 2) * 9];
-    const float w = HARNESS_WALL_X, lo[3] = {-2, 0, -1}, hi[3] = {2, 2.5f, 1};
-    size_t n = harness_add_room(tris, 0, lo, hi);
-    const float pieces[3][6] = {{w - 0.05f, 0, -1, w + 0.05f, 2.5f, -0.6f},
-                                {w - 0.05f, 0, -0.5f, w + 0.05f, 2.5f, 1},
-                                {w - 0.05f, 2, -0.6f, w + 0.05f, 2.5f, -0.5f}};
-    for (int k = 0; k < 3; k++) n = harness_add_box(tris, n, pieces[k], pieces[k] + 3);
-    size_t lamp_at = n;
-    const float lamp[3] = {-1.4f, 2.499f, -0.3f}, along[3] = {0.6f, 0, 0}, across[3] = {0, 0, 0.6f};
-    n = harness_add_quad(tris, n, lamp, along, across); /* faces down */
+    static float tris[HARNESS_TWO_ROOMS_TRIANGLES * 9];
+    size_t walls, n = harness_two_rooms(tris, 0.1f, 0, 0, 0.1f, 0, 0, &walls);
     harness_triangle_scene(tris, n, s);
-    for (size_t i = 0; i < n; i++) s->tri_material[i] = i < lamp_at ? 0 : 1;
+    /* The camera's room's lamp (the two triangles after the walls) is off. */
+    for (size_t i = 0; i < n; i++) s->tri_material[i] = i < walls + 2 ? 0 : 1;
     lvcl_material_desc *m = harness_materials(s, 2);
     for (int k = 0; k < 3; k++) m[0].base_color[k] = 0.7f;
     harness_make_lamp(&m[1], 100.0f);

@@ -241,7 +241,7 @@ static int wall_in_building(float wall, float shell, float yaw, float pitch, int
                             int *built)
 {
     float tris[HARNESS_TWO_ROOMS_TRIANGLES * 9];
-    size_t walls, n = harness_two_rooms(tris, wall, shell, 0, yaw, pitch, &walls);
+    size_t walls, n = harness_two_rooms(tris, wall, shell, 0, 0, yaw, pitch, &walls);
     cell_regions r;
     int shared = 0;
     *pairs = 0;

@@ -41,7 +41,7 @@ static void two_rooms(float thickness, float shell, float panel, finish walls_fi
                       const float dim[3], float yaw, float pitch, lvcl_scene *s)
 {
     float tris[HARNESS_TWO_ROOMS_TRIANGLES * 9];
-    size_t walls, n = harness_two_rooms(tris, thickness, shell, panel, yaw, pitch, &walls);
+    size_t walls, n = harness_two_rooms(tris, thickness, shell, panel, 0, yaw, pitch, &walls);
     harness_triangle_scene(tris, n, s);
     lvcl_material_desc *m = harness_materials(s, 3);
     for (int k = 0; k < 3; k++) {
