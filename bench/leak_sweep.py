@@ -28,18 +28,21 @@ from make_two_rooms import two_rooms  # noqa: E402
 LEAK = 1e-4
 
 
-def draw(r):
-    return {
+def draw(r, corridors):
+    u = {
         "wall_m": r.choice([0.0, 0.005, 0.02, 0.03, 0.06, 0.1, 0.2]),
         "slabs_m": r.choice([0.0, 0.0, 0.02, 0.05, 0.1, 0.3]),
         "cupboard_m": r.choice([0.0, 0.0, 0.03, 0.05, 0.3]),
         "yaw_deg": r.choice([0.0, round(r.uniform(0, 90), 1)]),
         "pitch_deg": r.choice([0.0, round(r.uniform(0, 30), 1)]),
         "cells": r.choice([12, 16, 20, 24, 32, 40]),
-        "grid_offset": r.choice([0.0, 0.37, 0.5, round(r.random(), 2)]),
+        "grid_offset": r.choice([0.0, 0.37, 0.5, round(r.random() * 0.99, 2)]),
         "subcells": r.choice([0, 2, 3, 4, 4]),
         "ratio": r.choice([25, 1000]),
+        "corridor_m": r.choice([0.0, 0.0, 0.03, 0.1, 0.15, 0.4]) if corridors else 0.0,
     }
+    u["door_m"] = r.choice([0.0, 0.6]) if u["corridor_m"] > 0 else 0.0
+    return u
 
 
 def dim_room_mean(build, exr):
@@ -54,18 +57,21 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--count", type=int, default=50)
     ap.add_argument("--build", default="build")
+    ap.add_argument("--corridors", action="store_true",
+                    help="also draw a second wall 3-40 cm beyond the first (an unlit corridor between the rooms)")
     a = ap.parse_args()
     r = random.Random(a.seed)
     leaks, worst = 0, 0.0
     with tempfile.TemporaryDirectory() as tmp:
         scene, image = os.path.join(tmp, "rooms.gltf"), os.path.join(tmp, "rooms.exr")
         for _ in range(a.count):
-            u = draw(r)
+            u = draw(r, a.corridors)
             with open(os.devnull, "w") as quiet:
                 saved, sys.stdout = sys.stdout, quiet
                 try:
                     two_rooms(scene, u["wall_m"], u["ratio"], True, colours=True, shell=u["slabs_m"],
-                              panel=u["cupboard_m"], yaw=u["yaw_deg"], pitch=u["pitch_deg"])
+                              panel=u["cupboard_m"], yaw=u["yaw_deg"], pitch=u["pitch_deg"], corridor=u["corridor_m"],
+                              door=u["door_m"])
                 finally:
                     sys.stdout = saved
             subprocess.run([os.path.join(a.build, "lvcl"), "-q", "--mode", "lv", "--cells", str(u["cells"]),

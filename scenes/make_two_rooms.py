@@ -40,7 +40,7 @@ DOOR_Z, DOOR_TOP = -0.6, 2.0             # a doorway's near edge and its height
 
 
 def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel=0.0, yaw=0.0, pitch=0.0,
-              door=0.0, dim_on=True):
+              door=0.0, dim_on=True, corridor=0.0):
     """colours: the bright lamp red and the dim one blue (grey walls keep
     the channels apart), so that any red in the dim room is a leak."""
     WHITE, DIM, BRIGHT = range(3)
@@ -75,13 +75,15 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
     # (z0, z1, y0) spans, full height from y0.
     pieces = [(-Z, DOOR_Z, 0.0), (DOOR_Z + door, Z, 0.0), (DOOR_Z, DOOR_Z + door, DOOR_TOP)] if door > 0 \
         else [(-Z, Z, 0.0)]
-    for z0, z1, y0 in pieces:
-        if thickness > 0:
-            box(room, (WALL_X - thickness / 2, y0, z0), (WALL_X + thickness / 2, Y, z1))
-        else:
-            room.quad([(WALL_X, y0, z0), (WALL_X, Y, z0), (WALL_X, Y, z1), (WALL_X, y0, z1)], (1.0, 0.0, 0.0))
+    walls = [WALL_X] + ([WALL_X + corridor] if corridor > 0 else [])
+    for x in walls:
+        for z0, z1, y0 in (pieces if x == WALL_X else [(-Z, Z, 0.0)]):
+            if thickness > 0:
+                box(room, (x - thickness / 2, y0, z0), (x + thickness / 2, Y, z1))
+            else:
+                room.quad([(x, y0, z0), (x, Y, z0), (x, Y, z1), (x, y0, z1)], (1.0, 0.0, 0.0))
     if panel > 0:
-        x0 = WALL_X + thickness / 2
+        x0 = walls[-1] + thickness / 2
         box(room, (x0, 0.0, -0.5), (x0 + panel, 0.9, 0.5))
     meshes = [room]
     for name, mat, x0, x1 in (("dim lamp", DIM, 1.0, 1.6), ("bright lamp", BRIGHT, -1.4, -0.8)):
@@ -92,7 +94,7 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
     yaw, pitch = math.radians(yaw), math.radians(pitch)
     for m in meshes:
         m.positions = [turn(p, yaw, pitch) for p in m.positions]
-    eye, target = turn((1.9, 1.2, 0.0), yaw, pitch), turn((WALL_X, 1.1, 0.0), yaw, pitch)
+    eye, target = turn((1.9, 1.2, 0.0), yaw, pitch), turn((walls[-1], 1.1, 0.0), yaw, pitch)
     camera = {"yfov": math.radians(70.0), "aspect": 1.0, "translation": list(eye), "rotation": look_at(eye, target)}
     write_gltf(path, meshes, materials, camera,
                "two closed rooms sharing a %g m wall at x = %g%s; lamps %g (camera's room) and %g" %
@@ -112,14 +114,17 @@ def main():
     ap.add_argument("--panel", type=float, default=0.0,
                     help="a cupboard this deep against the wall in the camera's room, metres (0: none)")
     ap.add_argument("--door", type=float, default=0.0,
-                    help="a doorway this wide (2 m tall) in the wall, metres (0: none)")
+                    help="a doorway this wide (2 m tall) in the (first) wall, metres (0: none)")
+    ap.add_argument("--corridor", type=float, default=0.0,
+                    help="a second wall like the first this far into the camera's room, metres, "
+                         "leaving a corridor between the rooms, lit only through a --door (0: none)")
     ap.add_argument("--yaw", type=float, default=0.0, help="the scene turned about y, degrees")
     ap.add_argument("--pitch", type=float, default=0.0, help="then about x, degrees")
     a = ap.parse_args()
     if a.bright_off and a.dim_off:
         ap.error("--bright-off and --dim-off together leave the scene dark")
     two_rooms(a.out, a.thickness, a.ratio, not a.bright_off, a.colours, a.shell, a.panel, a.yaw, a.pitch, a.door,
-              not a.dim_off)
+              not a.dim_off, a.corridor)
 
 
 if __name__ == "__main__":

@@ -65,16 +65,25 @@ static size_t number_emitters(lvcl_packed_scene *p, size_t *emitters_per_mesh)
 }
 
 /* Builds the light table: every instance's emitting triangles and the
- * punctual lights, chosen in proportion to their power. */
+ * punctual lights. A light is chosen with probability
+ * (1 - e) P_i / P + e P_i / (P_g L), e = LVCL_EVEN_LIGHT_SHARE, where P_i is
+ * its power, P the total, P_g its material's (a punctual light's own) and L
+ * the number of emissive materials and punctual lights: lamps of different
+ * brightness have different materials, and lamps of one material differ
+ * only in size, which their power already weighs. */
 static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lvcl_status *st)
 {
     size_t *emitters = calloc(p->mesh_count, sizeof *emitters);
     if (!emitters) return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building the light table");
     size_t n = number_emitters(p, emitters) + scene->punctual_count;
     float *power = malloc((n ? n : 1) * sizeof *power);
+    size_t *group = malloc((n ? n : 1) * sizeof *group), groups = p->material_count + scene->punctual_count;
+    double *group_power = calloc(groups ? groups : 1, sizeof *group_power);
     p->lights = calloc(n ? n : 1, sizeof *p->lights);
-    if (!power || !p->lights) {
+    if (!power || !group || !group_power || !p->lights) {
         free(power);
+        free(group);
+        free(group_power);
         free(emitters);
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building a table of %zu lights", n);
     }
@@ -90,6 +99,7 @@ static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lv
             p->lights[i].kind = LV_LIGHT_AREA;
             p->lights[i].index = (lv_u32)t;
             p->lights[i].instance = (lv_u32)in;
+            group[i] = p->triangles[t].material;
             power[i++] = luminance(p->materials[p->triangles[t].material].emission) * triangle_area(v) * 3.14159265f;
         }
     }
@@ -97,21 +107,40 @@ static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lv
     for (size_t k = 0; k < scene->punctual_count; k++) {
         p->lights[i].kind = LV_LIGHT_PUNCTUAL;
         p->lights[i].index = (lv_u32)k;
+        group[i] = p->material_count + k;
         power[i++] = punctual_power(&scene->punctuals[k]);
     }
     double total = 0;
-    for (i = 0; i < n; i++) total += power[i];
+    for (i = 0; i < n; i++) {
+        total += power[i];
+        group_power[group[i]] += power[i];
+    }
+    size_t lit_groups = 0;
+    for (size_t g = 0; g < groups; g++) lit_groups += group_power[g] > 0;
+    /* Each group's factor on its lights' power, (1 - e) + e P / (P_g L):
+     * with one group exactly 1, so such scenes pick by power alone, bit
+     * for bit as before. */
+    double *factor = group_power;
+    for (size_t g = 0; g < groups; g++)
+        factor[g] = group_power[g] > 0
+            ? (1.0 - LVCL_EVEN_LIGHT_SHARE) + LVCL_EVEN_LIGHT_SHARE * (total / (group_power[g] * (double)lit_groups))
+            : 0.0;
+    double weight_total = 0;
+    for (i = 0; i < n; i++) weight_total += (double)power[i] * factor[group[i]];
     double acc = 0;
     for (i = 0; i < n; i++) {
-        acc += power[i];
-        p->lights[i].pdf_select = (float)(power[i] / total);
-        p->lights[i].cdf = i + 1 == n ? 1.0f : (float)(acc / total);
+        double w = (double)power[i] * factor[group[i]];
+        acc += w;
+        p->lights[i].pdf_select = (float)(w / weight_total);
+        p->lights[i].cdf = i + 1 == n ? 1.0f : (float)(acc / weight_total);
     }
     p->light_count = total > 0 ? n : 0;
     p->info.light_count = (lv_u32)p->light_count;
     p->info.total_light_power = (float)total;
     if (p->light_count == 0) lvcl_warn("the scene has no lights: the image will be black");
     free(power);
+    free(group);
+    free(group_power);
     return LVCL_OK;
 }
 

@@ -36,6 +36,15 @@ typedef struct {
     float bounds_min[3], bounds_max[3];
 } lvcl_packed_scene;
 
+/* The share of light choices spread evenly over the lights (the triangles
+ * of one emissive material together, or one punctual light) rather than by
+ * their power: a lamp a thousand times dimmer than another, alone in its room,
+ * still gets a quarter of the particles and light samples (with two
+ * lamps), while no light gets less than half its power's share, so where
+ * all lights shine into one space the variance grows by at most 2x
+ * (docs/light-volume.md, "Which light a particle leaves"). */
+#define LVCL_EVEN_LIGHT_SHARE 0.5
+
 /* Packs scene and its acceleration structure. The packed scene borrows
  * nothing from either. */
 lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *accel, uint32_t seed, uint32_t max_depth,

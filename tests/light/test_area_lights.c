@@ -3,7 +3,11 @@
  *   area light    the plane below has mean radiance (a / pi) Le E, E from
  *                 Lambert's polygon formula;
  *   sides         one-sided emission shows Le from the front, black behind;
- *   seeds         a large emitter (MIS matters) gives one mean for two seeds.
+ *   seeds         a large emitter (MIS matters) gives one mean for two seeds;
+ *   unequal lamps two lamps of radiance 1:25 and 1:1000 (two materials, so
+ *                 light samples pick them by odds that are not their power's
+ *                 share: tests/light/test_light_table.c) give the sum of
+ *                 their closed forms.
  * The closed forms and the scenes are in closed_forms.h. */
 #include <math.h>
 #include <stdio.h>
@@ -137,11 +141,43 @@ static void test_seeds_agree(void)
           m[0].rendered, m[1].rendered, m[0].analytic);
 }
 
+/* The ground lit by the two lamps of `g` together. */
+static double two_lamps_radiance(const void *ctx, const double p[3])
+{
+    const area_ground *g = ctx;
+    return area_radiance(&g[0], p) + area_radiance(&g[1], p);
+}
+
+/* 4. A dim lamp over the ground seen and a lamp `ratio` times brighter off
+ * to the side: the mean is the sum of their closed forms within 1%. */
+static void test_unequal_lamps(void)
+{
+    const double albedo = 0.5, ratios[] = {25, 1000};
+    for (int i = 0; i < 2; i++) {
+        const double le[2] = {1.0, ratios[i]};
+        quad quads[3] = {ground(), horizontal_quad(0, 0, 1.0, 0.4, 0, 1), horizontal_quad(2.5, 0, 1.5, 0.1, 0, 2)};
+        lvcl_material_desc m[3] = {lambertian((float)albedo), emitter((float)le[0]), emitter((float)le[1])};
+        lvcl_scene scene;
+        quad_scene(quads, 3, m, 3, NULL, 0, &scene);
+        view v = vertical_view(0, 0, 0.5, 1, 40, 16);
+        float *rgb = render("unequal lamps", &scene, 7, 2, &v, 512);
+        area_ground g[2] = {{&quads[1], albedo, le[0]}, {&quads[2], albedo, le[1]}};
+        image_means r = mean_against(rgb, &v, two_lamps_radiance, g);
+        printf("  unequal lamps 1:%g: mean %.5f rendered, %.5f analytic (standard error %.5f)\n", ratios[i], r.rendered,
+               r.analytic, r.std_error);
+        CHECK("unequal lamps: the ground's mean is the sum of both lamps' closed forms within 1%",
+              fabs(r.rendered - r.analytic) < 0.01 * r.analytic, "1:%g: %.5f rendered, %.5f analytic (%.2f%%)",
+              ratios[i], r.rendered, r.analytic, 100.0 * (r.rendered / r.analytic - 1.0));
+        free(rgb);
+    }
+}
+
 int main(void)
 {
     lvcl_device_prepare_environment();
     test_area_light();
     test_emitter_sides();
     test_seeds_agree();
+    test_unequal_lamps();
     CHECK_EXIT();
 }
