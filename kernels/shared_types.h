@@ -112,7 +112,8 @@ typedef struct {
 } lv_texture;
 
 /* One light (an emissive triangle or a punctual light), for light sampling.
- * Lights are chosen with probability proportional to their power. */
+ * pdf_select mixes the light's power share with an even share per emissive
+ * material (host/device/packed_scene.c, LVCL_EVEN_LIGHT_SHARE). */
 #define LV_LIGHT_AREA 0
 #define LV_LIGHT_PUNCTUAL 1
 

@@ -1,5 +1,7 @@
-/* Light sampling for next-event estimation: one light chosen by power, then
- * a point on it (area lights) or its position (punctual lights). */
+/* Light sampling for next-event estimation: one light chosen by the light
+ * table's odds (pdf_select: part power, part an even share per emissive
+ * material), then a point on it (area lights) or its position (punctual
+ * lights). */
 #ifndef LV_LIGHTS_H
 #define LV_LIGHTS_H
 
@@ -103,8 +105,9 @@ inline float lv_light_pdf(const lv_scene *sc, lv_hit h, float3 dir, float3 ng)
 }
 
 /* A particle leaving a light: where, which way, and its power relative to
- * the total emitted power (luminance watts), so that particles carry equal
- * shares when lights are chosen by power. */
+ * the total emitted power (luminance watts) over the odds of its light, so
+ * that particles carry equal shares where the odds are the power shares
+ * and at most twice that elsewhere. */
 typedef struct {
     float3 origin;
     float3 dir;
