@@ -43,6 +43,10 @@
 /* Planes of a cell that go first to clusters facing each other across a
  * narrow gap (choose_planes): one gap's two sides. */
 #define GAP_PLANES 2
+/* Planes a crowded cell takes beyond LV_GEOMETRY_PLANES, each only for the
+ * other layer of a chosen cluster: two one-polygon walls round a corridor,
+ * where the cell's floor and an outer wall hold two planes already. */
+#define LAYER_PLANES 1
 
 typedef struct {
     double n[3];                  /* the first triangle's normal, canonical */
@@ -75,6 +79,7 @@ typedef struct {
     int clear, gap;                  /* of glass; it faces another cluster across a gap */
     int group;                    /* of parallel clusters (cluster_cell) */
     int backs_onto_previous;      /* it and the group's cluster below it face away from each other (solid between) */
+    int layer;                    /* it began beyond a parallel facet of the same front in the cluster below */
 } cluster;
 
 /* Scratch space for one cell's clustering, kept from cell to cell. */
@@ -349,8 +354,12 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         if (!c || fabs(t->d - c->sum_d / c->area) >= SAME_OFFSET * h || facing || layer || t->clear != c->clear ||
             (t->clear && opposite)) {
             c = &w->clusters[count++];
-            *c = (cluster){
-                .top_along = -HUGE_VAL, .top_against = -HUGE_VAL, .clear = t->clear, .gap = gap, .group = t->group};
+            *c = (cluster){.top_along = -HUGE_VAL,
+                           .top_against = -HUGE_VAL,
+                           .clear = t->clear,
+                           .gap = gap,
+                           .group = t->group,
+                           .layer = layer};
         }
         for (int j = 0; j < 3; j++) c->sum_n[j] += t->area * t->n[j];
         c->sum_d += t->area * t->d;
@@ -410,11 +419,15 @@ static int is_chosen(const int *chosen, int count, int cluster)
  * wall between rooms, say) still finds room. Returns their count. */
 static int choose_planes(const cell_scratch *w, int clusters, const double lo[3], double h, float planes[][4])
 {
-    int chosen[LV_GEOMETRY_PLANES], count = 0, gaps = 0;
-    for (int round = 0; round < LV_GEOMETRY_PLANES; round++) {
+    int chosen[LV_GEOMETRY_PLANES + LAYER_PLANES], count = 0, gaps = 0;
+    for (int round = 0; round < LV_GEOMETRY_PLANES + LAYER_PLANES; round++) {
         int best = -1, best_spare = 0;
         for (int i = 0; i < clusters; i++) {
             if (is_chosen(chosen, round, i)) continue;
+            if (round >= LV_GEOMETRY_PLANES &&
+                !((w->clusters[i].layer && is_chosen(chosen, round, i - 1)) ||
+                  (i + 1 < clusters && w->clusters[i + 1].layer && is_chosen(chosen, round, i + 1))))
+                continue;
             int spare = (w->clusters[i].backs_onto_previous && is_chosen(chosen, round, i - 1)) ||
                 (i + 1 < clusters && w->clusters[i + 1].backs_onto_previous && is_chosen(chosen, round, i + 1));
             if (best < 0 || comes_first(&w->clusters[i], spare, &w->clusters[best], best_spare, gaps < GAP_PLANES))

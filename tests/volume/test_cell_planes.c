@@ -16,7 +16,10 @@
  * cell holds both faces of each slab: a solid's second face is spare),
  * with the rooms turned so that no wall faces a grid axis. And a panel
  * against a wall, or a second wall of one polygon behind it round a
- * narrow corridor, stays a plane of its own (a layer, not one cluster).
+ * narrow corridor, stays a plane of its own (a layer, not one cluster),
+ * and both corridor walls keep their planes where they meet the floor and
+ * an outer wall of a room of one-polygon walls (four planes in one cell;
+ * corridors 3 to 20 cm wide, four turns, 12 to 32 cells, three offsets).
  *
  * Holds while the gap is narrower than a quarter cell: the two surfaces
  * facing each other across it take a cell's first two planes, the
@@ -305,6 +308,45 @@ static int layers_apart(int panel, float apart, int cells, double offset, int *p
     return shared;
 }
 
+/* Two walls of one polygon facing +x, `apart` metres apart round a
+ * corridor, across a room of one-polygon walls (harness_add_room), turned
+ * by yaw and pitch (degrees): of the point pairs from the corridor's
+ * middle to 4 mm beyond either wall (a lattice over the walls, up to 4 mm
+ * from the floor, the ceiling and the outer walls), returns how many share
+ * a cell and a region; *pairs counts those sharing a cell. Where the walls
+ * meet the floor and an outer wall a cell holds four distinct planes, and
+ * both walls must keep theirs. */
+static int corridor_in_room(float apart, float yaw, float pitch, int cells, double offset, int *pairs, int *built)
+{
+    const float X = HARNESS_ROOMS_X, Y = HARNESS_ROOMS_Y, Z = HARNESS_ROOMS_Z, W = HARNESS_WALL_X;
+    float tris[MAX_TRIS * 9];
+    const float lo[3] = {-X, 0, -Z}, hi[3] = {X, Y, Z}, up[3] = {0, Y, 0}, across[3] = {0, 0, 2 * Z};
+    size_t n = harness_add_room(tris, 0, lo, hi);
+    for (int k = 0; k < 2; k++) {
+        const float corner[3] = {W + (float)k * apart, 0, -Z};
+        n = harness_add_quad(tris, n, corner, up, across);
+    }
+    for (size_t v = 0; v < 3 * n; v++) harness_turn(&tris[3 * v], yaw, pitch);
+    cell_regions r;
+    int shared = 0;
+    *pairs = 0;
+    *built = regions_of(tris, n, cells, offset, 0, &r);
+    const float inset = 0.004f, y_span = Y - 2 * inset, z_span = 2 * Z - 2 * inset;
+    const float beyond[2] = {W - inset, W + apart + inset};
+    for (int i = 0; *built && i < 2 * LATTICE; i++)
+        for (int j = 0; j < 2 * LATTICE; j++)
+            for (int k = 0; k < 2; k++) {
+                float y = inset + y_span * (float)i / (2 * LATTICE - 1);
+                float z = -Z + inset + z_span * (float)j / (2 * LATTICE - 1);
+                float middle[3] = {W + apart / 2, y, z}, out[3] = {beyond[k], y, z};
+                harness_turn(middle, yaw, pitch);
+                harness_turn(out, yaw, pitch);
+                shared += share_region(&r, middle, out, pairs);
+            }
+    if (*built) release(&r);
+    return shared;
+}
+
 /* Checks the subcell records' layout of r (k subcells); returns the
  * number of faults, and counts the cut cells in *cut. */
 static int record_faults(const cell_regions *r, uint32_t k, size_t cells, int *cut)
@@ -424,6 +466,28 @@ int main(void)
             CHECK(name, built && shared == 0 && pairs > 0,
                   "%d of %d point pairs across the wall in one cell share a region", shared, pairs);
         }
+    const float corridors[] = {0.03f, 0.05f, 0.08f, 0.12f, 0.2f};
+    for (size_t ai = 0; ai < sizeof corridors / sizeof *corridors; ai++) {
+        int shared = 0, pairs = 0, built = 1, grids = 0;
+        for (size_t ti = 0; ti < sizeof turns / sizeof *turns; ti++)
+            for (size_t ci = 0; ci < sizeof cell_counts / sizeof *cell_counts; ci++)
+                for (size_t oi = 0; oi < sizeof offsets / sizeof *offsets; oi++) {
+                    if (corridors[ai] <= 0.06 * 4.0 / cell_counts[ci]) continue; /* see LAYER_OFFSET */
+                    int p, b;
+                    shared += corridor_in_room(corridors[ai], turns[ti][0], turns[ti][1], cell_counts[ci], offsets[oi],
+                                               &p, &b);
+                    pairs += p;
+                    built &= b;
+                    grids++;
+                }
+        char name[160];
+        snprintf(name, sizeof name,
+                 "cell planes: a corridor %g cm wide between walls of one polygon keeps both walls, also where "
+                 "they meet the floor and an outer wall",
+                 1e2 * corridors[ai]);
+        CHECK(name, built && shared == 0 && pairs > 0 && grids > 0,
+              "%d of %d point pairs in one cell share a region (%d grids)", shared, pairs, grids);
+    }
     for (int panel = 0; panel < 2; panel++) {
         const float aparts[] = {0.02f, 0.03f, 0.05f};
         int shared = 0, pairs = 0, built = 1, grids = 0;
