@@ -12,7 +12,7 @@
 #include "lights.h"
 
 /* The most candidate triangles: the area lights at evenly spaced quantiles
- * of the lights' power distribution, each once. */
+ * of the light table's odds, each once. */
 #define LV_LIGHT_CANDIDATES 4
 
 /* The candidates' triangles in world space; the same for every point, so
@@ -29,7 +29,7 @@ typedef struct {
     float cdf[LV_LIGHT_CANDIDATES];
 } lv_light_odds;
 
-/* Picks the area lights at the power quantiles (k + 1/2) / K, each once.
+/* Picks the area lights at the table's quantiles (k + 1/2) / K, each once.
  * Punctual lights have no area to aim at and are left out. */
 inline uint lv_light_candidates_pick(const lv_scene *sc, lv_light_candidates *c)
 {
