@@ -45,6 +45,7 @@ def draw(r, corridors):
         "corridor_m": r.choice([0.0, 0.0, 0.03, 0.1, 0.15, 0.4]) if corridors else 0.0,
     }
     u["door_m"] = r.choice([0.0, 0.6]) if u["corridor_m"] > 0 else 0.0
+    u["back_to_back"] = u["corridor_m"] > 0 and u["wall_m"] == 0 and r.random() < 0.5
     return u
 
 
@@ -61,7 +62,8 @@ def main():
     ap.add_argument("--count", type=int, default=50)
     ap.add_argument("--build", default="build")
     ap.add_argument("--corridors", action="store_true",
-                    help="also draw a second wall 3-40 cm beyond the first (an unlit corridor between the rooms)")
+                    help="also draw a second wall 3-40 cm beyond the first (a corridor between the rooms, lit through "
+                         "a doorway or dark; walls of one polygon back to back or facing one way)")
     a = ap.parse_args()
     r = random.Random(a.seed)
     leaks, worst, worst_share = 0, 0.0, 0.0
@@ -74,7 +76,7 @@ def main():
                 try:
                     two_rooms(scene, u["wall_m"], u["ratio"], True, colours=True, shell=u["slabs_m"],
                               panel=u["cupboard_m"], yaw=u["yaw_deg"], pitch=u["pitch_deg"], corridor=u["corridor_m"],
-                              door=u["door_m"])
+                              door=u["door_m"], back_to_back=u["back_to_back"])
                 finally:
                     sys.stdout = saved
             subprocess.run([os.path.join(a.build, "lvcl"), "-q", "--mode", "lv", "--cells", str(u["cells"]),

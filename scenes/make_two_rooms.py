@@ -40,7 +40,7 @@ DOOR_Z, DOOR_TOP = -0.6, 2.0             # a doorway's near edge and its height
 
 
 def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel=0.0, yaw=0.0, pitch=0.0,
-              door=0.0, dim_on=True, corridor=0.0):
+              door=0.0, dim_on=True, corridor=0.0, back_to_back=False):
     """colours: the bright lamp red and the dim one blue (grey walls keep
     the channels apart), so that any red in the dim room is a leak."""
     WHITE, DIM, BRIGHT = range(3)
@@ -81,7 +81,10 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
             if thickness > 0:
                 box(room, (x - thickness / 2, y0, z0), (x + thickness / 2, Y, z1))
             else:
-                room.quad([(x, y0, z0), (x, Y, z0), (x, Y, z1), (x, y0, z1)], (1.0, 0.0, 0.0))
+                if back_to_back and x == WALL_X:
+                    room.quad([(x, y0, z1), (x, Y, z1), (x, Y, z0), (x, y0, z0)], (-1.0, 0.0, 0.0))
+                else:
+                    room.quad([(x, y0, z0), (x, Y, z0), (x, Y, z1), (x, y0, z1)], (1.0, 0.0, 0.0))
     if panel > 0:
         x0 = walls[-1] + thickness / 2
         box(room, (x0, 0.0, -0.5), (x0 + panel, 0.9, 0.5))
@@ -118,13 +121,16 @@ def main():
     ap.add_argument("--corridor", type=float, default=0.0,
                     help="a second wall like the first this far into the camera's room, metres, "
                          "leaving a corridor between the rooms, lit only through a --door (0: none)")
+    ap.add_argument("--back-to-back", action="store_true",
+                    help="with --corridor and --thickness 0: the first wall faces the bright room, so the two "
+                         "polygons stand back to back round the corridor, as a solid's faces would")
     ap.add_argument("--yaw", type=float, default=0.0, help="the scene turned about y, degrees")
     ap.add_argument("--pitch", type=float, default=0.0, help="then about x, degrees")
     a = ap.parse_args()
     if a.bright_off and a.dim_off:
         ap.error("--bright-off and --dim-off together leave the scene dark")
     two_rooms(a.out, a.thickness, a.ratio, not a.bright_off, a.colours, a.shell, a.panel, a.yaw, a.pitch, a.door,
-              not a.dim_off, a.corridor)
+              not a.dim_off, a.corridor, a.back_to_back)
 
 
 if __name__ == "__main__":

@@ -53,6 +53,7 @@ typedef struct {
     double sum_n[3], sum_d, area; /* area x normal, area x offset, area */
     double front;                 /* 1 where the triangles' front faces along n, else -1 */
     int clear;                    /* of solid glass */
+    int sheet;                    /* of a surface with open edges (a wall of one polygon), not a closed solid's face */
     int next;                     /* the cell's next facet, -1 at the end */
 } facet;
 
@@ -67,7 +68,7 @@ typedef struct {
 typedef struct {
     int group, order; /* the group of parallel facets; the facet's place in the cell */
     double n[3], d, area, front;
-    int clear;
+    int clear, sheet;
     int hidden; /* against a larger facet of the other front, in its plane */
 } turned_facet;
 
@@ -77,9 +78,10 @@ typedef struct {
     double top_against;           /* and of a front against it */
     double along_n[3], against_n[3]; /* the normals of those two facets */
     int clear, gap;                  /* of glass; it faces another cluster across a gap */
+    int sheet;                       /* it holds a facet of a sheet */
     int group;                    /* of parallel clusters (cluster_cell) */
     int backs_onto_previous;      /* it and the group's cluster below it face away from each other (solid between) */
-    int layer;                    /* it began beyond a parallel facet of the same front in the cluster below */
+    int layer; /* it began beyond a parallel facet of the same front in the cluster below, or back to back with a sheet */
 } cluster;
 
 /* Scratch space for one cell's clustering, kept from cell to cell. */
@@ -122,8 +124,8 @@ static int cuts_cell(const double n[3], double d, const double lo[3], double h)
 /* Adds a triangle's plane n . x = d (n canonical; front: +1 where the
  * triangle's front faces along n, else -1; clear: of solid glass) to the
  * cell's facet of that plane, or makes one. */
-static void add_to_cell(facets *f, int cell, const double n[3], double d, double front, int clear, double area,
-                        double h)
+static void add_to_cell(facets *f, int cell, const double n[3], double d, double front, int clear, int sheet,
+                        double area, double h)
 {
     /* A plane's triangles mostly come one after another: looking at the
      * newest few facets keeps this step's cost flat in dense cells. */
@@ -136,6 +138,7 @@ static void add_to_cell(facets *f, int cell, const double n[3], double d, double
         for (int j = 0; j < 3; j++) k->sum_n[j] += area * n[j];
         k->sum_d += area * d;
         k->area += area;
+        k->sheet |= sheet;
         return;
     }
     if (f->count == f->capacity) {
@@ -154,6 +157,7 @@ static void add_to_cell(facets *f, int cell, const double n[3], double d, double
     k->area = area;
     k->front = front;
     k->clear = clear;
+    k->sheet = sheet;
     k->next = f->head[cell];
     f->head[cell] = (int)f->count++;
 }
@@ -199,7 +203,7 @@ static double area_in_cell(const float v[9], const double lo[3], double h)
  * facets of every stored cell its box (grown by a hundredth of a cell)
  * overlaps and its plane cuts. */
 static void add_triangle(facets *c, const lv_grid_info *g, const uint32_t *stored, const float v[9], int clear,
-                         double weight)
+                         int sheet, double weight)
 {
     double e1[3], e2[3], n[3];
     for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k];
@@ -227,7 +231,7 @@ static void add_triangle(facets *c, const lv_grid_info *g, const uint32_t *store
                 double corner[3] = {g->origin[0] + x * h, g->origin[1] + y * h, g->origin[2] + z * h};
                 if (!cuts_cell(n, d, corner, h)) continue;
                 double area = area_in_cell(v, corner, h);
-                if (area > 0) add_to_cell(c, (int)s, n, d, front, clear, weight * area, h);
+                if (area > 0) add_to_cell(c, (int)s, n, d, front, clear, sheet, weight * area, h);
             }
 }
 
@@ -315,6 +319,7 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         t->order = order;
         t->area = k->area;
         t->clear = k->clear;
+        t->sheet = k->sheet;
         double len = sqrt(dot3(k->sum_n, k->sum_n)); /* > 0: a facet's triangles have area, one normal */
         for (int j = 0; j < 3; j++) t->n[j] = k->sum_n[j] / len;
         t->d = k->sum_d / k->area;
@@ -351,6 +356,12 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         double top = c ? (t->front > 0 ? c->top_along : c->top_against) : -HUGE_VAL;
         int layer = top > -HUGE_VAL && t->d - top > LAYER_OFFSET * h &&
             dot3(t->n, t->front > 0 ? c->along_n : c->against_n) > LAYER_NORMAL;
+        /* Two sheets back to back (or a sheet behind a solid's face) are
+         * not a solid's two faces: the space between them may hold light
+         * (a hollow wall open at a doorway), so they stay apart too. */
+        double other = c ? (t->front > 0 ? c->top_against : c->top_along) : -HUGE_VAL;
+        int back_to_back = opposite && (t->sheet || c->sheet) && t->d - other > FACET_OFFSET * h;
+        layer |= back_to_back;
         if (!c || fabs(t->d - c->sum_d / c->area) >= SAME_OFFSET * h || facing || layer || t->clear != c->clear ||
             (t->clear && opposite)) {
             c = &w->clusters[count++];
@@ -361,6 +372,7 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
                            .group = t->group,
                            .layer = layer};
         }
+        c->sheet |= t->sheet;
         for (int j = 0; j < 3; j++) c->sum_n[j] += t->area * t->n[j];
         c->sum_d += t->area * t->d;
         c->area += t->area;
@@ -451,6 +463,61 @@ static int choose_planes(const cell_scratch *w, int clusters, const double lo[3]
     return count;
 }
 
+/* An edge of a placed triangle, its ends in order, for finding the edges
+ * that only one triangle of a mesh has. */
+typedef struct {
+    float a[3], b[3];
+    size_t tri;
+} mesh_edge;
+
+static int by_ends(const void *pa, const void *pb)
+{
+    const mesh_edge *x = pa, *y = pb;
+    int c = memcmp(x->a, y->a, sizeof x->a);
+    return c ? c : memcmp(x->b, y->b, sizeof x->b);
+}
+
+/* Per leaf-ordered triangle, 1 where one of its edges belongs to no other
+ * triangle of its mesh (by the corners' positions, as its first instance
+ * places them): the triangle is part of a sheet, such as a wall of one
+ * polygon, rather than of a closed solid. NULL out of memory. */
+static uint8_t *sheet_triangles(const lvcl_packed_scene *p)
+{
+    uint8_t *sheet = calloc(p->triangle_count ? p->triangle_count : 1, 1);
+    size_t most = 0;
+    for (size_t m = 0; m < p->mesh_count; m++) most = p->mesh_size[m] > most ? p->mesh_size[m] : most;
+    mesh_edge *e = malloc((most ? 3 * most : 1) * sizeof *e);
+    if (!sheet || !e) {
+        free(sheet);
+        free(e);
+        return NULL;
+    }
+    for (size_t m = 0; m < p->mesh_count; m++) {
+        size_t in = 0;
+        while (in < p->instance_count && p->instances[in].mesh != m) in++;
+        if (in == p->instance_count) continue;
+        size_t n = 0;
+        for (size_t t = p->mesh_first[m]; t < p->mesh_first[m] + p->mesh_size[m]; t++) {
+            float v[9];
+            lvcl_packed_triangle_world(p, in, t, v);
+            for (int k = 0; k < 3; k++) {
+                const float *x = &v[3 * k], *y = &v[3 * ((k + 1) % 3)];
+                int swap = memcmp(x, y, 3 * sizeof *x) > 0;
+                memcpy(e[n].a, swap ? y : x, sizeof e[n].a);
+                memcpy(e[n].b, swap ? x : y, sizeof e[n].b);
+                e[n++].tri = t;
+            }
+        }
+        qsort(e, n, sizeof *e, by_ends);
+        for (size_t i = 0; i < n; i++) {
+            int shared = (i > 0 && !by_ends(&e[i - 1], &e[i])) || (i + 1 < n && !by_ends(&e[i], &e[i + 1]));
+            if (!shared) sheet[e[i].tri] = 1;
+        }
+    }
+    free(e);
+    return sheet;
+}
+
 lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
                                      lv_slot_region **regions, float **shares, size_t *share_count, lvcl_status *st)
 {
@@ -468,6 +535,8 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' planes");
     }
     for (size_t i = 0; i < stored; i++) c.head[i] = -1;
+    uint8_t *sheet = sheet_triangles(p);
+    c.failed = !sheet;
     /* Every placed triangle, leaf by leaf, or a sample of a small part's. */
     int stack[LVCL_BVH_MAX_DEPTH + 1];
     for (size_t in = 0; in < p->instance_count && !c.failed; in++) {
@@ -485,7 +554,7 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
                     size_t t = first + i * count / taken;
                     lvcl_packed_triangle_world(p, in, t, v);
                     int clear = p->materials[p->triangles[t].material].bsdf == LV_BSDF_GLASS;
-                    add_triangle(&c, g, slot, v, clear, (double)count / (double)taken);
+                    add_triangle(&c, g, slot, v, clear, sheet[t], (double)count / (double)taken);
                 }
             } else {
                 stack[top++] = (int)(n - p->tree_nodes) + 1;
@@ -507,6 +576,7 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
                         clusters > 0 ? (uint8_t)choose_planes(&w, clusters, lo, g->cell_size, planes[s].planes) : 0;
                 }
     int failed = c.failed;
+    free(sheet);
     free(c.head);
     free(c.pool);
     free(w.turned);

@@ -308,7 +308,9 @@ static int layers_apart(int panel, float apart, int cells, double offset, int *p
     return shared;
 }
 
-/* Two walls of one polygon facing +x, `apart` metres apart round a
+/* Two walls of one polygon facing +x (or, `away`, the first facing -x:
+ * back to back, as a solid's two faces would be, but open, so the space
+ * between them may hold light), `apart` metres apart round a
  * corridor, across a room of one-polygon walls (harness_add_room), turned
  * by yaw and pitch (degrees): of the point pairs from the corridor's
  * middle to 4 mm beyond either wall (a lattice over the walls, up to 4 mm
@@ -316,7 +318,8 @@ static int layers_apart(int panel, float apart, int cells, double offset, int *p
  * a cell and a region; *pairs counts those sharing a cell. Where the walls
  * meet the floor and an outer wall a cell holds four distinct planes, and
  * both walls must keep theirs. */
-static int corridor_in_room(float apart, float yaw, float pitch, int cells, double offset, int *pairs, int *built)
+static int corridor_in_room(float apart, int away, float yaw, float pitch, int cells, double offset, int *pairs,
+                            int *built)
 {
     const float X = HARNESS_ROOMS_X, Y = HARNESS_ROOMS_Y, Z = HARNESS_ROOMS_Z, W = HARNESS_WALL_X;
     float tris[MAX_TRIS * 9];
@@ -324,7 +327,8 @@ static int corridor_in_room(float apart, float yaw, float pitch, int cells, doub
     size_t n = harness_add_room(tris, 0, lo, hi);
     for (int k = 0; k < 2; k++) {
         const float corner[3] = {W + (float)k * apart, 0, -Z};
-        n = harness_add_quad(tris, n, corner, up, across);
+        n = away && k == 0 ? harness_add_quad(tris, n, corner, across, up)
+                           : harness_add_quad(tris, n, corner, up, across);
     }
     for (size_t v = 0; v < 3 * n; v++) harness_turn(&tris[3 * v], yaw, pitch);
     cell_regions r;
@@ -466,25 +470,27 @@ int main(void)
             CHECK(name, built && shared == 0 && pairs > 0,
                   "%d of %d point pairs across the wall in one cell share a region", shared, pairs);
         }
-    const float corridors[] = {0.03f, 0.05f, 0.08f, 0.12f, 0.2f};
-    for (size_t ai = 0; ai < sizeof corridors / sizeof *corridors; ai++) {
+    const float corridors[] = {0.02f, 0.03f, 0.05f, 0.08f, 0.12f, 0.2f};
+    for (size_t ai = 0; ai < 2 * sizeof corridors / sizeof *corridors; ai++) {
+        const int away = ai % 2;
+        const float apart = corridors[ai / 2];
         int shared = 0, pairs = 0, built = 1, grids = 0;
         for (size_t ti = 0; ti < sizeof turns / sizeof *turns; ti++)
             for (size_t ci = 0; ci < sizeof cell_counts / sizeof *cell_counts; ci++)
                 for (size_t oi = 0; oi < sizeof offsets / sizeof *offsets; oi++) {
-                    if (corridors[ai] <= 0.06 * 4.0 / cell_counts[ci]) continue; /* see LAYER_OFFSET */
+                    if (!away && apart <= 0.06 * 4.0 / cell_counts[ci]) continue; /* see LAYER_OFFSET */
                     int p, b;
-                    shared += corridor_in_room(corridors[ai], turns[ti][0], turns[ti][1], cell_counts[ci], offsets[oi],
-                                               &p, &b);
+                    shared +=
+                        corridor_in_room(apart, away, turns[ti][0], turns[ti][1], cell_counts[ci], offsets[oi], &p, &b);
                     pairs += p;
                     built &= b;
                     grids++;
                 }
         char name[160];
         snprintf(name, sizeof name,
-                 "cell planes: a corridor %g cm wide between walls of one polygon keeps both walls, also where "
+                 "cell planes: a corridor %g cm wide between walls of one polygon %s keeps both walls, also where "
                  "they meet the floor and an outer wall",
-                 1e2 * corridors[ai]);
+                 1e2 * apart, away ? "back to back" : "facing one way");
         CHECK(name, built && shared == 0 && pairs > 0 && grids > 0,
               "%d of %d point pairs in one cell share a region (%d grids)", shared, pairs, grids);
     }
