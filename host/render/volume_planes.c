@@ -484,22 +484,24 @@ static int by_ends(const void *pa, const void *pb)
 static uint8_t *sheet_triangles(const lvcl_packed_scene *p)
 {
     uint8_t *sheet = calloc(p->triangle_count ? p->triangle_count : 1, 1);
-    size_t most = 0;
+    size_t most = 0, *placed_by = malloc((p->mesh_count ? p->mesh_count : 1) * sizeof *placed_by);
     for (size_t m = 0; m < p->mesh_count; m++) most = p->mesh_size[m] > most ? p->mesh_size[m] : most;
     mesh_edge *e = malloc((most ? 3 * most : 1) * sizeof *e);
-    if (!sheet || !e) {
+    if (!sheet || !placed_by || !e) {
         free(sheet);
+        free(placed_by);
         free(e);
         return NULL;
     }
+    for (size_t m = 0; m < p->mesh_count; m++) placed_by[m] = p->instance_count;
+    for (size_t in = p->instance_count; in-- > 0;) placed_by[p->instances[in].mesh] = in;
     for (size_t m = 0; m < p->mesh_count; m++) {
-        size_t in = 0;
-        while (in < p->instance_count && p->instances[in].mesh != m) in++;
+        size_t in = placed_by[m], n = 0;
         if (in == p->instance_count) continue;
-        size_t n = 0;
         for (size_t t = p->mesh_first[m]; t < p->mesh_first[m] + p->mesh_size[m]; t++) {
             float v[9];
             lvcl_packed_triangle_world(p, in, t, v);
+            for (int j = 0; j < 9; j++) v[j] += 0.0f; /* -0 and +0: one position, compared bitwise below */
             for (int k = 0; k < 3; k++) {
                 const float *x = &v[3 * k], *y = &v[3 * ((k + 1) % 3)];
                 int swap = memcmp(x, y, 3 * sizeof *x) > 0;
@@ -515,6 +517,7 @@ static uint8_t *sheet_triangles(const lvcl_packed_scene *p)
         }
     }
     free(e);
+    free(placed_by);
     return sheet;
 }
 
