@@ -350,16 +350,17 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         int facing = c && t->front < 0 && t->d - c->top_along > FACET_OFFSET * h;
         int gap = facing && t->d - c->top_along < SAME_OFFSET * h;
         if (gap) c->gap = 1;
-        /* Glass joins no opaque facet, nor the opposite face of a slab. */
-        int opposite = c && (t->front > 0 ? c->top_against : c->top_along) > -HUGE_VAL;
-        /* A layer beyond a parallel facet of the same front. */
+        /* The cluster's topmost facet of t's front and of the other. */
         double top = c ? (t->front > 0 ? c->top_along : c->top_against) : -HUGE_VAL;
+        double other = c ? (t->front > 0 ? c->top_against : c->top_along) : -HUGE_VAL;
+        /* Glass joins no opaque facet, nor the opposite face of a slab. */
+        int opposite = other > -HUGE_VAL;
+        /* A layer beyond a parallel facet of the same front. */
         int layer = top > -HUGE_VAL && t->d - top > LAYER_OFFSET * h &&
             dot3(t->n, t->front > 0 ? c->along_n : c->against_n) > LAYER_NORMAL;
         /* Two sheets back to back (or a sheet behind a solid's face) are
          * not a solid's two faces: the space between them may hold light
          * (a hollow wall open at a doorway), so they stay apart too. */
-        double other = c ? (t->front > 0 ? c->top_against : c->top_along) : -HUGE_VAL;
         int back_to_back = opposite && (t->sheet || c->sheet) && t->d - other > FACET_OFFSET * h;
         layer |= back_to_back;
         if (!c || fabs(t->d - c->sum_d / c->area) >= SAME_OFFSET * h || facing || layer || t->clear != c->clear ||
