@@ -18,7 +18,7 @@ WARN += -Werror
 endif
 ALL_CFLAGS := -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) $(CFLAGS)
 ALL_CXXFLAGS := -std=c++17 $(WARN) $(CXXFLAGS)
-LIBS := -lOpenCL -lOpenImageIO -lOpenImageIO_Util -ltinygltf -lstdc++ -lm -lpthread
+LIBS := -lOpenCL -lOpenImageIO -lOpenImageIO_Util -ltinygltf -lstb -lstdc++ -lm -lpthread
 
 # Debian packages lvcl needs to build and run.
 DEBIAN_PACKAGES := build-essential pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers \
@@ -198,7 +198,7 @@ $(BUILD)/fuzz/obj/%.o: host/%.cpp $(HOST_H) kernels/shared_types.h | $(BUILD)/.d
 	@mkdir -p $(@D)
 	clang++ -std=c++17 $(FUZZ_FLAGS) -c -o $@ $<
 $(BUILD)/fuzz/fuzz_gltf: tests/fuzz/fuzz_gltf.c $(FUZZ_GLTF_OBJS)
-	clang -std=c11 $(FUZZ_LINK) -o $@ $^ -ltinygltf -lstdc++ -lm
+	clang -std=c11 $(FUZZ_LINK) -o $@ $^ -ltinygltf -lstb -lstdc++ -lm
 $(BUILD)/fuzz/fuzz_options: tests/fuzz/fuzz_options.c $(BUILD)/fuzz/obj/app/options.o $(BUILD)/fuzz/obj/util/status.o
 	clang -std=c11 $(FUZZ_LINK) -o $@ $^ -lm
 

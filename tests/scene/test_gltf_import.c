@@ -266,6 +266,77 @@ static void test_sparse_strided(void)
     lvcl_scene_free(&s);
 }
 
+/* features.gltf with its texture's data URI replaced by `uri`: loads
+ * either way; returns the decoded textures (-1 if it did not load) and
+ * the warnings in *warnings (the caller frees them). */
+static long load_with_image(const char *uri, char **warnings)
+{
+    size_t size = 0;
+    char *text = (char *)read_all(data_path("features.gltf"), &size);
+    const char *key = "\"uri\": \"data:image/png;base64,";
+    char *at = text ? strstr(text, key) : NULL;
+    char *end = at ? strchr(at + strlen(key), '"') : NULL;
+    long textures = -1;
+    *warnings = NULL;
+    if (end) {
+        size_t head = (size_t)(at - text), tail = size - (size_t)(end - text);
+        char *edited = malloc(head + strlen(uri) + tail + 16);
+        size_t n = (size_t)sprintf(edited, "%.*s\"uri\": \"%s", (int)head, text, uri);
+        memcpy(edited + n, end, tail);
+        lvcl_scene s;
+        lvcl_status st = {0};
+        capture cap;
+        capture_begin(&cap);
+        lvcl_error e = lvcl_scene_load_gltf_memory((unsigned char *)edited, n + tail, data_dir, &s, &st);
+        *warnings = capture_end(&cap);
+        if (e == LVCL_OK) {
+            textures = (long)s.texture_count;
+            if (s.texture_count == 1) textures = s.textures[0].width * 10L + s.textures[0].height;
+            lvcl_scene_free(&s);
+        }
+        free(edited);
+    }
+    free(text);
+    return textures;
+}
+
+/* Only PNG and JPEG, as glTF 2.0 allows, and at most 16384 pixels a side:
+ * other formats stb_image reads (here a valid GIF) and larger images load
+ * untextured with one warning. Textures report as width x 10 + height. */
+static void test_image_formats(void)
+{
+    static const struct {
+        const char *name, *uri;
+        long textures;
+    } cases[] = {
+        {"a 1x1 GIF", "data:image/gif;base64,R0lGODlhAQABAIAAAP///wAAACwAAAAAAQABAAACAkQBADs=", 0},
+        /* Grey 8-bit PNGs of 16384 x 1 and 16385 x 1 pixels (zlib-compressed zeros). */
+        {"a 16384 x 1 PNG",
+         "data:image/"
+         "png;base64,iVBORw0KGgoAAAANSUhEUgAAQAAAAAABCAAAAAAD9OmEAAAAJ0lEQVR42u3BIQEAAAACIKc73RkWIAUAAAAAAAAAAAAA"
+         "AAAAAADuBkR1AeF+PGb0AAAAAElFTkSuQmCC",
+         163841},
+        {"a 16385 x 1 PNG",
+         "data:image/"
+         "png;base64,iVBORw0KGgoAAAANSUhEUgAAQAEAAAABCAAAAADsNoK6AAAAJ0lEQVR42u3BIQEAAAACIKc73RkWIAUAAAAAAAAAAAAA"
+         "AAAAAAD+BkbWAmHKSJ8+AAAAAElFTkSuQmCC",
+         0},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char *warnings;
+        long textures = load_with_image(cases[i].uri, &warnings);
+        char name[96];
+        snprintf(name, sizeof name, "texture from %s", cases[i].name);
+        CHECK(name, textures == cases[i].textures, "got %ld, want %ld", textures, cases[i].textures);
+        if (cases[i].textures == 0 && !verbose()) {
+            snprintf(name, sizeof name, "%s: one warning naming the formats", cases[i].name);
+            CHECK(name, warnings && strstr(warnings, "could not be decoded as a PNG or JPEG"), "stderr: %s",
+                  warnings ? warnings : "(null)");
+        }
+        free(warnings);
+    }
+}
+
 /* ---- broken inputs ---- */
 
 static void expect_error(const char *file, lvcl_error want)
@@ -381,6 +452,7 @@ int main(int argc, char **argv)
     test_features();
     test_nan_vertex();
     test_sparse_strided();
+    test_image_formats();
     test_errors();
     test_corruptions();
     CHECK_EXIT();

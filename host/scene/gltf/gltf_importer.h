@@ -224,16 +224,26 @@ struct Texture {
     std::vector<uint8_t> rgba;
 };
 
+/* The largest texture side decoded (16384, the common GPU image limit;
+ * an RGBA8 texture of it is 1 GiB). */
+#define LVCL_MAX_TEXTURE_SIDE 16384
+
+/* Decodes one image's bytes into `image` (tinygltf's layout), or returns
+ * false. Only PNG and JPEG, the two formats glTF 2.0 allows, and at most
+ * LVCL_MAX_TEXTURE_SIDE pixels a side: stb_image, which tinygltf decodes
+ * with, also reads GIF, PSD, PNM and more, whose decoders fuzzing has
+ * found allocating from untrusted headers. */
+bool decode_image_bytes(tinygltf::Image *image, int index, const unsigned char *bytes, size_t size);
+
 /* Image loader hook for tinygltf: images inside buffer views are decoded
  * later, after their byte range has been checked (tinygltf does not check
  * it); images from URIs arrive as validated bytes and are decoded now. A
  * failed decode is a warning, not an error: the material goes untextured. */
-inline bool load_image_hook(tinygltf::Image *image, int index, std::string *, std::string *warn, int req_width,
-                            int req_height, const unsigned char *bytes, int size, void *)
+inline bool load_image_hook(tinygltf::Image *image, int index, std::string *, std::string *, int, int,
+                            const unsigned char *bytes, int size, void *)
 {
     if (image->bufferView != -1) return true;
-    std::string decode_err;
-    if (!tinygltf::LoadImageData(image, index, &decode_err, warn, req_width, req_height, bytes, size, nullptr))
+    if (size < 0 || !decode_image_bytes(image, index, bytes, (size_t)size))
         image->image.clear(); /* reported by decode_image() if a material uses it */
     return true;
 }

@@ -1,6 +1,8 @@
 /* glTF import: extensions, materials and their base-colour textures. */
 #include "gltf_importer.h"
 
+#include <stb/stb_image.h>
+
 namespace lvcl_gltf
 {
 
@@ -21,6 +23,21 @@ void Importer::check_extensions()
     if (!m.skins.empty()) warn_once("skin", "skins are not supported (meshes use their node transforms)");
 }
 
+bool decode_image_bytes(tinygltf::Image *image, int index, const unsigned char *bytes, size_t size)
+{
+    static const unsigned char png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    static const unsigned char jpeg[3] = {0xff, 0xd8, 0xff};
+    bool known = (size >= sizeof png && memcmp(bytes, png, sizeof png) == 0) ||
+        (size >= sizeof jpeg && memcmp(bytes, jpeg, sizeof jpeg) == 0);
+    int width, height, comps;
+    if (!known || size > (size_t)std::numeric_limits<int>::max() ||
+        !stbi_info_from_memory(bytes, (int)size, &width, &height, &comps) || width < 1 || height < 1 ||
+        width > LVCL_MAX_TEXTURE_SIDE || height > LVCL_MAX_TEXTURE_SIDE)
+        return false;
+    std::string err, warn;
+    return tinygltf::LoadImageData(image, index, &err, &warn, 0, 0, bytes, (int)size, nullptr);
+}
+
 /* Decodes image `image_index` once into an RGBA8 texture; -1 if it cannot
  * be decoded (a warning, since the geometry is still usable). */
 int Importer::decode_image(int image_index)
@@ -33,10 +50,7 @@ int Importer::decode_image(int image_index)
     const tinygltf::Image *img = &src;
     if (src.bufferView != -1) {
         auto bytes = view_bytes(src.bufferView, "image");
-        std::string err, warn;
-        if (bytes.second > (size_t)std::numeric_limits<int>::max() ||
-            !tinygltf::LoadImageData(&decoded, image_index, &err, &warn, 0, 0, bytes.first, (int)bytes.second, nullptr))
-            decoded.image.clear();
+        if (!decode_image_bytes(&decoded, image_index, bytes.first, bytes.second)) decoded.image.clear();
         img = &decoded;
     }
 
@@ -70,8 +84,10 @@ int Importer::decode_image(int image_index)
         textures.push_back(std::move(t));
         result = (int)textures.size() - 1;
     } else {
-        warn_once("img:" + std::to_string(image_index), "image %d could not be decoded (material left untextured)",
-                  image_index);
+        warn_once(
+            "img:" + std::to_string(image_index),
+            "image %d could not be decoded as a PNG or JPEG of at most %d pixels a side (material left untextured)",
+            image_index, LVCL_MAX_TEXTURE_SIDE);
     }
     texture_of_image[image_index] = result;
     return result;
