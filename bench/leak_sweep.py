@@ -2,12 +2,13 @@
 """Random two-room set-ups against the light volume's leak test (issue 12):
 each draws a wall (one polygon to 20 cm), outer walls of one polygon or of
 slabs, a cupboard against the wall or none, a turn of the whole scene, a
-grid (12 to 40 cells, any offset), --subcells and a brightness ratio; the
+grid (12 to 40 cells, any offset), --subcells and a brightness ratio (with
+--wide also the scale, the wall's material and the bright light's kind); the
 bright lamp is red and the dim one blue, so any red in the dim room is the
 bright room's light read through the wall (its true value, and the path
 tracer's, is 0).
 
-    python3 bench/leak_sweep.py [--seed S] [--count N] [--build build]
+    python3 bench/leak_sweep.py [--seed S] [--count N] [--corridors] [--wide] [--build build]
 
 One JSON object per set-up (its parameters, the dim room's mean red and
 blue, leak = red / (ratio x blue) and red / blue, the share of the dim
@@ -49,6 +50,17 @@ def draw(r, corridors):
     return u
 
 
+def draw_wide(r):
+    """The draws of --wide, from their own stream (a seed's other draws stay
+    as they were): the scene's scale, the shared wall's material and the
+    bright room's light (a spot only where the scene is not turned)."""
+    return {
+        "scale": r.choice([1.0, 1.0, 0.01, 0.1, 10.0, 100.0]),
+        "wall_material": r.choice(["lambert", "glossy", "mirror"]),
+        "bright_light": r.choice(["area", "point", "spot"]),
+    }
+
+
 def dim_room_mean(build, exr):
     """The image's mean (r, g, b), as build/lvcl-compare reports it."""
     text = subprocess.run([os.path.join(build, "lvcl-compare"), exr, exr], check=True, capture_output=True,
@@ -64,19 +76,28 @@ def main():
     ap.add_argument("--corridors", action="store_true",
                     help="also draw a second wall 3-40 cm beyond the first (a corridor between the rooms, lit through "
                          "a doorway or dark; walls of one polygon back to back or facing one way)")
+    ap.add_argument("--wide", action="store_true",
+                    help="also draw the scene's scale (0.01-100), the shared wall's material (lambert, glossy, mirror) "
+                         "and the bright room's light (the ceiling lamp, or a point or spot light of its power)")
     a = ap.parse_args()
-    r = random.Random(a.seed)
+    r, r_wide = random.Random(a.seed), random.Random(a.seed + 1000003)
     leaks, worst, worst_share = 0, 0.0, 0.0
     with tempfile.TemporaryDirectory() as tmp:
         scene, image = os.path.join(tmp, "rooms.gltf"), os.path.join(tmp, "rooms.exr")
         for _ in range(a.count):
             u = draw(r, a.corridors)
+            wide = draw_wide(r_wide) if a.wide else {"scale": 1.0, "wall_material": "lambert", "bright_light": "area"}
+            if wide["bright_light"] == "spot" and (u["yaw_deg"] or u["pitch_deg"]):
+                wide["bright_light"] = "point"
+            if a.wide:
+                u.update(wide)
             with open(os.devnull, "w") as quiet:
                 saved, sys.stdout = sys.stdout, quiet
                 try:
                     two_rooms(scene, u["wall_m"], u["ratio"], True, colours=True, shell=u["slabs_m"],
                               panel=u["cupboard_m"], yaw=u["yaw_deg"], pitch=u["pitch_deg"], corridor=u["corridor_m"],
-                              door=u["door_m"], back_to_back=u["back_to_back"])
+                              door=u["door_m"], back_to_back=u["back_to_back"], scale=wide["scale"],
+                              wall_material=wide["wall_material"], bright_light=wide["bright_light"])
                 finally:
                     sys.stdout = saved
             subprocess.run([os.path.join(a.build, "lvcl"), "-q", "--mode", "lv", "--cells", str(u["cells"]),

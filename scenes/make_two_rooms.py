@@ -23,7 +23,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from make_scenes import Mesh, box, emission, lambert, look_at, write_gltf  # noqa: E402
+from make_scenes import (Mesh, box, emission, flat_arrays, gltf_document, lambert, look_at,  # noqa: E402
+                         write_gltf_file)
 
 X, Y, Z, WALL_X = 2.0, 2.5, 1.0, 0.37   # rooms x in [-X, X], split at WALL_X
 DIM_LE = 4.0                            # the dim room's lamp radiance
@@ -36,14 +37,28 @@ def turn(p, yaw, pitch):
     return (x, math.cos(pitch) * p[1] - math.sin(pitch) * z, math.sin(pitch) * p[1] + math.cos(pitch) * z)
 
 
+def quat_mul(a, b):
+    """The rotation b then a, as glTF quaternions (x, y, z, w)."""
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return [aw * bx + ax * bw + ay * bz - az * by, aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw, aw * bw - ax * bx - ay * by - az * bz]
+
+
 DOOR_Z, DOOR_TOP = -0.6, 2.0             # a doorway's near edge and its height
 
 
 def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel=0.0, yaw=0.0, pitch=0.0,
-              door=0.0, dim_on=True, corridor=0.0, back_to_back=False):
+              door=0.0, dim_on=True, corridor=0.0, back_to_back=False, scale=1.0, wall_material="lambert",
+              bright_light="area"):
     """colours: the bright lamp red and the dim one blue (grey walls keep
-    the channels apart), so that any red in the dim room is a leak."""
-    WHITE, DIM, BRIGHT = range(3)
+    the channels apart), so that any red in the dim room is a leak.
+    scale: every length times this (radiance is the same, so the image
+    is too); wall_material: the shared wall(s) lambert, glossy (plastic,
+    roughness 0.3) or mirror (metal, roughness 0); bright_light: area (the
+    ceiling lamp), point or spot (a KHR_lights_punctual light of the same
+    power at the lamp's centre; spot: 60 degrees, pointing down)."""
+    WHITE, DIM, BRIGHT, WALL = range(4)
     dim_le = DIM_LE if dim_on else 0.0
     bright_le = DIM_LE * ratio if bright_on else 0.0
     materials = [lambert("white", (0.7, 0.7, 0.7))]
@@ -57,7 +72,16 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
         materials.append(lambert("bright lamp", (0.0, 0.0, 0.0), emissive=f, strength=s))
     else:
         materials.append(lambert("bright lamp (off)", (0.0, 0.0, 0.0)))
+    wall = lambert("shared wall (%s)" % wall_material, (0.7, 0.7, 0.7))
+    if wall_material == "glossy":
+        wall["pbrMetallicRoughness"]["roughnessFactor"] = 0.3
+        del wall["extensions"]
+    elif wall_material == "mirror":
+        wall["pbrMetallicRoughness"].update({"metallicFactor": 1.0, "roughnessFactor": 0.0})
+        del wall["extensions"]
+    materials.append(wall)
     room = Mesh("rooms", WHITE)
+    shared = Mesh("shared wall", WALL)
     lo, hi = (-X, 0.0, -Z), (X, Y, Z)
     if shell > 0:
         # Six slabs round the rooms, overlapping at the edges.
@@ -79,29 +103,54 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
     for x in walls:
         for z0, z1, y0 in (pieces if x == WALL_X else [(-Z, Z, 0.0)]):
             if thickness > 0:
-                box(room, (x - thickness / 2, y0, z0), (x + thickness / 2, Y, z1))
+                box(shared, (x - thickness / 2, y0, z0), (x + thickness / 2, Y, z1))
             else:
                 if back_to_back and x == WALL_X:
-                    room.quad([(x, y0, z1), (x, Y, z1), (x, Y, z0), (x, y0, z0)], (-1.0, 0.0, 0.0))
+                    shared.quad([(x, y0, z1), (x, Y, z1), (x, Y, z0), (x, y0, z0)], (-1.0, 0.0, 0.0))
                 else:
-                    room.quad([(x, y0, z0), (x, Y, z0), (x, Y, z1), (x, y0, z1)], (1.0, 0.0, 0.0))
+                    shared.quad([(x, y0, z0), (x, Y, z0), (x, Y, z1), (x, y0, z1)], (1.0, 0.0, 0.0))
     if panel > 0:
         x0 = walls[-1] + thickness / 2
         box(room, (x0, 0.0, -0.5), (x0 + panel, 0.9, 0.5))
-    meshes = [room]
+    meshes = [room, shared]
     for name, mat, x0, x1 in (("dim lamp", DIM, 1.0, 1.6), ("bright lamp", BRIGHT, -1.4, -0.8)):
+        if mat == BRIGHT and bright_light != "area":
+            continue
         lamp = Mesh(name, mat)
         lamp.quad([(x0, Y - 0.001, -0.3), (x1, Y - 0.001, -0.3), (x1, Y - 0.001, 0.3), (x0, Y - 0.001, 0.3)],
                   (0.0, -1.0, 0.0))
         meshes.append(lamp)
     yaw, pitch = math.radians(yaw), math.radians(pitch)
     for m in meshes:
-        m.positions = [turn(p, yaw, pitch) for p in m.positions]
+        m.positions = [tuple(scale * c for c in turn(p, yaw, pitch)) for p in m.positions]
     eye, target = turn((1.9, 1.2, 0.0), yaw, pitch), turn((walls[-1], 1.1, 0.0), yaw, pitch)
-    camera = {"yfov": math.radians(70.0), "aspect": 1.0, "translation": list(eye), "rotation": look_at(eye, target)}
-    write_gltf(path, meshes, materials, camera,
-               "two closed rooms sharing a %g m wall at x = %g%s; lamps %g (camera's room) and %g" %
-               (thickness, WALL_X, ", a doorway %g m wide" % door if door > 0 else "", dim_le, bright_le))
+    eye, target = tuple(scale * c for c in eye), tuple(scale * c for c in target)
+    camera = {"yfov": math.radians(70.0), "aspect": 1.0, "translation": list(eye), "rotation": look_at(eye, target),
+              "znear": 0.01 * scale}
+    doc, blob = gltf_document([flat_arrays(m) for m in meshes], materials, camera, "lvcl scenes/make_two_rooms.py",
+                              note="two closed rooms sharing a %g m wall at x = %g%s; lamps %g (camera's room) and "
+                              "%g (%s)" % (thickness * scale, WALL_X * scale,
+                                           ", a doorway %g m wide" % (door * scale) if door > 0 else "", dim_le,
+                                           bright_le, bright_light))
+    if bright_light != "area":
+        # The ceiling lamp's power (radiance x area x pi) from a point: intensity = power / (4 pi) W/sr.
+        rgb = (1.0, 0.0, 0.0) if colours else (1.0, 1.0, 1.0)
+        light = {"name": "bright %s" % bright_light, "type": bright_light, "color": list(rgb),
+                 "intensity": bright_le * 0.36 * scale * scale / 4.0}
+        if bright_light == "spot":
+            light["spot"] = {"innerConeAngle": 0.0, "outerConeAngle": math.radians(60.0)}
+        node = {"name": "bright light", "translation": [scale * c for c in turn((-1.1, Y - 0.05, 0.0), yaw, pitch)],
+                "extensions": {"KHR_lights_punctual": {"light": 0}}}
+        if bright_light == "spot":
+            # A light shines down its node's -z: -90 degrees about x points it down, then the scene's turn.
+            h = math.sqrt(0.5)
+            node["rotation"] = quat_mul(quat_mul((math.sin(pitch / 2), 0.0, 0.0, math.cos(pitch / 2)),
+                                                 (0.0, math.sin(yaw / 2), 0.0, math.cos(yaw / 2))), (-h, 0.0, 0.0, h))
+        doc["nodes"].append(node)
+        doc["scenes"][0]["nodes"].append(len(doc["nodes"]) - 1)
+        doc["extensionsUsed"] = sorted(set(doc["extensionsUsed"]) | {"KHR_lights_punctual"})
+        doc["extensions"] = {"KHR_lights_punctual": {"lights": [light]}}
+    write_gltf_file(path, doc, blob)
 
 
 def main():
@@ -126,11 +175,18 @@ def main():
                          "polygons stand back to back round the corridor, as a solid's faces would")
     ap.add_argument("--yaw", type=float, default=0.0, help="the scene turned about y, degrees")
     ap.add_argument("--pitch", type=float, default=0.0, help="then about x, degrees")
+    ap.add_argument("--scale", type=float, default=1.0, help="every length times this (the image stays the same)")
+    ap.add_argument("--wall-material", choices=("lambert", "glossy", "mirror"), default="lambert",
+                    help="the shared wall(s): lambert, glossy (plastic, roughness 0.3) or mirror")
+    ap.add_argument("--bright-light", choices=("area", "point", "spot"), default="area",
+                    help="the bright room's light: the ceiling lamp, or a point or spot light of its power")
     a = ap.parse_args()
+    if a.scale <= 0:
+        ap.error("--scale must be positive")
     if a.bright_off and a.dim_off:
         ap.error("--bright-off and --dim-off together leave the scene dark")
     two_rooms(a.out, a.thickness, a.ratio, not a.bright_off, a.colours, a.shell, a.panel, a.yaw, a.pitch, a.door,
-              not a.dim_off, a.corridor, a.back_to_back)
+              not a.dim_off, a.corridor, a.back_to_back, a.scale, a.wall_material, a.bright_light)
 
 
 if __name__ == "__main__":

@@ -10,7 +10,9 @@
  * walls face no grid axis; with outer walls, floor and ceiling of slabs
  * (a cell where the wall meets them holds five or more surfaces); and
  * with a cupboard against the wall (its front a few centimetres from it);
- * and with walls of rough metal and of rough plastic.
+ * and with walls of rough metal and of rough and smooth plastic; at scales
+ * from 1 cm to 100 m rooms (radiance, and the images, stay the same); and
+ * with the bright room lit by a point or spot light of its lamp's power.
  *
  * (a) Leak: the bright lamp red and the dim one blue; the walls are grey,
  *     so the true red radiance in the dim room is 0 while its own blue
@@ -39,12 +41,21 @@ typedef struct {
     float metallic, roughness, specular;
 } finish;
 
-/* bright, dim: the lamps' RGB radiance; the rest as harness_two_rooms. */
+/* The bright room's light: its ceiling lamp, or a point or spot light
+ * (pointing down, 60 degrees) of the lamp's power at its centre. */
+enum { LAMP, POINT_LIGHT, SPOT_LIGHT };
+static const char *const light_names[] = {"lamp", "point light", "spot light"};
+
+/* bright, dim: the lamps' RGB radiance; scale: every length times this
+ * (radiance, and so the image, stay the same); the rest as
+ * harness_two_rooms. */
 static void two_rooms(float thickness, float shell, float panel, finish walls_finish, const float bright[3],
-                      const float dim[3], float yaw, float pitch, lvcl_scene *s)
+                      const float dim[3], float yaw, float pitch, float scale, int bright_light, lvcl_scene *s)
 {
     float tris[HARNESS_TWO_ROOMS_TRIANGLES * 9];
     size_t walls, n = harness_two_rooms(tris, thickness, shell, panel, 0, yaw, pitch, &walls);
+    if (bright_light != LAMP) n -= 2; /* the lamps come last, the bright one's two triangles after the dim one's */
+    for (size_t i = 0; i < 9 * n; i++) tris[i] *= scale;
     harness_triangle_scene(tris, n, s);
     lvcl_material_desc *m = harness_materials(s, 3);
     for (int k = 0; k < 3; k++) {
@@ -57,10 +68,32 @@ static void two_rooms(float thickness, float shell, float panel, finish walls_fi
     m[0].roughness = walls_finish.roughness;
     m[0].specular = walls_finish.specular;
     for (size_t i = walls; i < n; i++) s->tri_material[i] = i < walls + 2 ? 1 : 2;
+    if (bright_light != LAMP) {
+        /* The lamp's power, radiance x 0.36 m^2 x pi, as an intensity: power / (4 pi). */
+        lv_punctual_light *l = calloc(1, sizeof *l);
+        if (!l) {
+            fprintf(stderr, "two rooms: out of memory\n");
+            exit(1);
+        }
+        float at[3] = {-1.1f, HARNESS_ROOMS_Y - 0.05f, 0.0f}, down[3] = {0.0f, -1.0f, 0.0f};
+        harness_turn(at, yaw, pitch);
+        harness_turn(down, yaw, pitch);
+        for (int k = 0; k < 3; k++) {
+            l->position[k] = at[k] * scale;
+            l->direction[k] = down[k];
+            l->intensity[k] = bright[k] * 0.36f * scale * scale / 4.0f;
+        }
+        l->type = bright_light == SPOT_LIGHT ? LV_PUNCTUAL_SPOT : LV_PUNCTUAL_POINT;
+        l->cos_outer = bright_light == SPOT_LIGHT ? 0.5f : -1.0f;
+        l->cos_inner = bright_light == SPOT_LIGHT ? 1.0f : -1.0f;
+        s->punctuals = l;
+        s->punctual_count = 1;
+    }
     /* The camera in the dim room, looking at the wall. */
     float eye[3] = {1.9f, 1.2f, 0.0f}, target[3] = {HARNESS_WALL_X, 1.1f, 0.0f};
     harness_turn(eye, yaw, pitch);
     harness_turn(target, yaw, pitch);
+    for (int k = 0; k < 3; k++) eye[k] *= scale, target[k] *= scale;
     harness_look_at(s, eye, target, 70.0f);
 }
 
@@ -87,6 +120,8 @@ typedef struct {
     float panel;      /* a cupboard this deep against the wall in the dim room, metres (0: none) */
     finish walls;
     float ratio; /* on/off: the bright lamp's radiance over the dim one's (0: equal, with particles doubled) */
+    float scale; /* every length times this (0: 1) */
+    int bright_light; /* LAMP, POINT_LIGHT or SPOT_LIGHT */
 } setup;
 
 static int render(float thickness, const float bright[3], const float dim[3], const setup *u, uint64_t particles,
@@ -94,12 +129,13 @@ static int render(float thickness, const float bright[3], const float dim[3], co
 {
     lvcl_scene scene;
     lvcl_status st = {0};
-    two_rooms(thickness, u->shell, u->panel, u->walls, bright, dim, u->yaw, u->pitch, &scene);
+    float scale = u->scale > 0 ? u->scale : 1.0f;
+    two_rooms(thickness, u->shell, u->panel, u->walls, bright, dim, u->yaw, u->pitch, scale, u->bright_light, &scene);
     lvcl_render_request req = harness_request(LVCL_MODE_LV, size, spp, u->cells, particles);
     req.volume.subcells = u->subcells;
     req.volume.offset = u->offset;
     req.volume.merge_tolerance = u->merge;
-    req.volume.cell_size = u->cell_size;
+    req.volume.cell_size = u->cell_size * scale;
     req.volume.refine_density = u->refine;
     req.volume.refine_peak = u->fine;
     req.volume.refine_memory = (uint64_t)1 << 32;
@@ -167,6 +203,13 @@ static void test_leak(void)
         {0.02f, 0.37f, 32, 4, .walls = {1.0f, 0.3f}},
         {0.0f, 0.5f, 16, 2, .walls = {0.0f, 0.2f, 1.0f}, .yaw = 25},
         {0.06f, 0.0f, 24, 0, .walls = {1.0f, 0.15f}, .shell = 0.1f},
+        {0.02f, 0.37f, 32, 4, .scale = 0.01f},
+        {0.0f, 0.5f, 16, 2, .scale = 100.0f, .yaw = 20},
+        {0.06f, 0.0f, 24, 4, .scale = 0.1f, .shell = 0.1f, .refine = REFINE_ALL},
+        {0.0f, 0.37f, 32, 4, .bright_light = POINT_LIGHT},
+        {0.02f, 0.5f, 16, 0, .bright_light = POINT_LIGHT, .yaw = 30, .pitch = 8},
+        {0.005f, 0.0f, 24, 3, .bright_light = SPOT_LIGHT, .walls = {0.0f, 0.1f, 1.0f}},
+        {0.0f, 0.92f, 32, 4, .bright_light = SPOT_LIGHT, .scale = 10.0f, .refine = REFINE_ALL},
     };
     const float ratios[] = {25.0f, 1000.0f};
     double worst = 0;
@@ -181,11 +224,12 @@ static void test_leak(void)
         if (!render(u->thickness, bright, dim, u, 100000, 32, 4, &r)) return;
         double red = channel_mean(&r, 0), blue = channel_mean(&r, 2), leak = red / (ratio * blue);
         free(r.rgb);
-        printf(
-            "  leak: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m, turned "
-            "%g/%g deg, slabs %g m, cupboard %g m, metallic %g roughness %g specular %g, %.0fx: red %.3g, blue %.3g\n",
-            u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, u->yaw, u->pitch,
-            u->shell, u->panel, u->walls.metallic, u->walls.roughness, u->walls.specular, ratio, red, blue);
+        printf("  leak: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m, turned "
+               "%g/%g deg, slabs %g m, cupboard %g m, metallic %g roughness %g specular %g, scale %g, %s, %.0fx: red "
+               "%.3g, blue %.3g\n",
+               u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, u->yaw, u->pitch,
+               u->shell, u->panel, u->walls.metallic, u->walls.roughness, u->walls.specular,
+               u->scale > 0 ? u->scale : 1, light_names[u->bright_light], ratio, red, blue);
         if (!(leak <= worst)) worst = leak;
         CHECK("two rooms: the bright room's light does not leak into the dim one", blue > 0 && leak < 1e-4,
               "wall %.3f m, offset %.2f, %d cells, %d subcells, %.0fx: red / (ratio blue) = %.3g", u->thickness,
@@ -212,7 +256,11 @@ static void test_on_off(void)
                             {0.0f, 0.5f, 32, 4, .ratio = 1000},
                             {0.02f, 0.37f, 24, 0, .ratio = 25},
                             {0.06f, 0.0f, 16, 2, .yaw = 30, .ratio = 1000},
-                            {0.005f, 0.37f, 32, 4, .shell = 0.1f, .ratio = 25}};
+                            {0.005f, 0.37f, 32, 4, .shell = 0.1f, .ratio = 25},
+                            {0.02f, 0.5f, 32, 4, .ratio = 1000, .scale = 0.01f},
+                            {0.0f, 0.37f, 16, 2, .ratio = 25, .scale = 100.0f, .yaw = 12},
+                            {0.0f, 0.5f, 32, 4, .ratio = 1000, .bright_light = POINT_LIGHT},
+                            {0.02f, 0.0f, 24, 0, .ratio = 25, .bright_light = SPOT_LIGHT, .walls = {0.0f, 0.1f, 1.0f}}};
     const int size = 32, block = 8, nb = size / block;
     for (size_t i = 0; i < sizeof setups / sizeof *setups; i++) {
         const setup *u = &setups[i];
@@ -242,10 +290,10 @@ static void test_on_off(void)
         for (int k = 0; k < nb * nb; k++) var += (d[k] - mean) * (d[k] - mean) / (nb * nb - 1);
         for (int k = 0; k < nb * nb; k++) worst = fmax(worst, fabs(d[k]) / sqrt(var));
         printf("  on/off: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m, turned "
-               "%g/%g deg, slabs %g m, bright %gx: mean ratio %.4f, worst block %.2f standard deviations (block "
-               "difference sd %.3g)\n",
+               "%g/%g deg, slabs %g m, scale %g, %s, bright %gx: mean ratio %.4f, worst block %.2f standard "
+               "deviations (block difference sd %.3g)\n",
                u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, u->yaw, u->pitch,
-               u->shell, ratio, on_off, worst, sqrt(var));
+               u->shell, u->scale > 0 ? u->scale : 1, light_names[u->bright_light], ratio, on_off, worst, sqrt(var));
         CHECK("two rooms: the dim room's mean is the same with the bright lamp on and off within 3%",
               fabs(on_off - 1) < 0.03, "wall %.3f m, offset %.2f, %d cells, %d subcells, %gx: on / off %.4f",
               u->thickness, u->offset, u->cells, u->subcells, ratio, on_off);
