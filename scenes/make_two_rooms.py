@@ -6,7 +6,8 @@ leaks the bright room's light through the cells the wall cuts (the true
 ratio, and the path tracer's, is 1).
 
     python3 scenes/make_two_rooms.py OUT.gltf --thickness 0.02 --ratio 25 [--bright-off | --dim-off]
-        [--shell 0.1] [--panel 0.04] [--door 0.1] [--yaw 12 --pitch 7]
+        [--shell 0.1] [--panel 0.04] [--door 0.1] [--yaw 12 --pitch 7] [--scale 100]
+        [--wall-material lambert|glossy|mirror] [--bright-light area|point|spot]
 
 --thickness 0 makes the wall one double-sided polygon; --shell S builds the
 outer walls, floor and ceiling as slabs S thick; --panel D stands a
@@ -15,7 +16,10 @@ doorway W wide and 2 m tall in the wall, so that with --dim-off the
 camera's room is lit only through it (issue 14's door ajar, where guided
 paths help most); --yaw and --pitch turn the
 whole scene (degrees, about y and then x), so that no wall faces a grid
-axis. The geometry is the same as tests/volume/test_two_rooms.c builds in
+axis; --scale multiplies every length (radiance, and so the image, stay
+the same); --wall-material gives the shared wall(s) a finish of their own;
+--bright-light replaces the bright lamp by a point or spot light of its
+power. The geometry is the same as tests/volume/test_two_rooms.c builds in
 memory."""
 import argparse
 import math

@@ -52,6 +52,7 @@ typedef struct {
     double n[3];                  /* the first triangle's normal, canonical */
     double sum_n[3], sum_d, area; /* area x normal, area x offset, area */
     double front;                 /* 1 where the triangles' front faces along n, else -1 */
+    double lo[3], hi[3];          /* the box of its triangles' parts in the cell */
     int clear;                    /* of solid glass */
     int sheet;                    /* of a surface with open edges (a wall of one polygon), not a closed solid's face */
     int next;                     /* the cell's next facet, -1 at the end */
@@ -68,6 +69,7 @@ typedef struct {
 typedef struct {
     int group, order; /* the group of parallel facets; the facet's place in the cell */
     double n[3], d, area, front;
+    double lo[3], hi[3]; /* its box in the cell */
     int clear, sheet;
     int hidden; /* against a larger facet of the other front, in its plane */
 } turned_facet;
@@ -122,10 +124,11 @@ static int cuts_cell(const double n[3], double d, const double lo[3], double h)
 }
 
 /* Adds a triangle's plane n . x = d (n canonical; front: +1 where the
- * triangle's front faces along n, else -1; clear: of solid glass) to the
- * cell's facet of that plane, or makes one. */
+ * triangle's front faces along n, else -1; clear: of solid glass), its
+ * part in the cell weighing `area` and boxed by lo, hi, to the cell's
+ * facet of that plane, or makes one. */
 static void add_to_cell(facets *f, int cell, const double n[3], double d, double front, int clear, int sheet,
-                        double area, double h)
+                        double area, const double lo[3], const double hi[3], double h)
 {
     /* A plane's triangles mostly come one after another: looking at the
      * newest few facets keeps this step's cost flat in dense cells. */
@@ -139,6 +142,7 @@ static void add_to_cell(facets *f, int cell, const double n[3], double d, double
         k->sum_d += area * d;
         k->area += area;
         k->sheet |= sheet;
+        for (int j = 0; j < 3; j++) k->lo[j] = fmin(k->lo[j], lo[j]), k->hi[j] = fmax(k->hi[j], hi[j]);
         return;
     }
     if (f->count == f->capacity) {
@@ -156,15 +160,18 @@ static void add_to_cell(facets *f, int cell, const double n[3], double d, double
     k->sum_d = area * d;
     k->area = area;
     k->front = front;
+    memcpy(k->lo, lo, sizeof k->lo);
+    memcpy(k->hi, hi, sizeof k->hi);
     k->clear = clear;
     k->sheet = sheet;
     k->next = f->head[cell];
     f->head[cell] = (int)f->count++;
 }
 
-/* The area of triangle v inside the cell with corner lo and side h: the
- * triangle clipped by the cell's six faces in turn. */
-static double area_in_cell(const float v[9], const double lo[3], double h)
+/* The area of triangle v inside the cell with corner lo and side h (the
+ * triangle clipped by the cell's six faces in turn), and in box_lo,
+ * box_hi the box of that part. */
+static double area_in_cell(const float v[9], const double lo[3], double h, double box_lo[3], double box_hi[3])
 {
     enum { MAX_CORNERS = 9 }; /* three, and one more per face */
     double poly[MAX_CORNERS][3], next[MAX_CORNERS][3];
@@ -188,6 +195,9 @@ static double area_in_cell(const float v[9], const double lo[3], double h)
         count = kept;
         memcpy(poly, next, (size_t)count * sizeof poly[0]);
     }
+    for (int k = 0; k < 3; k++) box_lo[k] = HUGE_VAL, box_hi[k] = -HUGE_VAL;
+    for (int i = 0; i < count; i++)
+        for (int k = 0; k < 3; k++) box_lo[k] = fmin(box_lo[k], poly[i][k]), box_hi[k] = fmax(box_hi[k], poly[i][k]);
     double sum[3] = {0, 0, 0};
     for (int i = 1; i + 1 < count; i++) {
         double e1[3], e2[3];
@@ -230,8 +240,9 @@ static void add_triangle(facets *c, const lv_grid_info *g, const uint32_t *store
                 if (s == LV_EMPTY_CELL) continue;
                 double corner[3] = {g->origin[0] + x * h, g->origin[1] + y * h, g->origin[2] + z * h};
                 if (!cuts_cell(n, d, corner, h)) continue;
-                double area = area_in_cell(v, corner, h);
-                if (area > 0) add_to_cell(c, (int)s, n, d, front, clear, sheet, weight * area, h);
+                double box_lo[3], box_hi[3];
+                double area = area_in_cell(v, corner, h, box_lo, box_hi);
+                if (area > 0) add_to_cell(c, (int)s, n, d, front, clear, sheet, weight * area, box_lo, box_hi, h);
             }
 }
 
@@ -264,11 +275,25 @@ static int by_group_and_offset(const void *pa, const void *pb)
     return (a->order > b->order) - (a->order < b->order);
 }
 
-/* Whether facet a, in b's plane, hides b. */
-static int hides(const turned_facet *a, const turned_facet *b)
+/* Whether facet a's box holds b's (within FACET_OFFSET cell). */
+static int box_holds(const turned_facet *a, const turned_facet *b, double h)
 {
-    return a->front != b->front && dot3(a->n, b->n) > LAYER_NORMAL &&
-        (a->area > b->area || (a->area == b->area && b->front < 0));
+    for (int k = 0; k < 3; k++)
+        if (a->lo[k] > b->lo[k] + FACET_OFFSET * h || a->hi[k] < b->hi[k] - FACET_OFFSET * h) return 0;
+    return 1;
+}
+
+/* Whether facet a, in b's plane, hides b: the one whose box holds the
+ * other's is the larger, else the one of larger area. Boxes first, since
+ * overlapping solids (a wall modelled twice, one a little off the other)
+ * put two faces on the surface they stand on, whose areas add up to more
+ * than that surface's part in the cell though they cover less of it. */
+static int hides(const turned_facet *a, const turned_facet *b, double h)
+{
+    if (a->front == b->front || dot3(a->n, b->n) <= LAYER_NORMAL) return 0;
+    int a_holds = box_holds(a, b, h), b_holds = box_holds(b, a, h);
+    if (a_holds != b_holds) return a_holds;
+    return a->area > b->area || (a->area == b->area && b->front < 0);
 }
 
 /* Marks the facets (sorted by group and offset) that lie in the plane of
@@ -283,9 +308,9 @@ static void mark_hidden(turned_facet *t, size_t m, double h)
     for (size_t i = 0; i < m; i++) {
         t[i].hidden = 0;
         for (size_t j = i; j-- > 0 && t[j].group == t[i].group && t[i].d - t[j].d <= FACET_OFFSET * h;)
-            t[i].hidden |= hides(&t[j], &t[i]);
+            t[i].hidden |= hides(&t[j], &t[i], h);
         for (size_t j = i + 1; j < m && t[j].group == t[i].group && t[j].d - t[i].d <= FACET_OFFSET * h; j++)
-            t[i].hidden |= hides(&t[j], &t[i]);
+            t[i].hidden |= hides(&t[j], &t[i], h);
     }
 }
 
@@ -318,6 +343,8 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         turned_facet *t = &w->turned[--order];
         t->order = order;
         t->area = k->area;
+        memcpy(t->lo, k->lo, sizeof t->lo);
+        memcpy(t->hi, k->hi, sizeof t->hi);
         t->clear = k->clear;
         t->sheet = k->sheet;
         double len = sqrt(dot3(k->sum_n, k->sum_n)); /* > 0: a facet's triangles have area, one normal */
