@@ -52,7 +52,10 @@ typedef struct {
     double n[3];                  /* the first triangle's normal, canonical */
     double sum_n[3], sum_d, area; /* area x normal, area x offset, area */
     double front;                 /* 1 where the triangles' front faces along n, else -1 */
-    double lo[3], hi[3];          /* the box of its triangles' parts in the cell */
+    /* Its extent in the cell along two axes in its plane (facet_axes): the
+     * first, and n x it. Floats: a large scene holds millions of facets. */
+    float axis[3], lo[2], hi[2];
+    int extent;                   /* 1 while every triangle's facet_axes match the first's */
     int clear;                    /* of solid glass */
     int sheet;                    /* of a surface with open edges (a wall of one polygon), not a closed solid's face */
     int next;                     /* the cell's next facet, -1 at the end */
@@ -69,7 +72,8 @@ typedef struct {
 typedef struct {
     int group, order; /* the group of parallel facets; the facet's place in the cell */
     double n[3], d, area, front;
-    double lo[3], hi[3]; /* its box in the cell */
+    double axes[2][3], lo[2], hi[2]; /* its extent in the cell (facet) */
+    int extent;                      /* 1 where that is known */
     int clear, sheet;
     int hidden; /* against a larger facet of the other front, in its plane */
 } turned_facet;
@@ -79,6 +83,8 @@ typedef struct {
     double top_along;             /* the largest offset of a front along the group's normal; -HUGE_VAL if none */
     double top_against;           /* and of a front against it */
     double along_n[3], against_n[3]; /* the normals of those two facets */
+    double along_axes[2][3], along_lo[2], along_hi[2]; /* the extent of its facets of a front along the normal */
+    int along_extent;                                  /* 1 where every such facet's axes match the first's */
     int clear, gap;                  /* of glass; it faces another cluster across a gap */
     int sheet;                       /* it holds a facet of a sheet */
     int group;                    /* of parallel clusters (cluster_cell) */
@@ -123,12 +129,72 @@ static int cuts_cell(const double n[3], double d, const double lo[3], double h)
     return fabs(centre - d) < radius - CUT_MARGIN * h;
 }
 
+/* A triangle clipped by a cell: at most three corners and one more per face. */
+#define CLIPPED_CORNERS 9
+typedef struct {
+    double p[CLIPPED_CORNERS][3];
+    int count;
+} clipped;
+
+/* The extent along `axis` of something whose extent along `axes` is lo,
+ * hi, in *l, *h: where one of the axes is `axis` or its opposite (within
+ * a degree). Returns 0 where neither is. */
+static int extent_along(const double axes[2][3], const double lo[2], const double hi[2], const double axis[3],
+                        double *l, double *h)
+{
+    for (int k = 0; k < 2; k++) {
+        double c = dot3(axes[k], axis);
+        if (fabs(c) <= LAYER_NORMAL) continue;
+        *l = c > 0 ? lo[k] : -hi[k];
+        *h = c > 0 ? hi[k] : -lo[k];
+        return 1;
+    }
+    return 0;
+}
+
+/* Whether axes a and b are the same up to order and sign (within a degree). */
+static int axes_match(const double a[2][3], const double b[2][3])
+{
+    return (fabs(dot3(a[0], b[0])) > LAYER_NORMAL && fabs(dot3(a[1], b[1])) > LAYER_NORMAL) ||
+        (fabs(dot3(a[0], b[1])) > LAYER_NORMAL && fabs(dot3(a[1], b[0])) > LAYER_NORMAL);
+}
+
+/* Extends lo, hi (along axes) to hold polygon c. */
+static void extend(const double axes[2][3], const clipped *c, double lo[2], double hi[2])
+{
+    for (int i = 0; i < c->count; i++)
+        for (int k = 0; k < 2; k++) {
+            double x = dot3(c->p[i], axes[k]);
+            lo[k] = fmin(lo[k], x), hi[k] = fmax(hi[k], x);
+        }
+}
+
+/* Facet k's axes and extent, in doubles. */
+static void facet_frame(const facet *k, double axes[2][3], double lo[2], double hi[2])
+{
+    for (int j = 0; j < 3; j++) axes[0][j] = k->axis[j];
+    axes[1][0] = k->n[1] * axes[0][2] - k->n[2] * axes[0][1];
+    axes[1][1] = k->n[2] * axes[0][0] - k->n[0] * axes[0][2];
+    axes[1][2] = k->n[0] * axes[0][1] - k->n[1] * axes[0][0];
+    for (int j = 0; j < 2; j++) lo[j] = k->lo[j], hi[j] = k->hi[j];
+}
+
+/* Stores an extent in facet k's floats, rounded outwards. */
+static void keep_extent(facet *k, const double lo[2], const double hi[2])
+{
+    for (int j = 0; j < 2; j++) {
+        k->lo[j] = nextafterf((float)lo[j], -HUGE_VALF);
+        k->hi[j] = nextafterf((float)hi[j], HUGE_VALF);
+    }
+}
+
 /* Adds a triangle's plane n . x = d (n canonical; front: +1 where the
  * triangle's front faces along n, else -1; clear: of solid glass), its
- * part in the cell weighing `area` and boxed by lo, hi, to the cell's
- * facet of that plane, or makes one. */
+ * part in the cell (part, weighing `area`), to the cell's facet of that
+ * plane, or makes one, whose extent is measured along `axes`
+ * (facet_axes of the triangle). */
 static void add_to_cell(facets *f, int cell, const double n[3], double d, double front, int clear, int sheet,
-                        double area, const double lo[3], const double hi[3], double h)
+                        double area, const clipped *part, const double axes[2][3], double h)
 {
     /* A plane's triangles mostly come one after another: looking at the
      * newest few facets keeps this step's cost flat in dense cells. */
@@ -142,7 +208,13 @@ static void add_to_cell(facets *f, int cell, const double n[3], double d, double
         k->sum_d += area * d;
         k->area += area;
         k->sheet |= sheet;
-        for (int j = 0; j < 3; j++) k->lo[j] = fmin(k->lo[j], lo[j]), k->hi[j] = fmax(k->hi[j], hi[j]);
+        /* An extent along axes that some triangle's do not match would
+         * depend on which triangle came first. */
+        double own[2][3], lo[2], hi[2];
+        facet_frame(k, own, lo, hi);
+        k->extent &= axes_match(axes, (const double(*)[3])own);
+        extend((const double(*)[3])own, part, lo, hi);
+        keep_extent(k, lo, hi);
         return;
     }
     if (f->count == f->capacity) {
@@ -160,21 +232,54 @@ static void add_to_cell(facets *f, int cell, const double n[3], double d, double
     k->sum_d = area * d;
     k->area = area;
     k->front = front;
-    memcpy(k->lo, lo, sizeof k->lo);
-    memcpy(k->hi, hi, sizeof k->hi);
+    for (int j = 0; j < 3; j++) k->axis[j] = (float)axes[0][j];
+    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
+    extend(axes, part, lo, hi);
+    keep_extent(k, lo, hi);
+    k->extent = 1;
     k->clear = clear;
     k->sheet = sheet;
     k->next = f->head[cell];
     f->head[cell] = (int)f->count++;
 }
 
-/* The area of triangle v inside the cell with corner lo and side h (the
- * triangle clipped by the cell's six faces in turn), and in box_lo,
- * box_hi the box of that part. */
-static double area_in_cell(const float v[9], const double lo[3], double h, double box_lo[3], double box_hi[3])
+/* Two axes across triangle v's plane (canonical normal n) along which its
+ * facet measures its extent: along the triangle's shortest edge (a leg of
+ * a quad's half) and across it, turned by a quarter turn or more to lie
+ * within [0, 90) degrees of a frame that n alone fixes. A box's faces, and
+ * the faces of boxes lined up with it, get the same axes however the box
+ * is turned, so their extents compare (extent_along). */
+static void facet_axes(const float v[9], const double n[3], double axes[2][3])
 {
-    enum { MAX_CORNERS = 9 }; /* three, and one more per face */
-    double poly[MAX_CORNERS][3], next[MAX_CORNERS][3];
+    int k = fabs(n[0]) <= fabs(n[1]) && fabs(n[0]) <= fabs(n[2]) ? 0 : fabs(n[1]) <= fabs(n[2]) ? 1 : 2;
+    double e[3] = {0, 0, 0}, u[3], w[3], edge[3] = {1, 0, 0}, shortest = HUGE_VAL;
+    e[k] = 1;
+    u[0] = n[1] * e[2] - n[2] * e[1];
+    u[1] = n[2] * e[0] - n[0] * e[2];
+    u[2] = n[0] * e[1] - n[1] * e[0];
+    double len = sqrt(dot3(u, u));
+    for (int i = 0; i < 3; i++) u[i] /= len;
+    w[0] = n[1] * u[2] - n[2] * u[1];
+    w[1] = n[2] * u[0] - n[0] * u[2];
+    w[2] = n[0] * u[1] - n[1] * u[0];
+    for (int i = 0; i < 3; i++) {
+        double d[3], l = 0;
+        for (int j = 0; j < 3; j++) d[j] = (double)v[3 * ((i + 1) % 3) + j] - v[3 * i + j], l += d[j] * d[j];
+        if (l < shortest) shortest = l, memcpy(edge, d, sizeof edge);
+    }
+    const double quarter_turn = 1.5707963267948966;
+    double turn = fmod(atan2(dot3(edge, w), dot3(edge, u)) + 4.0 * quarter_turn, quarter_turn);
+    for (int j = 0; j < 3; j++) {
+        axes[0][j] = cos(turn) * u[j] + sin(turn) * w[j];
+        axes[1][j] = -sin(turn) * u[j] + cos(turn) * w[j];
+    }
+}
+
+/* The area of triangle v inside the cell with corner lo and side h (the
+ * triangle clipped by the cell's six faces in turn), and that part. */
+static double area_in_cell(const float v[9], const double lo[3], double h, clipped *part)
+{
+    double(*poly)[3] = part->p, next[CLIPPED_CORNERS][3];
     int count = 3;
     for (int i = 0; i < 3; i++)
         for (int k = 0; k < 3; k++) poly[i][k] = v[3 * i + k];
@@ -195,9 +300,7 @@ static double area_in_cell(const float v[9], const double lo[3], double h, doubl
         count = kept;
         memcpy(poly, next, (size_t)count * sizeof poly[0]);
     }
-    for (int k = 0; k < 3; k++) box_lo[k] = HUGE_VAL, box_hi[k] = -HUGE_VAL;
-    for (int i = 0; i < count; i++)
-        for (int k = 0; k < 3; k++) box_lo[k] = fmin(box_lo[k], poly[i][k]), box_hi[k] = fmax(box_hi[k], poly[i][k]);
+    part->count = count;
     double sum[3] = {0, 0, 0};
     for (int i = 1; i + 1 < count; i++) {
         double e1[3], e2[3];
@@ -225,6 +328,8 @@ static void add_triangle(facets *c, const lv_grid_info *g, const uint32_t *store
     for (int k = 0; k < 3; k++) n[k] /= len;
     double p0[3] = {v[0], v[1], v[2]}, d = dot3(n, p0), h = g->cell_size;
     double front = canonical(n, &d); /* the winding's front: along n (1) or against it (-1) */
+    double axes[2][3];
+    facet_axes(v, n, axes);
     int lo[3], hi[3];
     for (int k = 0; k < 3; k++) {
         double a = fmin(v[k], fmin(v[3 + k], v[6 + k])), b = fmax(v[k], fmax(v[3 + k], v[6 + k]));
@@ -240,9 +345,9 @@ static void add_triangle(facets *c, const lv_grid_info *g, const uint32_t *store
                 if (s == LV_EMPTY_CELL) continue;
                 double corner[3] = {g->origin[0] + x * h, g->origin[1] + y * h, g->origin[2] + z * h};
                 if (!cuts_cell(n, d, corner, h)) continue;
-                double box_lo[3], box_hi[3];
-                double area = area_in_cell(v, corner, h, box_lo, box_hi);
-                if (area > 0) add_to_cell(c, (int)s, n, d, front, clear, sheet, weight * area, box_lo, box_hi, h);
+                clipped part;
+                double area = area_in_cell(v, corner, h, &part);
+                if (area > 0) add_to_cell(c, (int)s, n, d, front, clear, sheet, weight * area, &part, axes, h);
             }
 }
 
@@ -275,24 +380,30 @@ static int by_group_and_offset(const void *pa, const void *pb)
     return (a->order > b->order) - (a->order < b->order);
 }
 
-/* Whether facet a's box holds b's (within FACET_OFFSET cell). */
-static int box_holds(const turned_facet *a, const turned_facet *b, double h)
+/* Whether facet a's extent holds b's (within FACET_OFFSET cell); -1 where
+ * either is unknown or their axes do not match. */
+static int extent_holds(const turned_facet *a, const turned_facet *b, double h)
 {
-    for (int k = 0; k < 3; k++)
-        if (a->lo[k] > b->lo[k] + FACET_OFFSET * h || a->hi[k] < b->hi[k] - FACET_OFFSET * h) return 0;
-    return 1;
+    if (!a->extent || !b->extent) return -1;
+    int holds = 1;
+    for (int k = 0; k < 2; k++) {
+        double l, u;
+        if (!extent_along(b->axes, b->lo, b->hi, a->axes[k], &l, &u)) return -1;
+        holds &= a->lo[k] <= l + FACET_OFFSET * h && a->hi[k] >= u - FACET_OFFSET * h;
+    }
+    return holds;
 }
 
-/* Whether facet a, in b's plane, hides b: the one whose box holds the
- * other's is the larger, else the one of larger area. Boxes first, since
+/* Whether facet a, in b's plane, hides b: the one whose extent holds the
+ * other's is the larger, else the one of larger area. Extents first, since
  * overlapping solids (a wall modelled twice, one a little off the other)
  * put two faces on the surface they stand on, whose areas add up to more
  * than that surface's part in the cell though they cover less of it. */
 static int hides(const turned_facet *a, const turned_facet *b, double h)
 {
     if (a->front == b->front || dot3(a->n, b->n) <= LAYER_NORMAL) return 0;
-    int a_holds = box_holds(a, b, h), b_holds = box_holds(b, a, h);
-    if (a_holds != b_holds) return a_holds;
+    int a_holds = extent_holds(a, b, h), b_holds = extent_holds(b, a, h);
+    if (a_holds >= 0 && b_holds >= 0 && a_holds != b_holds) return a_holds;
     return a->area > b->area || (a->area == b->area && b->front < 0);
 }
 
@@ -312,6 +423,23 @@ static void mark_hidden(turned_facet *t, size_t m, double h)
         for (size_t j = i + 1; j < m && t[j].group == t[i].group && t[j].d - t[i].d <= FACET_OFFSET * h; j++)
             t[i].hidden |= hides(&t[j], &t[i], h);
     }
+}
+
+/* Whether facet t lies over the facets of cluster c whose front faces
+ * it: their extents overlap by more than FACET_OFFSET cell along both
+ * axes (where their axes do not match, it is taken that they do). Facing
+ * fronts that only meet at an edge or lie side by side (a doorway's side
+ * and a cupboard's beside the doorway, each against its own wall) hold
+ * no thin layer of air between them. */
+static int faces_across(const turned_facet *t, const cluster *c, double h)
+{
+    if (!c->along_extent || !t->extent) return 1;
+    for (int k = 0; k < 2; k++) {
+        double l, u;
+        if (!extent_along(t->axes, t->lo, t->hi, c->along_axes[k], &l, &u)) return 1;
+        if (l >= c->along_hi[k] - FACET_OFFSET * h || u <= c->along_lo[k] + FACET_OFFSET * h) return 0;
+    }
+    return 1;
 }
 
 /* Clusters one cell's facets into w->clusters; returns their count, or -1
@@ -343,8 +471,8 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         turned_facet *t = &w->turned[--order];
         t->order = order;
         t->area = k->area;
-        memcpy(t->lo, k->lo, sizeof t->lo);
-        memcpy(t->hi, k->hi, sizeof t->hi);
+        facet_frame(k, t->axes, t->lo, t->hi);
+        t->extent = k->extent;
         t->clear = k->clear;
         t->sheet = k->sheet;
         double len = sqrt(dot3(k->sum_n, k->sum_n)); /* > 0: a facet's triangles have area, one normal */
@@ -375,7 +503,7 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         /* A front against the group's normal faces a front along it below
          * it; within a facet's tolerance they touch. */
         int facing = c && t->front < 0 && t->d - c->top_along > FACET_OFFSET * h;
-        int gap = facing && t->d - c->top_along < SAME_OFFSET * h;
+        int gap = facing && t->d - c->top_along < SAME_OFFSET * h && faces_across(t, c, h);
         if (gap) c->gap = 1;
         /* The cluster's topmost facet of t's front and of the other. */
         double top = c ? (t->front > 0 ? c->top_along : c->top_against) : -HUGE_VAL;
@@ -406,6 +534,19 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         c->area += t->area;
         /* Sorted by offset: this facet is the cluster's topmost of its front. */
         if (t->front > 0) {
+            if (c->top_along == -HUGE_VAL) {
+                memcpy(c->along_axes, t->axes, sizeof c->along_axes);
+                memcpy(c->along_lo, t->lo, sizeof c->along_lo);
+                memcpy(c->along_hi, t->hi, sizeof c->along_hi);
+                c->along_extent = t->extent;
+            } else {
+                c->along_extent &= t->extent;
+                for (int k = 0; k < 2; k++) {
+                    double l, u;
+                    if (!extent_along(t->axes, t->lo, t->hi, c->along_axes[k], &l, &u)) c->along_extent = 0;
+                    else c->along_lo[k] = fmin(c->along_lo[k], l), c->along_hi[k] = fmax(c->along_hi[k], u);
+                }
+            }
             c->top_along = t->d;
             memcpy(c->along_n, t->n, sizeof c->along_n);
         } else {
