@@ -12,7 +12,9 @@
  * with a cupboard against the wall (its front a few centimetres from it);
  * and with walls of rough metal and of rough and smooth plastic; at scales
  * from 1 cm to 100 m rooms (radiance, and the images, stay the same); and
- * with the bright room lit by a point or spot light of its lamp's power.
+ * with the bright room lit by a point or spot light of its lamp's power;
+ * and with the wall modelled twice, the copies overlapping (one with a
+ * doorway, which the other closes, beside a cupboard).
  *
  * (a) Leak: the bright lamp red and the dim one blue; the walls are grey,
  *     so the true red radiance in the dim room is 0 while its own blue
@@ -46,57 +48,6 @@ typedef struct {
 enum { LAMP, POINT_LIGHT, SPOT_LIGHT };
 static const char *const light_names[] = {"lamp", "point light", "spot light"};
 
-/* bright, dim: the lamps' RGB radiance; scale: every length times this
- * (radiance, and so the image, stay the same); the rest as
- * harness_two_rooms. */
-static void two_rooms(float thickness, float shell, float panel, finish walls_finish, const float bright[3],
-                      const float dim[3], float yaw, float pitch, float scale, int bright_light, lvcl_scene *s)
-{
-    float tris[HARNESS_TWO_ROOMS_TRIANGLES * 9];
-    size_t walls, n = harness_two_rooms(tris, thickness, shell, panel, 0, yaw, pitch, &walls);
-    if (bright_light != LAMP) n -= 2; /* the lamps come last, the bright one's two triangles after the dim one's */
-    for (size_t i = 0; i < 9 * n; i++) tris[i] *= scale;
-    harness_triangle_scene(tris, n, s);
-    lvcl_material_desc *m = harness_materials(s, 3);
-    for (int k = 0; k < 3; k++) {
-        m[0].base_color[k] = 0.7f;
-        m[1].base_color[k] = m[2].base_color[k] = 0.0f;
-        m[1].emissive[k] = dim[k];
-        m[2].emissive[k] = bright[k];
-    }
-    m[0].metallic = walls_finish.metallic;
-    m[0].roughness = walls_finish.roughness;
-    m[0].specular = walls_finish.specular;
-    for (size_t i = walls; i < n; i++) s->tri_material[i] = i < walls + 2 ? 1 : 2;
-    if (bright_light != LAMP) {
-        /* The lamp's power, radiance x 0.36 m^2 x pi, as an intensity: power / (4 pi). */
-        lv_punctual_light *l = calloc(1, sizeof *l);
-        if (!l) {
-            fprintf(stderr, "two rooms: out of memory\n");
-            exit(1);
-        }
-        float at[3] = {-1.1f, HARNESS_ROOMS_Y - 0.05f, 0.0f}, down[3] = {0.0f, -1.0f, 0.0f};
-        harness_turn(at, yaw, pitch);
-        harness_turn(down, yaw, pitch);
-        for (int k = 0; k < 3; k++) {
-            l->position[k] = at[k] * scale;
-            l->direction[k] = down[k];
-            l->intensity[k] = bright[k] * 0.36f * scale * scale / 4.0f;
-        }
-        l->type = bright_light == SPOT_LIGHT ? LV_PUNCTUAL_SPOT : LV_PUNCTUAL_POINT;
-        l->cos_outer = bright_light == SPOT_LIGHT ? 0.5f : -1.0f;
-        l->cos_inner = bright_light == SPOT_LIGHT ? 1.0f : -1.0f;
-        s->punctuals = l;
-        s->punctual_count = 1;
-    }
-    /* The camera in the dim room, looking at the wall. */
-    float eye[3] = {1.9f, 1.2f, 0.0f}, target[3] = {HARNESS_WALL_X, 1.1f, 0.0f};
-    harness_turn(eye, yaw, pitch);
-    harness_turn(target, yaw, pitch);
-    for (int k = 0; k < 3; k++) eye[k] *= scale, target[k] *= scale;
-    harness_look_at(s, eye, target, 70.0f);
-}
-
 /* A merge tolerance that merges every block free of geometry. */
 #define MERGE_ALL 1e12
 /* Cells whose boundaries hold the one-polygon wall (the grid starts a cell
@@ -111,26 +62,88 @@ static void two_rooms(float thickness, float shell, float panel, finish walls_fi
 typedef struct {
     float thickness, offset;
     int cells, subcells;
-    double merge;    /* adaptive cells' tolerance, 0 = off */
-    float cell_size; /* metres, 0: from cells */
-    double refine;   /* refined cells' density, 0 = off */
-    double fine;     /* refined directions' peak, 0 = off */
+    double merge;     /* adaptive cells' tolerance, 0 = off */
+    float cell_size;  /* metres, 0: from cells */
+    double refine;    /* refined cells' density, 0 = off */
+    double fine;      /* refined directions' peak, 0 = off */
     float yaw, pitch; /* the scene turned, degrees (harness_turn) */
     float shell;      /* the outer walls, floor and ceiling as slabs this thick, metres (0: one polygon each) */
     float panel;      /* a cupboard this deep against the wall in the dim room, metres (0: none) */
     finish walls;
-    float ratio; /* on/off: the bright lamp's radiance over the dim one's (0: equal, with particles doubled) */
-    float scale; /* every length times this (0: 1) */
+    float ratio;      /* on/off: the bright lamp's radiance over the dim one's (0: equal, with particles doubled) */
+    float scale;      /* every length times this (0: 1) */
     int bright_light; /* LAMP, POINT_LIGHT or SPOT_LIGHT */
+    float twin;       /* a second copy of the wall this far along x, overlapping it (a wall modelled twice), metres */
+    float door;       /* a doorway this wide in the first copy (which the second closes), metres */
 } setup;
 
-static int render(float thickness, const float bright[3], const float dim[3], const setup *u, uint64_t particles,
-                  int size, int spp, lvcl_render_result *r)
+/* The set-up's rooms, lamps and camera (bright, dim: the lamps' RGB
+ * radiance), every length times its scale (radiance, and so the image,
+ * stay the same). */
+static void two_rooms(const setup *u, const float bright[3], const float dim[3], lvcl_scene *s)
+{
+    const float scale = u->scale > 0 ? u->scale : 1.0f;
+    float tris[(HARNESS_TWO_ROOMS_TRIANGLES + 12) * 9];
+    size_t walls, n = harness_two_rooms(tris, u->thickness, u->shell, u->panel, u->door, 0, 0, &walls);
+    if (u->bright_light != LAMP) n -= 2; /* the lamps come last, the bright one's two triangles after the dim one's */
+    size_t lamps_end = n;
+    if (u->twin != 0) {
+        const float lo[3] = {HARNESS_WALL_X - u->thickness / 2 + u->twin, 0, -HARNESS_ROOMS_Z},
+                    hi[3] = {HARNESS_WALL_X + u->thickness / 2 + u->twin, HARNESS_ROOMS_Y, HARNESS_ROOMS_Z};
+        n = harness_add_box(tris, n, lo, hi);
+    }
+    for (size_t v = 0; v < 3 * n; v++) {
+        harness_turn(&tris[3 * v], u->yaw, u->pitch);
+        for (int k = 0; k < 3; k++) tris[3 * v + k] *= scale;
+    }
+    harness_triangle_scene(tris, n, s);
+    lvcl_material_desc *m = harness_materials(s, 3);
+    for (int k = 0; k < 3; k++) {
+        m[0].base_color[k] = 0.7f;
+        m[1].base_color[k] = m[2].base_color[k] = 0.0f;
+        m[1].emissive[k] = dim[k];
+        m[2].emissive[k] = bright[k];
+    }
+    m[0].metallic = u->walls.metallic;
+    m[0].roughness = u->walls.roughness;
+    m[0].specular = u->walls.specular;
+    for (size_t i = walls; i < lamps_end; i++) s->tri_material[i] = i < walls + 2 ? 1 : 2;
+    if (u->bright_light != LAMP) {
+        /* The lamp's power, radiance x 0.36 m^2 x pi, as an intensity: power / (4 pi). */
+        lv_punctual_light *l = calloc(1, sizeof *l);
+        if (!l) {
+            fprintf(stderr, "two rooms: out of memory\n");
+            exit(1);
+        }
+        float at[3] = {-1.1f, HARNESS_ROOMS_Y - 0.05f, 0.0f}, down[3] = {0.0f, -1.0f, 0.0f};
+        harness_turn(at, u->yaw, u->pitch);
+        harness_turn(down, u->yaw, u->pitch);
+        for (int k = 0; k < 3; k++) {
+            l->position[k] = at[k] * scale;
+            l->direction[k] = down[k];
+            l->intensity[k] = bright[k] * 0.36f * scale * scale / 4.0f;
+        }
+        l->type = u->bright_light == SPOT_LIGHT ? LV_PUNCTUAL_SPOT : LV_PUNCTUAL_POINT;
+        l->cos_outer = u->bright_light == SPOT_LIGHT ? 0.5f : -1.0f;
+        l->cos_inner = u->bright_light == SPOT_LIGHT ? 1.0f : -1.0f;
+        s->punctuals = l;
+        s->punctual_count = 1;
+    }
+    /* The camera in the dim room, looking at the wall. */
+    float eye[3] = {1.9f, 1.2f, 0.0f}, target[3] = {HARNESS_WALL_X, 1.1f, 0.0f};
+    harness_turn(eye, u->yaw, u->pitch);
+    harness_turn(target, u->yaw, u->pitch);
+    for (int k = 0; k < 3; k++) eye[k] *= scale, target[k] *= scale;
+    harness_look_at(s, eye, target, 70.0f);
+}
+
+static int render(const float bright[3], const float dim[3], const setup *u, uint64_t particles, int size, int spp,
+                  lvcl_render_result *r)
 {
     lvcl_scene scene;
     lvcl_status st = {0};
-    float scale = u->scale > 0 ? u->scale : 1.0f;
-    two_rooms(thickness, u->shell, u->panel, u->walls, bright, dim, u->yaw, u->pitch, scale, u->bright_light, &scene);
+    const float scale = u->scale > 0 ? u->scale : 1.0f;
+    two_rooms(u, bright, dim, &scene);
     lvcl_render_request req = harness_request(LVCL_MODE_LV, size, spp, u->cells, particles);
     req.volume.subcells = u->subcells;
     req.volume.offset = u->offset;
@@ -210,6 +223,9 @@ static void test_leak(void)
         {0.02f, 0.5f, 16, 0, .bright_light = POINT_LIGHT, .yaw = 30, .pitch = 8},
         {0.005f, 0.0f, 24, 3, .bright_light = SPOT_LIGHT, .walls = {0.0f, 0.1f, 1.0f}},
         {0.0f, 0.92f, 32, 4, .bright_light = SPOT_LIGHT, .scale = 10.0f, .refine = REFINE_ALL},
+        {0.2f, 0.37f, 12, 4, .shell = 0.02f, .twin = 0.01f},
+        {0.2f, 0.0f, 12, 4, .shell = 0.05f, .panel = 0.3f, .twin = 0.03f, .door = 0.6f, .yaw = 49.3f, .pitch = 27.1f},
+        {0.06f, 0.5f, 16, 2, .shell = 0.1f, .twin = -0.02f, .yaw = 20, .pitch = 8},
     };
     const float ratios[] = {25.0f, 1000.0f};
     double worst = 0;
@@ -221,15 +237,16 @@ static void test_leak(void)
         /* A leak is there or not: 10^5 particles show it (the dim room's
          * lamp gets a little over a quarter of them, and its direct light
          * comes from shadow rays). */
-        if (!render(u->thickness, bright, dim, u, 100000, 32, 4, &r)) return;
+        if (!render(bright, dim, u, 100000, 32, 4, &r)) return;
         double red = channel_mean(&r, 0), blue = channel_mean(&r, 2), leak = red / (ratio * blue);
         free(r.rgb);
         printf("  leak: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m, turned "
-               "%g/%g deg, slabs %g m, cupboard %g m, metallic %g roughness %g specular %g, scale %g, %s, %.0fx: red "
+               "%g/%g deg, slabs %g m, cupboard %g m, metallic %g roughness %g specular %g, scale %g, %s, copy %g m "
+               "off, doorway %g m, %.0fx: red "
                "%.3g, blue %.3g\n",
                u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, u->yaw, u->pitch,
                u->shell, u->panel, u->walls.metallic, u->walls.roughness, u->walls.specular,
-               u->scale > 0 ? u->scale : 1, light_names[u->bright_light], ratio, red, blue);
+               u->scale > 0 ? u->scale : 1, light_names[u->bright_light], u->twin, u->door, ratio, red, blue);
         if (!(leak <= worst)) worst = leak;
         CHECK("two rooms: the bright room's light does not leak into the dim one", blue > 0 && leak < 1e-4,
               "wall %.3f m, offset %.2f, %d cells, %d subcells, %.0fx: red / (ratio blue) = %.3g", u->thickness,
@@ -268,8 +285,8 @@ static void test_on_off(void)
         const float dim[3] = {DIM_LE, DIM_LE, DIM_LE}, on[3] = {DIM_LE * ratio, DIM_LE * ratio, DIM_LE * ratio},
                     off[3] = {0, 0, 0};
         lvcl_render_result a, b;
-        if (!render(u->thickness, on, dim, u, 400000, size, 8, &a)) return;
-        if (!render(u->thickness, off, dim, u, u->ratio > 0 ? 400000 : 200000, size, 8, &b)) {
+        if (!render(on, dim, u, 400000, size, 8, &a)) return;
+        if (!render(off, dim, u, u->ratio > 0 ? 400000 : 200000, size, 8, &b)) {
             free(a.rgb);
             return;
         }
