@@ -100,11 +100,6 @@ typedef struct {
     size_t capacity;
 } cell_scratch;
 
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 /* Makes n's largest component positive (and d with it), so that a plane
  * has one orientation whatever triangle it came from. Returns -1 where it
  * turned n, else 1. */
@@ -143,7 +138,7 @@ static int extent_along(const double axes[2][3], const double lo[2], const doubl
                         double *l, double *h)
 {
     for (int k = 0; k < 2; k++) {
-        double c = dot3(axes[k], axis);
+        double c = lvcl_dot3(axes[k], axis);
         if (fabs(c) <= LAYER_NORMAL) continue;
         *l = c > 0 ? lo[k] : -hi[k];
         *h = c > 0 ? hi[k] : -lo[k];
@@ -155,8 +150,8 @@ static int extent_along(const double axes[2][3], const double lo[2], const doubl
 /* Whether axes a and b are the same up to order and sign (within a degree). */
 static int axes_match(const double a[2][3], const double b[2][3])
 {
-    return (fabs(dot3(a[0], b[0])) > LAYER_NORMAL && fabs(dot3(a[1], b[1])) > LAYER_NORMAL) ||
-        (fabs(dot3(a[0], b[1])) > LAYER_NORMAL && fabs(dot3(a[1], b[0])) > LAYER_NORMAL);
+    return (fabs(lvcl_dot3(a[0], b[0])) > LAYER_NORMAL && fabs(lvcl_dot3(a[1], b[1])) > LAYER_NORMAL) ||
+        (fabs(lvcl_dot3(a[0], b[1])) > LAYER_NORMAL && fabs(lvcl_dot3(a[1], b[0])) > LAYER_NORMAL);
 }
 
 /* Extends lo, hi (along axes) to hold polygon c. */
@@ -164,7 +159,7 @@ static void extend(const double axes[2][3], const clipped *c, double lo[2], doub
 {
     for (int i = 0; i < c->count; i++)
         for (int k = 0; k < 2; k++) {
-            double x = dot3(c->p[i], axes[k]);
+            double x = lvcl_dot3(c->p[i], axes[k]);
             lo[k] = fmin(lo[k], x), hi[k] = fmax(hi[k], x);
         }
 }
@@ -173,9 +168,7 @@ static void extend(const double axes[2][3], const clipped *c, double lo[2], doub
 static void facet_frame(const facet *k, double axes[2][3], double lo[2], double hi[2])
 {
     for (int j = 0; j < 3; j++) axes[0][j] = k->axis[j];
-    axes[1][0] = k->n[1] * axes[0][2] - k->n[2] * axes[0][1];
-    axes[1][1] = k->n[2] * axes[0][0] - k->n[0] * axes[0][2];
-    axes[1][2] = k->n[0] * axes[0][1] - k->n[1] * axes[0][0];
+    lvcl_cross3(k->n, axes[0], axes[1]);
     for (int j = 0; j < 2; j++) lo[j] = k->lo[j], hi[j] = k->hi[j];
 }
 
@@ -201,7 +194,7 @@ static void add_to_cell(facets *f, int cell, const double n[3], double d, double
     int looked = 0;
     for (int i = f->head[cell]; i >= 0 && looked < FACETS_LOOKED_AT; i = f->pool[i].next, looked++) {
         facet *k = &f->pool[i];
-        if (dot3(n, k->n) <= FACET_NORMAL || k->front != front || k->clear != clear ||
+        if (lvcl_dot3(n, k->n) <= FACET_NORMAL || k->front != front || k->clear != clear ||
             fabs(d - k->sum_d / k->area) >= FACET_OFFSET * h)
             continue;
         for (int j = 0; j < 3; j++) k->sum_n[j] += area * n[j];
@@ -254,21 +247,17 @@ static void facet_axes(const float v[9], const double n[3], double axes[2][3])
     int k = fabs(n[0]) <= fabs(n[1]) && fabs(n[0]) <= fabs(n[2]) ? 0 : fabs(n[1]) <= fabs(n[2]) ? 1 : 2;
     double e[3] = {0, 0, 0}, u[3], w[3], edge[3] = {1, 0, 0}, shortest = HUGE_VAL;
     e[k] = 1;
-    u[0] = n[1] * e[2] - n[2] * e[1];
-    u[1] = n[2] * e[0] - n[0] * e[2];
-    u[2] = n[0] * e[1] - n[1] * e[0];
-    double len = sqrt(dot3(u, u));
+    lvcl_cross3(n, e, u);
+    double len = sqrt(lvcl_dot3(u, u));
     for (int i = 0; i < 3; i++) u[i] /= len;
-    w[0] = n[1] * u[2] - n[2] * u[1];
-    w[1] = n[2] * u[0] - n[0] * u[2];
-    w[2] = n[0] * u[1] - n[1] * u[0];
+    lvcl_cross3(n, u, w);
     for (int i = 0; i < 3; i++) {
         double d[3], l = 0;
         for (int j = 0; j < 3; j++) d[j] = (double)v[3 * ((i + 1) % 3) + j] - v[3 * i + j], l += d[j] * d[j];
         if (l < shortest) shortest = l, memcpy(edge, d, sizeof edge);
     }
     const double quarter_turn = 1.5707963267948966;
-    double turn = fmod(atan2(dot3(edge, w), dot3(edge, u)) + 4.0 * quarter_turn, quarter_turn);
+    double turn = fmod(atan2(lvcl_dot3(edge, w), lvcl_dot3(edge, u)) + 4.0 * quarter_turn, quarter_turn);
     for (int j = 0; j < 3; j++) {
         axes[0][j] = cos(turn) * u[j] + sin(turn) * w[j];
         axes[1][j] = -sin(turn) * u[j] + cos(turn) * w[j];
@@ -303,13 +292,12 @@ static double area_in_cell(const float v[9], const double lo[3], double h, clipp
     part->count = count;
     double sum[3] = {0, 0, 0};
     for (int i = 1; i + 1 < count; i++) {
-        double e1[3], e2[3];
+        double e1[3], e2[3], c[3];
         for (int j = 0; j < 3; j++) e1[j] = poly[i][j] - poly[0][j], e2[j] = poly[i + 1][j] - poly[0][j];
-        sum[0] += e1[1] * e2[2] - e1[2] * e2[1];
-        sum[1] += e1[2] * e2[0] - e1[0] * e2[2];
-        sum[2] += e1[0] * e2[1] - e1[1] * e2[0];
+        lvcl_cross3(e1, e2, c);
+        for (int j = 0; j < 3; j++) sum[j] += c[j];
     }
-    return 0.5 * sqrt(dot3(sum, sum));
+    return 0.5 * sqrt(lvcl_dot3(sum, sum));
 }
 
 /* Adds one placed triangle, weighing `weight` times its area, to the
@@ -320,13 +308,11 @@ static void add_triangle(facets *c, const lv_grid_info *g, const uint32_t *store
 {
     double e1[3], e2[3], n[3];
     for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k];
-    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    double len = sqrt(dot3(n, n));
+    lvcl_cross3(e1, e2, n);
+    double len = sqrt(lvcl_dot3(n, n));
     if (!(len > 0) || !isfinite(len)) return;
     for (int k = 0; k < 3; k++) n[k] /= len;
-    double p0[3] = {v[0], v[1], v[2]}, d = dot3(n, p0), h = g->cell_size;
+    double p0[3] = {v[0], v[1], v[2]}, d = lvcl_dot3(n, p0), h = g->cell_size;
     double front = canonical(n, &d); /* the winding's front: along n (1) or against it (-1) */
     double axes[2][3];
     facet_axes(v, n, axes);
@@ -401,7 +387,7 @@ static int extent_holds(const turned_facet *a, const turned_facet *b, double h)
  * than that surface's part in the cell though they cover less of it. */
 static int hides(const turned_facet *a, const turned_facet *b, double h)
 {
-    if (a->front == b->front || dot3(a->n, b->n) <= LAYER_NORMAL) return 0;
+    if (a->front == b->front || lvcl_dot3(a->n, b->n) <= LAYER_NORMAL) return 0;
     int a_holds = extent_holds(a, b, h), b_holds = extent_holds(b, a, h);
     if (a_holds >= 0 && b_holds >= 0 && a_holds != b_holds) return a_holds;
     return a->area > b->area || (a->area == b->area && b->front < 0);
@@ -475,7 +461,7 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         t->extent = k->extent;
         t->clear = k->clear;
         t->sheet = k->sheet;
-        double len = sqrt(dot3(k->sum_n, k->sum_n)); /* > 0: a facet's triangles have area, one normal */
+        double len = sqrt(lvcl_dot3(k->sum_n, k->sum_n)); /* > 0: a facet's triangles have area, one normal */
         for (int j = 0; j < 3; j++) t->n[j] = k->sum_n[j] / len;
         t->d = k->sum_d / k->area;
         t->front = k->front;
@@ -483,11 +469,11 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
     for (size_t i = 0; i < m; i++) {
         turned_facet *t = &w->turned[i];
         int g = 0;
-        while (g < groups && fabs(dot3(t->n, w->refs[g])) <= LVCL_SAME_NORMAL) g++;
+        while (g < groups && fabs(lvcl_dot3(t->n, w->refs[g])) <= LVCL_SAME_NORMAL) g++;
         if (g == groups)
             for (int j = 0; j < 3; j++) w->refs[groups][j] = t->n[j];
         groups += g == groups;
-        double s = dot3(t->n, w->refs[g]) > 0 ? 1.0 : -1.0;
+        double s = lvcl_dot3(t->n, w->refs[g]) > 0 ? 1.0 : -1.0;
         t->group = g;
         t->d *= s;
         t->front *= s;
@@ -512,7 +498,7 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
         int opposite = other > -HUGE_VAL;
         /* A layer beyond a parallel facet of the same front. */
         int layer = top > -HUGE_VAL && t->d - top > LAYER_OFFSET * h &&
-            dot3(t->n, t->front > 0 ? c->along_n : c->against_n) > LAYER_NORMAL;
+            lvcl_dot3(t->n, t->front > 0 ? c->along_n : c->against_n) > LAYER_NORMAL;
         /* Two sheets back to back (or a sheet behind a solid's face) are
          * not a solid's two faces: the space between them may hold light
          * (a hollow wall open at a doorway), so they stay apart too. */
@@ -618,7 +604,7 @@ static int choose_planes(const cell_scratch *w, int clusters, const double lo[3]
         chosen[round] = best;
         const cluster *k = &w->clusters[best];
         gaps += k->gap;
-        double n[3], len = sqrt(dot3(k->sum_n, k->sum_n));
+        double n[3], len = sqrt(lvcl_dot3(k->sum_n, k->sum_n));
         if (!(len > 0)) continue;
         for (int j = 0; j < 3; j++) n[j] = k->sum_n[j] / len;
         double d = k->sum_d / k->area;
@@ -626,7 +612,7 @@ static int choose_planes(const cell_scratch *w, int clusters, const double lo[3]
         if (!cuts_cell(n, d, lo, h)) continue;
         /* n . (lo + h u) = d  <=>  n . u = (d - n . lo) / h */
         for (int j = 0; j < 3; j++) planes[count][j] = (float)n[j];
-        planes[count][3] = (float)((d - dot3(n, lo)) / h);
+        planes[count][3] = (float)((d - lvcl_dot3(n, lo)) / h);
         count++;
     }
     return count;

@@ -29,18 +29,6 @@ static void sub3(const double a[3], const double b[3], double r[3])
     for (int k = 0; k < 3; k++) r[k] = a[k] - b[k];
 }
 
-static void cross3(const double a[3], const double b[3], double r[3])
-{
-    r[0] = a[1] * b[2] - a[2] * b[1];
-    r[1] = a[2] * b[0] - a[0] * b[2];
-    r[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 /* The box lo + [0, size]^3 as six quadrilaterals, each in cyclic order. */
 static void make_box(polytope *t, const double lo[3], double size)
 {
@@ -70,7 +58,7 @@ static void clip(polytope *t, const float plane[4], double s)
         q.n = 0;
         for (int i = 0; i < p->n; i++) {
             const double *a = p->v[i], *b = p->v[(i + 1) % p->n];
-            double da = dot3(n, a) - c, db = dot3(n, b) - c;
+            double da = lvcl_dot3(n, a) - c, db = lvcl_dot3(n, b) - c;
             if (da >= 0 && q.n < MAX_VERTS) memcpy(q.v[q.n++], a, sizeof q.v[0]);
             if (da == 0 && caps < (int)(sizeof cap / sizeof cap[0])) memcpy(cap[caps++], a, sizeof cap[0]);
             if ((da > 0 && db < 0) || (da < 0 && db > 0)) {
@@ -89,7 +77,7 @@ static void clip(polytope *t, const float plane[4], double s)
         for (int j = 0; j < unique && !seen; j++) {
             double d[3];
             sub3(cap[i], cap[j], d);
-            seen = dot3(d, d) < 1e-24;
+            seen = lvcl_dot3(d, d) < 1e-24;
         }
         if (!seen) memcpy(cap[unique++], cap[i], sizeof cap[0]);
     }
@@ -98,12 +86,12 @@ static void clip(polytope *t, const float plane[4], double s)
         for (int i = 0; i < unique; i++)
             for (int k = 0; k < 3; k++) mid[k] += cap[i][k] / unique;
         double axis[3] = {fabs(n[0]) < 0.9 ? 1.0 : 0.0, fabs(n[0]) < 0.9 ? 0.0 : 1.0, 0.0};
-        cross3(n, axis, e1);
-        cross3(n, e1, e2);
+        lvcl_cross3(n, axis, e1);
+        lvcl_cross3(n, e1, e2);
         for (int i = 0; i < unique; i++) {
             double d[3];
             sub3(cap[i], mid, d);
-            angle[i] = atan2(dot3(d, e2), dot3(d, e1));
+            angle[i] = atan2(lvcl_dot3(d, e2), lvcl_dot3(d, e1));
         }
         polygon *q = &out.f[out.n++];
         q->n = unique;
@@ -135,13 +123,13 @@ static double volume(const polytope *t)
             double a[3], b[3], x[3];
             sub3(p->v[i], p->v[0], a);
             sub3(p->v[i + 1], p->v[0], b);
-            cross3(a, b, x);
+            lvcl_cross3(a, b, x);
             for (int k = 0; k < 3; k++) area[k] += 0.5 * x[k];
         }
-        double len = sqrt(dot3(area, area)), d[3];
+        double len = sqrt(lvcl_dot3(area, area)), d[3];
         if (!(len > 0)) continue;
         sub3(p->v[0], ref, d);
-        v += len * fabs(dot3(area, d) / len) / 3.0;
+        v += len * fabs(lvcl_dot3(area, d) / len) / 3.0;
     }
     return v;
 }
