@@ -3,12 +3,13 @@
 each draws a wall (one polygon to 20 cm), outer walls of one polygon or of
 slabs, a cupboard against the wall or none, a turn of the whole scene, a
 grid (12 to 40 cells, any offset), --subcells and a brightness ratio (with
---wide also the scale, the wall's material and the bright light's kind); the
+--wide also the scale, the wall's material and the bright light's kind;
+with --curved a third of the set-ups bow a wall of one polygon); the
 bright lamp is red and the dim one blue, so any red in the dim room is the
 bright room's light read through the wall (its true value, and the path
 tracer's, is 0).
 
-    python3 bench/leak_sweep.py [--seed S] [--count N] [--corridors] [--wide] [--build build]
+    python3 bench/leak_sweep.py [--seed S] [--count N] [--corridors] [--wide] [--curved] [--build build]
 
 One JSON object per set-up (its parameters, the dim room's mean red and
 blue, leak = red / (ratio x blue) and red / blue, the share of the dim
@@ -61,6 +62,14 @@ def draw_wide(r):
     }
 
 
+def draw_curved(r):
+    """The draws of --curved, from their own stream: whether the shared
+    wall is bowed (one polygon, 10-60 cm into the dim room, one or five
+    rows of quads)."""
+    bowed = r.random() < 1 / 3
+    return {"bend_m": round(r.uniform(0.1, 0.6), 2) if bowed else 0.0, "bend_rows": r.choice([1, 5])}
+
+
 def dim_room_mean(build, exr):
     """The image's mean (r, g, b), as build/lvcl-compare reports it."""
     text = subprocess.run([os.path.join(build, "lvcl-compare"), exr, exr], check=True, capture_output=True,
@@ -79,8 +88,11 @@ def main():
     ap.add_argument("--wide", action="store_true",
                     help="also draw the scene's scale (0.01-100), the shared wall's material (lambert, glossy, mirror) "
                          "and the bright room's light (the ceiling lamp, or a point or spot light of its power)")
+    ap.add_argument("--curved", action="store_true",
+                    help="also bow the shared wall (one polygon, 10-60 cm, no doorway or corridor) in a third of the "
+                         "set-ups")
     a = ap.parse_args()
-    r, r_wide = random.Random(a.seed), random.Random(a.seed + 1000003)
+    r, r_wide, r_curved = random.Random(a.seed), random.Random(a.seed + 1000003), random.Random(a.seed + 2000003)
     leaks, worst, worst_share = 0, 0.0, 0.0
     with tempfile.TemporaryDirectory() as tmp:
         scene, image = os.path.join(tmp, "rooms.gltf"), os.path.join(tmp, "rooms.exr")
@@ -91,13 +103,17 @@ def main():
                 wide["bright_light"] = "point"
             if a.wide:
                 u.update(wide)
+            curved = draw_curved(r_curved) if a.curved else {"bend_m": 0.0, "bend_rows": 1}
+            if curved["bend_m"]:
+                u.update(curved, wall_m=0.0, corridor_m=0.0, door_m=0.0, back_to_back=False)
             with open(os.devnull, "w") as quiet:
                 saved, sys.stdout = sys.stdout, quiet
                 try:
                     two_rooms(scene, u["wall_m"], u["ratio"], True, colours=True, shell=u["slabs_m"],
                               panel=u["cupboard_m"], yaw=u["yaw_deg"], pitch=u["pitch_deg"], corridor=u["corridor_m"],
                               door=u["door_m"], back_to_back=u["back_to_back"], scale=wide["scale"],
-                              wall_material=wide["wall_material"], bright_light=wide["bright_light"])
+                              wall_material=wide["wall_material"], bright_light=wide["bright_light"],
+                              bend=curved["bend_m"], bend_rows=curved["bend_rows"])
                 finally:
                     sys.stdout = saved
             subprocess.run([os.path.join(a.build, "lvcl"), "-q", "--mode", "lv", "--cells", str(u["cells"]),

@@ -253,13 +253,21 @@ typedef struct {
  * are its entries and where they start (the subcell records below), and
  * the slot of each pattern
  * (LV_REGION_OFFSET). Every slot of a cell repeats the cell's planes and
- * offsets, and whether its lookups jitter in half a cell. A pattern
+ * offsets; its flags are its own. A pattern
  * whose region has no volume in the cell (3 planes leave at most 7 of 8)
  * gets no slot of its own: its points (on a boundary, by rounding) read a
  * neighbouring region's. */
 #define LV_GEOMETRY_PLANES 3
 #define LV_REGION_PLANES 6
 #define LV_NO_SHARES 0xffffffffu
+/* lv_slot_region.flags. HALF_BOX: a cell refinement split where its light
+ * is focused; lookups jitter in half a cell. MIXED: the cell's planes do
+ * not keep the two sides of one of its surfaces apart in this region (a
+ * curved wall thinner than its bend across the cell, a fourth surface), so
+ * its tallies may hold light of both sides and no lookup reads it
+ * (host/render/volume_planes.c, mixed_patterns). */
+#define LV_REGION_HALF_BOX 1u
+#define LV_REGION_MIXED 2u
 
 typedef struct {
     float planes[LV_REGION_PLANES][4];
@@ -268,7 +276,7 @@ typedef struct {
     lv_u32 region;
     lv_u32 shares;                               /* first entry in region_shares, or LV_NO_SHARES */
     lv_u32 offsets[(1 << LV_REGION_PLANES) / 4]; /* pattern m's slot - base_slot, 8 bits each */
-    lv_u32 half_box; /* 1 in a cell refinement split where its light is focused: lookups jitter in half a cell */
+    lv_u32 flags;                                /* LV_REGION_* */
     lv_u32 present[2]; /* the subcells the region has volume in (bit i: subcell i, as the marks) */
     lv_u32 entries;    /* its first entry in subcell_rays and lit_points */
 } lv_slot_region;

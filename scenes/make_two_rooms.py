@@ -8,6 +8,7 @@ ratio, and the path tracer's, is 1).
     python3 scenes/make_two_rooms.py OUT.gltf --thickness 0.02 --ratio 25 [--bright-off | --dim-off]
         [--shell 0.1] [--panel 0.04] [--door 0.1] [--yaw 12 --pitch 7] [--scale 100]
         [--wall-material lambert|glossy|mirror] [--bright-light area|point|spot]
+        [--bend 0.4 [--bend-rows 5]]
 
 --thickness 0 makes the wall one double-sided polygon; --shell S builds the
 outer walls, floor and ceiling as slabs S thick; --panel D stands a
@@ -19,8 +20,9 @@ whole scene (degrees, about y and then x), so that no wall faces a grid
 axis; --scale multiplies every length (radiance, and so the image, stay
 the same); --wall-material gives the shared wall(s) a finish of their own;
 --bright-light replaces the bright lamp by a point or spot light of its
-power. The geometry is the same as tests/volume/test_two_rooms.c builds in
-memory."""
+power; --bend bows the shared wall (--thickness 0) into the camera's room,
+so that no cell's plane fits it. The geometry is the same as
+tests/volume/test_two_rooms.c builds in memory."""
 import argparse
 import math
 import os
@@ -52,16 +54,31 @@ def quat_mul(a, b):
 DOOR_Z, DOOR_TOP = -0.6, 2.0             # a doorway's near edge and its height
 
 
+def bowed_wall(mesh, bend, rows, columns=16):
+    """The shared wall of one polygon bowed `bend` into the camera's room
+    at its middle (x = WALL_X + bend cos(pi z / 2Z)), `rows` rows of
+    `columns` quads facing +x (tests/volume/test_two_rooms.c builds the same)."""
+    def x(z):
+        return WALL_X + bend * math.cos(math.pi * z / (2 * Z))
+    for i in range(columns):
+        z0, z1 = -Z + 2 * Z * i / columns, -Z + 2 * Z * (i + 1) / columns
+        for j in range(rows):
+            y0, y1 = Y * j / rows, Y * (j + 1) / rows
+            mesh.quad([(x(z0), y0, z0), (x(z1), y0, z1), (x(z1), y1, z1), (x(z0), y1, z0)], (1.0, 0.0, 0.0))
+
+
 def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel=0.0, yaw=0.0, pitch=0.0,
               door=0.0, dim_on=True, corridor=0.0, back_to_back=False, scale=1.0, wall_material="lambert",
-              bright_light="area"):
+              bright_light="area", bend=0.0, bend_rows=1):
     """colours: the bright lamp red and the dim one blue (grey walls keep
     the channels apart), so that any red in the dim room is a leak.
     scale: every length times this (radiance is the same, so the image
     is too); wall_material: the shared wall(s) lambert, glossy (plastic,
     roughness 0.3) or mirror (metal, roughness 0); bright_light: area (the
     ceiling lamp), point or spot (a KHR_lights_punctual light of the same
-    power at the lamp's centre; spot: 60 degrees, pointing down)."""
+    power at the lamp's centre; spot: 60 degrees, pointing down); bend: the
+    shared wall, of one polygon, bowed that far into the camera's room
+    (bowed_wall; thickness 0, no doorway or corridor)."""
     WHITE, DIM, BRIGHT, WALL = range(4)
     dim_le = DIM_LE if dim_on else 0.0
     bright_le = DIM_LE * ratio if bright_on else 0.0
@@ -104,6 +121,11 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
     pieces = [(-Z, DOOR_Z, 0.0), (DOOR_Z + door, Z, 0.0), (DOOR_Z, DOOR_Z + door, DOOR_TOP)] if door > 0 \
         else [(-Z, Z, 0.0)]
     walls = [WALL_X] + ([WALL_X + corridor] if corridor > 0 else [])
+    if bend:
+        if thickness > 0 or door > 0 or corridor > 0:
+            raise ValueError("a bowed wall is one polygon, without a doorway or corridor")
+        bowed_wall(shared, bend, bend_rows)
+        walls = []
     for x in walls:
         for z0, z1, y0 in (pieces if x == WALL_X else [(-Z, Z, 0.0)]):
             if thickness > 0:
@@ -114,7 +136,7 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
                 else:
                     shared.quad([(x, y0, z0), (x, Y, z0), (x, Y, z1), (x, y0, z1)], (1.0, 0.0, 0.0))
     if panel > 0:
-        x0 = walls[-1] + thickness / 2
+        x0 = (walls[-1] if walls else WALL_X + bend) + thickness / 2
         box(room, (x0, 0.0, -0.5), (x0 + panel, 0.9, 0.5))
     meshes = [room, shared]
     for name, mat, x0, x1 in (("dim lamp", DIM, 1.0, 1.6), ("bright lamp", BRIGHT, -1.4, -0.8)):
@@ -127,7 +149,7 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
     yaw, pitch = math.radians(yaw), math.radians(pitch)
     for m in meshes:
         m.positions = [tuple(scale * c for c in turn(p, yaw, pitch)) for p in m.positions]
-    eye, target = turn((1.9, 1.2, 0.0), yaw, pitch), turn((walls[-1], 1.1, 0.0), yaw, pitch)
+    eye, target = turn((1.9, 1.2, 0.0), yaw, pitch), turn((walls[-1] if walls else WALL_X, 1.1, 0.0), yaw, pitch)
     eye, target = tuple(scale * c for c in eye), tuple(scale * c for c in target)
     camera = {"yfov": math.radians(70.0), "aspect": 1.0, "translation": list(eye), "rotation": look_at(eye, target),
               "znear": 0.01 * scale}
@@ -184,13 +206,21 @@ def main():
                     help="the shared wall(s): lambert, glossy (plastic, roughness 0.3) or mirror")
     ap.add_argument("--bright-light", choices=("area", "point", "spot"), default="area",
                     help="the bright room's light: the ceiling lamp, or a point or spot light of its power")
+    ap.add_argument("--bend", type=float, default=0.0,
+                    help="the shared wall, of one polygon, bowed this far into the camera's room (metres)")
+    ap.add_argument("--bend-rows", type=int, default=1, help="rows of quads of the bowed wall")
     a = ap.parse_args()
+    if a.bend and (a.thickness > 0 or a.door > 0 or a.corridor > 0):
+        ap.error("--bend makes the wall one polygon: use it with --thickness 0 and no --door or --corridor")
+    if a.bend_rows < 1:
+        ap.error("--bend-rows must be at least 1")
     if a.scale <= 0:
         ap.error("--scale must be positive")
     if a.bright_off and a.dim_off:
         ap.error("--bright-off and --dim-off together leave the scene dark")
     two_rooms(a.out, a.thickness, a.ratio, not a.bright_off, a.colours, a.shell, a.panel, a.yaw, a.pitch, a.door,
-              not a.dim_off, a.corridor, a.back_to_back, a.scale, a.wall_material, a.bright_light)
+              not a.dim_off, a.corridor, a.back_to_back, a.scale, a.wall_material, a.bright_light, a.bend,
+              a.bend_rows)
 
 
 if __name__ == "__main__":

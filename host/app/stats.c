@@ -88,14 +88,14 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
         fprintf(f,
                 ",\n  \"grid\": [%u, %u, %u],\n  \"cell_size\": %g,\n  \"dirs\": %u,\n  \"cells_allocated\": %u,\n"
                 "  \"tally_sets\": %u,\n  \"merged_cells\": %zu,\n  \"split_cells\": %zu,\n  \"fine_dir_slots\": "
-                "%zu,\n  \"light_volume_bytes\": %zu,\n  \"axis_sums_bytes\": "
+                "%zu,\n  \"mixed_slots\": %zu,\n  \"light_volume_bytes\": %zu,\n  \"axis_sums_bytes\": "
                 "%zu,\n  \"particles\": "
                 "%llu,\n  \"particle_trace_seconds\": %.4f,\n"
                 "  \"particles_per_second\": %.1f,\n  \"segments\": %llu,\n  \"segments_per_second\": %.1f,\n"
                 "  \"subcells\": %u,\n  \"visibility_rays\": %llu,\n  \"light_volume_buffers\": %d,\n"
                 "  \"light_volume_checksum\": \"%016llx\"",
                 g->dims[0], g->dims[1], g->dims[2], g->cell_size, g->dirs, g->slot_count, g->tally_sets,
-                vw.merged_cells, vw.split_cells, vw.fine_slots, vw.device_bytes, vw.axis_sums_bytes,
+                vw.merged_cells, vw.split_cells, vw.fine_slots, vw.mixed_slots, vw.device_bytes, vw.axis_sums_bytes,
                 (unsigned long long)particles, trace_seconds,
                 trace_seconds > 0 ? (double)particles / trace_seconds : 0.0, (unsigned long long)segments,
                 trace_seconds > 0 ? (double)segments / trace_seconds : 0.0, g->subcells,

@@ -53,6 +53,11 @@ lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *accel, uin
 /* The world-space corners (9 floats) of leaf-ordered triangle tri as
  * placed by instance `instance`. */
 void lvcl_packed_triangle_world(const lvcl_packed_scene *p, size_t instance, size_t tri, float v[9]);
+/* Whether the segment o + t d, 0 < t <= len (d unit), meets a triangle of
+ * the packed scene (packed_rays.c: a walk of every instance's tree, for
+ * the few rays of host-side checks). */
+int lvcl_packed_segment_hits(const lvcl_packed_scene *p, const double o[3], const double d[3], double len);
+
 void lvcl_packed_scene_free(lvcl_packed_scene *packed);
 
 #endif

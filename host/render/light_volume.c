@@ -217,7 +217,10 @@ uint32_t lvcl_volume_slot(const lvcl_light_volume *vol, uint32_t x, uint32_t y, 
 
 lvcl_volume_stats lvcl_volume_stats_of(const lvcl_light_volume *vol)
 {
-    return (lvcl_volume_stats){.tally_bytes = vol->tally_bytes,
+    size_t mixed = 0;
+    for (uint32_t s = 0; s < vol->buf.info.slot_count; s++) mixed += (vol->regions[s].flags & LV_REGION_MIXED) != 0;
+    return (lvcl_volume_stats){.mixed_slots = mixed,
+                               .tally_bytes = vol->tally_bytes,
                                .device_bytes = vol->device_bytes,
                                .axis_sums_bytes = (size_t)vol->axis_sums_slots * LV_AXIS_SUM_FLOATS * sizeof(float),
                                .tally_buffers = vol->tally_parts,

@@ -69,6 +69,7 @@ typedef struct {
     size_t merged_cells;      /* slots sharing a merged block's tally set (lvcl_volume_adapt) */
     size_t split_cells;       /* cells split by lvcl_volume_refine */
     size_t fine_slots;        /* slots it gave fine bins */
+    size_t mixed_slots;       /* slots no lookup reads (LV_REGION_MIXED) */
     int see_through;          /* lamps seen through glass were left to the gather */
     double trace_seconds;
 } lvcl_volume_stats;

@@ -112,6 +112,7 @@ uint32_t lvcl_volume_grid_slot_at(const lv_grid_info *g, const uint32_t *cell_sl
 typedef struct {
     float planes[LV_REGION_PLANES][4];
     uint8_t count;
+    uint64_t mixed; /* bit m: region pattern m is LV_REGION_MIXED */
 } lvcl_cell_planes;
 
 /* Fills out[] with stored cell s's region shares as lvcl_region_shares

@@ -428,16 +428,17 @@ static int faces_across(const turned_facet *t, const cluster *c, double h)
     return 1;
 }
 
-/* Clusters one cell's facets into w->clusters; returns their count, or -1
- * out of memory. Facets fall into groups of parallel ones (within 25
+/* Clusters one cell's facets into w->clusters (w->turned holds the
+ * facets, *facet_count of them); returns their count, or -1 out of memory. Facets fall into groups of parallel ones (within 25
  * degrees of the group's first, either way round); each group, in order
  * of offset, is swept once: a facet joins the cluster before it when it
  * lies within a quarter cell of that cluster's mean and they do not stay
  * apart, else it starts the next. */
-static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h)
+static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h, size_t *facet_count)
 {
     size_t m = 0;
     for (int i = f->head[cell]; i >= 0; i = f->pool[i].next) m++;
+    *facet_count = m;
     if (m == 0) return 0;
     if (m > w->capacity) {
         size_t cap = m > 2 * w->capacity ? m : 2 * w->capacity;
@@ -618,6 +619,120 @@ static int choose_planes(const cell_scratch *w, int clusters, const double lo[3]
     return count;
 }
 
+/* mixed_patterns tests a facet's sides at SIDE_SAMPLES^2 points across
+ * its extent (pulled in by SIDE_INSET of it from the edges), or at the
+ * four corners alone where it spans less than SIDE_SMALL cell (its
+ * neighbours sample the rest of a finely tessellated surface), SIDE_STEP
+ * cell off its surface: a band a tenth of a millimetre thick of the wrong
+ * side's air carries a lit room's light at 1000:1. */
+#define SIDE_SAMPLES 5
+#define SIDE_INSET 0.02
+#define SIDE_SMALL 0.125
+#define SIDE_STEP 1e-5
+
+static int in_cell(const double lo[3], double h, const double x[3])
+{
+    for (int k = 0; k < 3; k++)
+        if (!(x[k] >= lo[k] && x[k] <= lo[k] + h)) return 0;
+    return 1;
+}
+
+/* The region pattern of world point x in the cell with corner lo and side
+ * h (bit i: beyond plane i, as lv_region_of), or -1 outside the cell. */
+static int pattern_at(const float planes[][4], int count, const double lo[3], double h, const double x[3])
+{
+    if (!in_cell(lo, h, x)) return -1;
+    double u[3];
+    for (int k = 0; k < 3; k++) u[k] = (x[k] - lo[k]) / h;
+    int m = 0;
+    for (int i = 0; i < count; i++)
+        if (planes[i][0] * u[0] + planes[i][1] * u[1] + planes[i][2] * u[2] > planes[i][3]) m |= 1 << i;
+    return m;
+}
+
+/* A cell casts at most this many rays to tell whether a sheet's back is
+ * dark: a cell of a rippled tile holds hundreds of samples whose backs all
+ * lie against the wall, and after that many the rest are taken to be dark
+ * too. */
+#define CELL_RAYS 16
+
+/* Whether the back of a sheet at point b (its front normal front) is dark:
+ * a ray from b straight back leaves the scene's bounds within a cell (a
+ * floor of one polygon, whose underside faces out of the scene), meets
+ * something within a cell (a pocket: a tile's back against its wall, the
+ * inside of a shoe standing on the floor), or leaves the scene without
+ * meeting anything. A back that sees the scene beyond a cell may hold
+ * light. */
+static int sheet_back_dark(const lvcl_packed_scene *p, const double b[3], const double front[3], double h)
+{
+    double back[3], out = HUGE_VAL;
+    for (int k = 0; k < 3; k++) {
+        back[k] = -front[k];
+        if (back[k] != 0) out = fmin(out, ((back[k] > 0 ? p->bounds_max[k] : p->bounds_min[k]) - b[k]) / back[k]);
+    }
+    if (!(out > h) || lvcl_packed_segment_hits(p, b, back, h)) return 1;
+    return !lvcl_packed_segment_hits(p, b, back, out + h); /* past the bounds: a wall may lie on them */
+}
+
+/* The region patterns of one cell (its clustered facets in w, m of them,
+ * sorted by group; its planes) that hold the air on both sides of a
+ * surface. Each facet is sampled (its front points lie SIDE_STEP cell in
+ * front of the samples). Within a group of parallel
+ * facets, the front points of a facet facing along the group's normal and
+ * of one facing against it that lies behind it (the two faces of a solid,
+ * a curved shell's outside and inside) must not share a region; and a
+ * sheet's front point (a surface with open edges, such as a wall of one
+ * polygon) must not share one with the point just behind it, unless its
+ * back is dark (sheet_back_dark). Planes that stand for a curved wall
+ * thinner than its bend across the cell, or a surface left without a
+ * plane of its own, mix such points; a lookup there would read the other
+ * side's light. */
+static uint64_t mixed_patterns(const lvcl_packed_scene *p, const cell_scratch *w, size_t m, const float planes[][4],
+                               int count, const double lo[3], double h)
+{
+    uint64_t mixed = 0;
+    const turned_facet *t = w->turned;
+    int rays = 0;
+    for (size_t first = 0, end; first < m; first = end) {
+        for (end = first + 1; end < m && t[end].group == t[first].group;) end++;
+        /* Per pattern, the highest sample (along the group's normal) of a
+         * facet facing along it, and the lowest of one facing against it. */
+        double along[1 << LV_REGION_PLANES], against[1 << LV_REGION_PLANES];
+        for (int q = 0; q < 1 << count; q++) along[q] = -HUGE_VAL, against[q] = HUGE_VAL;
+        const double *ref = w->refs[t[first].group];
+        for (size_t a = first; a < end; a++) {
+            if (t[a].hidden) continue;
+            double front[3];
+            for (int k = 0; k < 3; k++) front[k] = t[a].front * t[a].n[k];
+            int side = fmax(t[a].hi[0] - t[a].lo[0], t[a].hi[1] - t[a].lo[1]) < SIDE_SMALL * h ? 2 : SIDE_SAMPLES;
+            for (int i = 0; i < side * side; i++) {
+                double x[3], f[3], b[3];
+                for (int k = 0; k < 3; k++) x[k] = t[a].d * t[a].n[k];
+                for (int j = 0; j < 2; j++) {
+                    int step = j ? i / side : i % side;
+                    double at = SIDE_INSET + (1 - 2 * SIDE_INSET) * step / (side - 1);
+                    double c = t[a].lo[j] + at * (t[a].hi[j] - t[a].lo[j]);
+                    for (int k = 0; k < 3; k++) x[k] += c * t[a].axes[j][k];
+                }
+                for (int k = 0; k < 3; k++)
+                    f[k] = x[k] + SIDE_STEP * h * front[k], b[k] = x[k] - SIDE_STEP * h * front[k];
+                int pf = pattern_at(planes, count, lo, h, f);
+                if (pf < 0) continue;
+                double height = lvcl_dot3(ref, x);
+                if (t[a].front > 0) along[pf] = fmax(along[pf], height);
+                else against[pf] = fmin(against[pf], height);
+                if (t[a].sheet && !(mixed >> pf & 1) && rays < CELL_RAYS && pattern_at(planes, count, lo, h, b) == pf) {
+                    rays++;
+                    if (!sheet_back_dark(p, b, front, h)) mixed |= (uint64_t)1 << pf;
+                }
+            }
+        }
+        for (int q = 0; q < 1 << count; q++)
+            if (against[q] < along[q]) mixed |= (uint64_t)1 << q;
+    }
+    return mixed;
+}
+
 /* An edge of a placed triangle, its ends in order, for finding the edges
  * that only one triangle of a mesh has. */
 typedef struct {
@@ -632,22 +747,33 @@ static int by_ends(const void *pa, const void *pb)
     return c ? c : memcmp(x->b, y->b, sizeof x->b);
 }
 
-/* Per leaf-ordered triangle, 1 where one of its edges belongs to no other
- * triangle of its mesh (by the corners' positions, as its first instance
- * places them): the triangle is part of a sheet, such as a wall of one
- * polygon, rather than of a closed solid. NULL out of memory. */
+/* The root of triangle t's set of triangles joined by shared edges. */
+static size_t surface_of(size_t *parent, size_t t)
+{
+    while (parent[t] != t) t = parent[t] = parent[parent[t]];
+    return t;
+}
+
+/* Per leaf-ordered triangle, 1 where its surface (the triangles of its
+ * mesh joined to it through shared edges, by the corners' positions as its
+ * first instance places them) has an edge that belongs to no other
+ * triangle: the triangle is part of a sheet, such as a wall of one polygon
+ * or a dome, rather than of a closed solid. NULL out of memory. */
 static uint8_t *sheet_triangles(const lvcl_packed_scene *p)
 {
     uint8_t *sheet = calloc(p->triangle_count ? p->triangle_count : 1, 1);
     size_t most = 0, *placed_by = malloc((p->mesh_count ? p->mesh_count : 1) * sizeof *placed_by);
+    size_t *parent = malloc((p->triangle_count ? p->triangle_count : 1) * sizeof *parent);
     for (size_t m = 0; m < p->mesh_count; m++) most = p->mesh_size[m] > most ? p->mesh_size[m] : most;
     mesh_edge *e = malloc((most ? 3 * most : 1) * sizeof *e);
-    if (!sheet || !placed_by || !e) {
+    if (!sheet || !placed_by || !parent || !e) {
         free(sheet);
         free(placed_by);
+        free(parent);
         free(e);
         return NULL;
     }
+    for (size_t t = 0; t < p->triangle_count; t++) parent[t] = t;
     for (size_t m = 0; m < p->mesh_count; m++) placed_by[m] = p->instance_count;
     for (size_t in = p->instance_count; in-- > 0;) placed_by[p->instances[in].mesh] = in;
     for (size_t m = 0; m < p->mesh_count; m++) {
@@ -666,12 +792,17 @@ static uint8_t *sheet_triangles(const lvcl_packed_scene *p)
             }
         }
         qsort(e, n, sizeof *e, by_ends);
+        for (size_t i = 0; i + 1 < n; i++)
+            if (!by_ends(&e[i], &e[i + 1])) parent[surface_of(parent, e[i].tri)] = surface_of(parent, e[i + 1].tri);
         for (size_t i = 0; i < n; i++) {
             int shared = (i > 0 && !by_ends(&e[i - 1], &e[i])) || (i + 1 < n && !by_ends(&e[i], &e[i + 1]));
-            if (!shared) sheet[e[i].tri] = 1;
+            if (!shared) sheet[surface_of(parent, e[i].tri)] = 1;
         }
+        for (size_t t = p->mesh_first[m]; t < p->mesh_first[m] + p->mesh_size[m]; t++)
+            sheet[t] = sheet[surface_of(parent, t)];
     }
     free(e);
+    free(parent);
     free(placed_by);
     return sheet;
 }
@@ -728,10 +859,15 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
                     if (s == LV_EMPTY_CELL) continue;
                     double lo[3] = {g->origin[0] + (double)x * g->cell_size, g->origin[1] + (double)y * g->cell_size,
                                     g->origin[2] + (double)z * g->cell_size};
-                    int clusters = cluster_cell(&c, (int)s, &w, g->cell_size);
+                    size_t facets_in = 0;
+                    int clusters = cluster_cell(&c, (int)s, &w, g->cell_size, &facets_in);
                     c.failed |= clusters < 0;
                     planes[s].count =
                         clusters > 0 ? (uint8_t)choose_planes(&w, clusters, lo, g->cell_size, planes[s].planes) : 0;
+                    planes[s].mixed = clusters > 0
+                        ? mixed_patterns(p, &w, facets_in, (const float(*)[4])planes[s].planes, planes[s].count, lo,
+                                         g->cell_size)
+                        : 0;
                 }
     int failed = c.failed;
     free(sheet);
@@ -848,6 +984,9 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
             e->plane_count = planes[s].count;
             e->base_slot = base[s];
             e->region = m;
+            /* Mixed where its own pattern is, or an empty one it stands for. */
+            for (uint32_t q = 0; q < 1u << planes[s].count; q++)
+                if (planes[s].mixed >> q & 1u && LV_REGION_OFFSET(e, q) == j) e->flags |= LV_REGION_MIXED;
             e->shares = planes[s].count ? at : LV_NO_SHARES;
             e->present[0] = (uint32_t)mask;
             e->present[1] = (uint32_t)(mask >> 32);

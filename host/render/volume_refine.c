@@ -33,7 +33,7 @@ typedef struct {
 /* split_cell[] of a cell split where its light is focused (at least
  * LVCL_REFINE_FOCUS of it came by specular scatters alone, whatever
  * --refine-focus asks): its lookups jitter in half a cell's box
- * (lv_slot_region.half_box), which sharpens focused light and only adds
+ * (LV_REGION_HALF_BOX), which sharpens focused light and only adds
  * noise to diffuse light. */
 #define FOCUSED_SPLIT 2
 
@@ -150,6 +150,7 @@ static size_t collect(const lvcl_light_volume *vol, const int64_t *tallies, doub
         uint32_t base = entry & ~LV_CUT_CELL, end = cell_end(vol->regions, g->slot_count, entry);
         memcpy(planes[s].planes, vol->regions[base].planes, sizeof planes[s].planes);
         planes[s].count = (uint8_t)(entry & LV_CUT_CELL ? vol->regions[base].plane_count : 0);
+        planes[s].mixed = 0; /* the new slots take their old slot's flag (lvcl_volume_refine) */
         first_slot[s] = base;
         lvcl_cell_planes trial = planes[s];
         int added = add_middle_planes(&trial);
@@ -371,7 +372,8 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
     if (!e && (taken || fine_taken)) {
         remap(vol, new_cell_slot, new_regions, ng.slot_count, first_slot, split_cell, from, split_slot);
         for (uint32_t slot = 0; slot < ng.slot_count; slot++)
-            new_regions[slot].half_box = split_slot[slot] == FOCUSED_SPLIT;
+            new_regions[slot].flags |= (split_slot[slot] == FOCUSED_SPLIT ? LV_REGION_HALF_BOX : 0u) |
+                (vol->regions[from[slot]].flags & LV_REGION_MIXED);
         /* Tally sets in slot order; a set of fine bins takes four sets'
          * room in one buffer (lvcl_volume_layout_tallies puts per_part sets
          * in each). */

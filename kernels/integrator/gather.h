@@ -126,6 +126,11 @@ inline float3 lv_gather_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint
     int lookup = LV_LOOKUP_NONE;
     float3 lookup_point = (float3)(0.0f);
     int lookup_lit = 0; /* the volume at lookup_point holds light that reaches the surface */
+    /* Delta scatters since the last vertex whose path went on past a rough
+     * surface where the volume could not be read (lv_lookup_point): its
+     * light sample saw lamps through glass, so what the path finds through
+     * the same glass shares that light by MIS, as in pt. */
+    lv_glass_chain chain = lv_glass_chain_start((float3)(0.0f), (float3)(0.0f), 0.0f, 0);
     for (uint depth = 1; depth <= max_depth; depth++) {
         lv_hit h = lv_trace(sc, r, 0);
         lv_surface s;
@@ -138,11 +143,16 @@ inline float3 lv_gather_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint
              * specular one would lead on to caustics, which the volume
              * holds already. */
             far = lookup != LV_LOOKUP_NONE && (h.t > g->threshold || !lv_bsdf_gathers(m->bsdf, m->alpha));
-            /* With all light in the volume, emission found by a BSDF
-             * sample at a gather point is the volume's to answer for. */
+            /* With all light in the volume a gather point ends the path,
+             * and no vertex sends light samples: emission that a path
+             * meets (past mirrors, glass, smooth or untrusted surfaces) is
+             * found by that path alone. */
             float3 le = LV_F3(m->emission);
-            if (s.front && lv_max3(le) > 0.0f && !(all_light && !bs.delta))
-                radiance += beta * le * lv_emission_weight(sc, h, r.dir, s.ng, bs.pdf, bs.delta);
+            if (s.front && lv_max3(le) > 0.0f)
+                radiance += beta * le *
+                    (all_light      ? 1.0f
+                         : bs.delta ? lv_glass_chain_weight(sc, &chain, h, r.dir, s.ng)
+                                    : lv_emission_weight(sc, h, r.dir, s.ng, bs.pdf, 0));
         }
         if (lookup != LV_LOOKUP_NONE) {
             /* A far hit of the integrating gather: the volume has answered. */
@@ -162,14 +172,19 @@ inline float3 lv_gather_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint
 
         lv_shading sh;
         if (!lv_shading_at(sc, &s, r.dir, &sh)) break;
-        int gather = lv_bsdf_gathers(sh.b.type, sh.b.alpha);
+        int rough = lv_bsdf_gathers(sh.b.type, sh.b.alpha);
+        int point = rough ? lv_lookup_point(&g->grid, sc, s.p, sh.ng_out, rng, &lookup_point) : LV_POINT_DARK;
+        /* Where the volume mixes both sides of a surface the path goes on
+         * as in pt, to a surface where it can be read. */
+        int gather = rough && point != LV_POINT_UNTRUSTED;
         int integrate = gather && (g->flags & LV_GATHER_INTEGRATE);
-        int lit_here = gather && lv_lookup_point(&g->grid, sc, s.p, sh.ng_out, rng, &lookup_point);
+        int lit_here = point == LV_POINT_LIT;
+        uint see_through = rough && (g->flags & LV_GATHER_SEE_THROUGH)
+            ? (gather ? LV_SEE_THROUGH_MAX : min((uint)LV_SEE_THROUGH_MAX, max_depth - depth - 1u))
+            : 0u;
 
-        if (depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b) && !all_light) {
-            int see_through = gather && (g->flags & LV_GATHER_SEE_THROUGH);
-            radiance += beta * lv_gather_direct_light(sc, &s, h, &sh, see_through, rng);
-        }
+        if (depth + 1 <= max_depth && lv_bsdf_has_lobe(&sh.b) && !all_light)
+            radiance += beta * lv_gather_direct_light(sc, &s, h, &sh, see_through, !gather, rng);
         if (integrate) {
             if (lit_here) radiance += beta * lv_gather_integrate(g, &sh, lookup_point);
             if (all_light) break; /* no threshold: the volume answers for every direction */
@@ -179,6 +194,8 @@ inline float3 lv_gather_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint
         lv_walk walk = {LV_RADIANCE, gather ? LV_ROULETTE_NONE : LV_ROULETTE_ON, (float3)(eta_scale)};
         if (!lv_scatter(sc, &s, h, &sh, walk, depth, rng, &beta, &r, &bs)) break;
         eta_scale *= bs.eta_scale;
+        if (bs.delta) lv_glass_chain_step(&chain, m, &s, r.dir);
+        else chain = lv_glass_chain_start(s.p, r.dir, bs.pdf, !gather && see_through && !all_light);
         if (gather) {
             if (all_light) { /* no threshold: the volume answers at once */
                 if (lit_here) radiance += beta * lv_volume_radiance(&g->grid, lookup_point, -r.dir);

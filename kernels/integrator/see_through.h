@@ -177,19 +177,21 @@ inline float3 lv_shadow_ray_light(const lv_scene *sc, const lv_shadow_ray *r)
     return lv_light_seen_through(sc, r, r->li, r->see_through, &chain);
 }
 
-/* Direct light at a gather point (surface s, hit h) from one light sample,
- * MIS-weighted against BSDF sampling, and where its shadow ray is blocked
- * and see_through is set, the sampled lamp seen through glass. Draws three
- * numbers, and more only on glass. */
+/* Direct light at a vertex of a gather's camera path (surface s, hit h)
+ * from one light sample, MIS-weighted against BSDF sampling, and where its
+ * shadow ray is blocked, the sampled lamp seen through up to see_through
+ * glass scatters: without MIS weight at a gather point, whose BSDF rays
+ * stop at glass and read the volume, so they never find this light; with
+ * it where the path goes on (path_goes_on), whose glass chain then weighs
+ * what it finds alike. Draws three numbers, and more only on glass. */
 inline float3 lv_gather_direct_light(const lv_scene *sc, const lv_surface *s, lv_hit h, const lv_shading *sh,
-                                     int see_through, lv_rng *rng)
+                                     uint see_through, int path_goes_on, lv_rng *rng)
 {
     lv_shadow_ray r;
     if (!lv_light_sample_ray(sc, s, h, sh, 0, rng, &r)) return (float3)(0.0f);
     if (!lv_shadow_ray_blocked(sc, &r)) return r.li;
-    /* Without MIS weight: a gather point's BSDF rays stop at glass and
-     * read the volume, so they never find this light. */
-    return see_through ? lv_light_seen_through(sc, &r, r.li / r.mis, LV_SEE_THROUGH_MAX, rng) : (float3)(0.0f);
+    return see_through ? lv_light_seen_through(sc, &r, path_goes_on ? r.li : r.li / r.mis, see_through, rng)
+                       : (float3)(0.0f);
 }
 
 #endif

@@ -54,6 +54,12 @@ inline float3 lv_to_world(lv_frame f, float3 v)
     return v.x * f.t + v.y * f.b + v.z * f.n;
 }
 
+/* How far lv_offset_origin moves p along n (below). */
+inline float lv_offset_step(float3 p, float3 n, float scene_scale)
+{
+    return 0x1p-18f * dot(fabs(n), fabs(p)) + 0x1p-20f * scene_scale;
+}
+
 /* Moves a surface point off its surface along the unit normal n (on the
  * side the new ray leaves from), so that the new ray cannot hit the surface
  * it starts on. A point interpolated from a triangle's vertices lies within
@@ -65,8 +71,7 @@ inline float3 lv_to_world(lv_frame f, float3 v)
  * the scene, so millimetre and kilometre scenes behave alike. */
 inline float3 lv_offset_origin(float3 p, float3 n, float scene_scale)
 {
-    float step = 0x1p-18f * dot(fabs(n), fabs(p)) + 0x1p-20f * scene_scale;
-    float3 q = p + step * n;
+    float3 q = p + lv_offset_step(p, n, scene_scale) * n;
     return nextafter(q, q + n);
 }
 

@@ -68,32 +68,47 @@ inline float3 lv_jitter_lookup(const lv_grid *grid, float3 p, float3 n, lv_rng *
 {
     float h = grid->g.cell_size;
     uint slot = lv_grid_slot_at(grid, p);
-    if (slot != LV_EMPTY_CELL && grid->regions[slot].half_box) h *= 0.5f;
+    if (slot != LV_EMPTY_CELL && (grid->regions[slot].flags & LV_REGION_HALF_BOX)) h *= 0.5f;
     float3 offset = (lv_rng_next3(rng) - 0.5f) * h;
     float behind = dot(offset, n);
     if (behind < 0.0f) offset -= 2.0f * behind * n;
     return p + offset;
 }
 
+/* What lv_lookup_point found. */
+#define LV_POINT_DARK 0      /* no light the volume holds reaches p */
+#define LV_POINT_LIT 1       /* *q is where to read it */
+#define LV_POINT_UNTRUSTED 2 /* the region there mixes both sides of a surface: a path must answer */
+
+/* Whether the region at q is LV_REGION_MIXED (host volume_planes.c). */
+inline int lv_region_mixed(const lv_grid *grid, float3 q)
+{
+    uint slot = lv_grid_slot_at(grid, q);
+    return slot != LV_EMPTY_CELL && (grid->regions[slot].flags & LV_REGION_MIXED);
+}
+
 /* Where the gather at surface point p (front normal n) reads the volume.
  * With subcells: the jittered point if light reached it and p sees it (near
  * a corner the box reaches behind the other wall); else the layer in front
- * of p if light reached that; else 0: no light the volume holds reaches p.
- * Without subcells: the jittered point if p sees it, else the layer in
+ * of p if light reached that; else dark: no light the volume holds reaches
+ * p. Without subcells: the jittered point if p sees it, else the layer in
  * front of p (the region of a cut cell behind a wall holds the other
- * side's light). */
+ * side's light). A jittered point in a mixed region falls back to the
+ * layer in front of p too, and where that is mixed the volume is not read
+ * at all. */
 inline int lv_lookup_point(const lv_grid *grid, const lv_scene *sc, float3 p, float3 n, lv_rng *rng, float3 *q)
 {
     *q = lv_jitter_lookup(grid, p, n, rng);
     float3 from = lv_offset_origin(p, n, sc->info.scene_scale);
+    int seen = !lv_region_mixed(grid, *q) && !lv_occluded(sc, from, *q - from, 1.0f, LV_NO_HIT, LV_NO_HIT);
     if (grid->g.subcells == 0u) {
-        if (lv_occluded(sc, from, *q - from, 1.0f, LV_NO_HIT, LV_NO_HIT))
-            *q = lv_visible_front_point(grid, sc, p, n, from);
-        return 1;
+        if (!seen) *q = lv_visible_front_point(grid, sc, p, n, from);
+    } else {
+        if (seen && lv_point_lit(grid, sc, *q)) return LV_POINT_LIT;
+        *q = lv_visible_front_point(grid, sc, p, n, from);
     }
-    if (lv_point_lit(grid, sc, *q) && !lv_occluded(sc, from, *q - from, 1.0f, LV_NO_HIT, LV_NO_HIT)) return 1;
-    *q = lv_visible_front_point(grid, sc, p, n, from);
-    return lv_point_lit(grid, sc, *q);
+    if (lv_region_mixed(grid, *q)) return LV_POINT_UNTRUSTED;
+    return grid->g.subcells == 0u || lv_point_lit(grid, sc, *q) ? LV_POINT_LIT : LV_POINT_DARK;
 }
 
 #endif

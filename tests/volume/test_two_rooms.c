@@ -14,7 +14,10 @@
  * from 1 cm to 100 m rooms (radiance, and the images, stay the same); and
  * with the bright room lit by a point or spot light of its lamp's power;
  * and with the wall modelled twice, the copies overlapping (one with a
- * doorway, which the other closes, beside a cupboard).
+ * doorway, which the other closes, beside a cupboard); and with the wall
+ * of one polygon bowed 30 to 50 cm into the dim room (one or five rows of
+ * quads: no plane fits it across a cell, so the cells' regions flagged
+ * mixed must go unread).
  *
  * (a) Leak: the bright lamp red and the dim one blue; the walls are grey,
  *     so the true red radiance in the dim room is 0 while its own blue
@@ -75,7 +78,30 @@ typedef struct {
     int bright_light; /* LAMP, POINT_LIGHT or SPOT_LIGHT */
     float twin;       /* a second copy of the wall this far along x, overlapping it (a wall modelled twice), metres */
     float door;       /* a doorway this wide in the first copy (which the second closes), metres */
+    float bend;       /* the wall (of one polygon, no doorway or cupboard) bowed this far into the dim room at its
+                       * middle, metres (0: flat) */
+    int rows;         /* and made of this many rows of quads (0: one) */
 } setup;
+
+/* The bowed wall's columns of quads across the rooms' depth. */
+#define BEND_COLUMNS 16
+#define MAX_BEND_ROWS 5
+
+/* Appends the bowed wall of one polygon (x = HARNESS_WALL_X + bend
+ * cos(pi z / 2Z), facing +x) in `rows` rows of quads. */
+static size_t add_bowed_wall(float *t, size_t n, float bend, int rows)
+{
+    const float Z = HARNESS_ROOMS_Z, Y = HARNESS_ROOMS_Y;
+    for (int i = 0; i < BEND_COLUMNS; i++)
+        for (int j = 0; j < rows; j++) {
+            const float z0 = -Z + 2 * Z * i / BEND_COLUMNS, z1 = -Z + 2 * Z * (i + 1) / BEND_COLUMNS;
+            const float x0 = HARNESS_WALL_X + bend * cosf(1.5707963f * z0 / Z),
+                        x1 = HARNESS_WALL_X + bend * cosf(1.5707963f * z1 / Z);
+            const float corner[3] = {x0, Y * j / rows, z0}, up[3] = {0, Y / rows, 0}, across[3] = {x1 - x0, 0, z1 - z0};
+            n = harness_add_quad(t, n, corner, up, across);
+        }
+    return n;
+}
 
 /* The set-up's rooms, lamps and camera (bright, dim: the lamps' RGB
  * radiance), every length times its scale (radiance, and so the image,
@@ -83,8 +109,17 @@ typedef struct {
 static void two_rooms(const setup *u, const float bright[3], const float dim[3], lvcl_scene *s)
 {
     const float scale = u->scale > 0 ? u->scale : 1.0f;
-    float tris[(HARNESS_TWO_ROOMS_TRIANGLES + 12) * 9];
+    float tris[(HARNESS_TWO_ROOMS_TRIANGLES + 12 + 2 * BEND_COLUMNS * MAX_BEND_ROWS) * 9];
     size_t walls, n = harness_two_rooms(tris, u->thickness, u->shell, u->panel, u->door, 0, 0, &walls);
+    if (u->bend != 0) {
+        /* The flat wall of one polygon (two triangles, just before the
+         * lamps' four) gives way to the bowed one. */
+        float lamps[4 * 9];
+        memcpy(lamps, &tris[9 * walls], sizeof lamps);
+        walls = add_bowed_wall(tris, walls - 2, u->bend, u->rows > 0 ? u->rows : 1);
+        memcpy(&tris[9 * walls], lamps, sizeof lamps);
+        n = walls + 4;
+    }
     if (u->bright_light != LAMP) n -= 2; /* the lamps come last, the bright one's two triangles after the dim one's */
     size_t lamps_end = n;
     if (u->twin != 0) {
@@ -226,6 +261,10 @@ static void test_leak(void)
         {0.2f, 0.37f, 12, 4, .shell = 0.02f, .twin = 0.01f},
         {0.2f, 0.0f, 12, 4, .shell = 0.05f, .panel = 0.3f, .twin = 0.03f, .door = 0.6f, .yaw = 49.3f, .pitch = 27.1f},
         {0.06f, 0.5f, 16, 2, .shell = 0.1f, .twin = -0.02f, .yaw = 20, .pitch = 8},
+        {0.0f, 0.37f, 12, 4, .bend = 0.4f},
+        {0.0f, 0.0f, 23, 4, .bend = 0.5f},
+        {0.0f, 0.37f, 40, 0, .bend = 0.5f, .rows = 5},
+        {0.0f, 0.5f, 24, 2, .bend = 0.3f, .rows = 5, .yaw = 20, .pitch = 8},
     };
     const float ratios[] = {25.0f, 1000.0f};
     double worst = 0;
@@ -242,11 +281,12 @@ static void test_leak(void)
         free(r.rgb);
         printf("  leak: wall %.3f m, offset %.2f, %d cells, %d subcells, merge %g, refine %g, cell %.4g m, turned "
                "%g/%g deg, slabs %g m, cupboard %g m, metallic %g roughness %g specular %g, scale %g, %s, copy %g m "
-               "off, doorway %g m, %.0fx: red "
+               "off, doorway %g m, bowed %g m in %d rows, %.0fx: red "
                "%.3g, blue %.3g\n",
                u->thickness, u->offset, u->cells, u->subcells, u->merge, u->refine, u->cell_size, u->yaw, u->pitch,
                u->shell, u->panel, u->walls.metallic, u->walls.roughness, u->walls.specular,
-               u->scale > 0 ? u->scale : 1, light_names[u->bright_light], u->twin, u->door, ratio, red, blue);
+               u->scale > 0 ? u->scale : 1, light_names[u->bright_light], u->twin, u->door, u->bend,
+               u->rows > 0 ? u->rows : 1, ratio, red, blue);
         if (!(leak <= worst)) worst = leak;
         CHECK("two rooms: the bright room's light does not leak into the dim one", blue > 0 && leak < 1e-4,
               "wall %.3f m, offset %.2f, %d cells, %d subcells, %.0fx: red / (ratio blue) = %.3g", u->thickness,
@@ -277,7 +317,9 @@ static void test_on_off(void)
                             {0.02f, 0.5f, 32, 4, .ratio = 1000, .scale = 0.01f},
                             {0.0f, 0.37f, 16, 2, .ratio = 25, .scale = 100.0f, .yaw = 12},
                             {0.0f, 0.5f, 32, 4, .ratio = 1000, .bright_light = POINT_LIGHT},
-                            {0.02f, 0.0f, 24, 0, .ratio = 25, .bright_light = SPOT_LIGHT, .walls = {0.0f, 0.1f, 1.0f}}};
+                            {0.02f, 0.0f, 24, 0, .ratio = 25, .bright_light = SPOT_LIGHT, .walls = {0.0f, 0.1f, 1.0f}},
+                            {0.0f, 0.37f, 23, 4, .ratio = 1000, .bend = 0.5f},
+                            {0.0f, 0.0f, 40, 2, .ratio = 25, .bend = 0.4f, .rows = 5, .yaw = 15}};
     const int size = 32, block = 8, nb = size / block;
     for (size_t i = 0; i < sizeof setups / sizeof *setups; i++) {
         const setup *u = &setups[i];

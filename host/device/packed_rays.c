@@ -1,0 +1,71 @@
+/* Rays against the packed scene on the host, for checks made while the
+ * light volume is laid out (host/render/volume_planes.c): slow (every
+ * instance's tree is walked with its boxes placed in the world), so only
+ * for the few rays such checks cast. */
+#include <math.h>
+
+#include "packed_scene.h"
+
+/* Whether o + t d for t in [0, len] meets box [lo, hi]. */
+static int segment_meets_box(const float lo[3], const float hi[3], const double o[3], const double d[3], double len)
+{
+    double t0 = 0, t1 = len;
+    for (int k = 0; k < 3; k++) {
+        double a = (lo[k] - o[k]) / d[k], b = (hi[k] - o[k]) / d[k];
+        if (d[k] == 0) {
+            if (o[k] < lo[k] || o[k] > hi[k]) return 0;
+            continue;
+        }
+        if (a > b) {
+            double t = a;
+            a = b, b = t;
+        }
+        t0 = fmax(t0, a), t1 = fmin(t1, b);
+        if (t0 > t1) return 0;
+    }
+    return 1;
+}
+
+/* Whether o + t d for t in (0, len] meets triangle v (either face). */
+static int segment_meets_triangle(const float v[9], const double o[3], const double d[3], double len)
+{
+    double e1[3], e2[3], s[3], p[3], q[3];
+    for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k], s[k] = o[k] - v[k];
+    p[0] = d[1] * e2[2] - d[2] * e2[1], p[1] = d[2] * e2[0] - d[0] * e2[2], p[2] = d[0] * e2[1] - d[1] * e2[0];
+    double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+    if (det == 0) return 0;
+    double u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) / det;
+    if (u < 0 || u > 1) return 0;
+    q[0] = s[1] * e1[2] - s[2] * e1[1], q[1] = s[2] * e1[0] - s[0] * e1[2], q[2] = s[0] * e1[1] - s[1] * e1[0];
+    double w = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
+    if (w < 0 || u + w > 1) return 0;
+    double t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
+    return t > 0 && t <= len;
+}
+
+int lvcl_packed_segment_hits(const lvcl_packed_scene *p, const double o[3], const double d[3], double len)
+{
+    int stack[LVCL_BVH_MAX_DEPTH + 1];
+    for (size_t in = 0; in < p->instance_count; in++) {
+        const lv_instance *inst = &p->instances[in];
+        int top = 0;
+        stack[top++] = (int)p->mesh_tree_root[inst->mesh];
+        while (top > 0) {
+            const lvcl_bvh_node *n = &p->tree_nodes[stack[--top]];
+            float lo[3], hi[3];
+            lvcl_transform_box(inst->world_from_object, n->bmin, n->bmax, lo, hi);
+            if (!segment_meets_box(lo, hi, o, d, len)) continue;
+            if (n->count == 0) {
+                stack[top++] = (int)(n - p->tree_nodes) + 1;
+                stack[top++] = n->index;
+                continue;
+            }
+            for (size_t t = (size_t)n->index; t < (size_t)n->index + (size_t)n->count; t++) {
+                float v[9];
+                lvcl_packed_triangle_world(p, in, t, v);
+                if (segment_meets_triangle(v, o, d, len)) return 1;
+            }
+        }
+    }
+    return 0;
+}

@@ -1,0 +1,366 @@
+/* Regions that mix the two sides of a surface (host/render/volume_planes.c,
+ * mixed_patterns), on the host alone. A cell's planes are flat; a curved
+ * wall is not, and where it bends by more than it is thick across a cell,
+ * the air on one side of it falls, in a thin band, into the region of the
+ * other side. Even a band a tenth of a millimetre thick carries a lit
+ * room's light into a dim one at 1000:1 (the particles' track lengths in
+ * it, weighed by the bright light). Such regions must be flagged
+ * LV_REGION_MIXED, so that no lookup reads them.
+ *
+ * Checked: points just in front of a surface (0.1 mm to 1 cm off it) and
+ * points just behind it (on the far side of the wall) never share a region
+ * that is not flagged, for closed shells (a sphere of 0.5 to 15 cm walls,
+ * a cylinder) in a room and for a curved partition of one polygon between
+ * two rooms (one row of quads, or five, so that most of its triangles have
+ * no open edge of their own), 12 to 40 cells at grid offsets 0 and 0.37.
+ * And the flags stay off where nothing mixes: flat walls between rooms (one
+ * polygon, or a solid, turned), a rippled tile on a wall (its back a
+ * pocket against the wall) and a hollow block standing on the floor (its
+ * open bottom closed by the floor): no slot flagged. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../../host/accel/accel.h"
+#include "../../host/render/light_volume_internal.h"
+#include "../check.h"
+#include "../harness.h"
+
+#define PI 3.14159265358979
+#define MAX_TRIS 8192
+/* The room the shapes stand in: x, z in [-2, 2] and [-1, 1], y in [0, 2.5]. */
+static const float ROOM_LO[3] = {-2.0f, 0.0f, -1.0f}, ROOM_HI[3] = {2.0f, 2.5f, 1.0f};
+
+typedef struct {
+    lv_grid_info g;
+    uint32_t *slot;
+    lv_slot_region *regions;
+    float *shares;
+} cell_regions;
+
+/* Appends triangle a, b, c, wound to face along `facing`. */
+static size_t add_triangle(float *t, size_t n, const double a[3], const double b[3], const double c[3],
+                           const double facing[3])
+{
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; k++) e1[k] = b[k] - a[k], e2[k] = c[k] - a[k];
+    double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2], nz = e1[0] * e2[1] - e1[1] * e2[0];
+    int flip = nx * facing[0] + ny * facing[1] + nz * facing[2] < 0;
+    const double *v[3] = {a, flip ? c : b, flip ? b : c};
+    for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 3; k++) t[9 * n + 3 * i + k] = (float)v[i][k];
+    return n + 1;
+}
+
+/* A UV sphere of radius r round c, facing out (or in). */
+static size_t add_sphere(float *t, size_t n, const double c[3], double r, int seg, int inward)
+{
+    for (int j = 0; j < seg / 2; j++)
+        for (int i = 0; i < seg; i++) {
+            double p[4][3];
+            for (int q = 0; q < 4; q++) {
+                double th = PI * (j + (q / 2)) / (seg / 2), ph = 2 * PI * (i + (q == 1 || q == 2)) / seg;
+                p[q][0] = c[0] + r * sin(th) * cos(ph), p[q][1] = c[1] + r * cos(th),
+                p[q][2] = c[2] + r * sin(th) * sin(ph);
+            }
+            double mid[3];
+            for (int k = 0; k < 3; k++) mid[k] = ((p[0][k] + p[2][k]) / 2 - c[k]) * (inward ? -1 : 1);
+            if (j > 0) n = add_triangle(t, n, p[0], p[1], p[2], mid);
+            if (j < seg / 2 - 1) n = add_triangle(t, n, p[0], p[2], p[3], mid);
+        }
+    return n;
+}
+
+/* A closed cylinder (axis along y) of radius r and height 2 half round c. */
+static size_t add_cylinder(float *t, size_t n, const double c[3], double r, double half, int seg, int inward)
+{
+    double s = inward ? -1 : 1;
+    for (int i = 0; i < seg; i++) {
+        double a0 = 2 * PI * i / seg, a1 = 2 * PI * (i + 1) / seg, am = (a0 + a1) / 2;
+        double p0[3] = {c[0] + r * cos(a0), c[1] - half, c[2] + r * sin(a0)};
+        double p1[3] = {c[0] + r * cos(a1), c[1] - half, c[2] + r * sin(a1)};
+        double q0[3] = {p0[0], c[1] + half, p0[2]}, q1[3] = {p1[0], c[1] + half, p1[2]};
+        double out[3] = {s * cos(am), 0, s * sin(am)}, up[3] = {0, s, 0}, down[3] = {0, -s, 0};
+        double bottom[3] = {c[0], c[1] - half, c[2]}, top[3] = {c[0], c[1] + half, c[2]};
+        n = add_triangle(t, n, p0, p1, q1, out);
+        n = add_triangle(t, n, p0, q1, q0, out);
+        n = add_triangle(t, n, bottom, p0, p1, down);
+        n = add_triangle(t, n, top, q0, q1, up);
+    }
+    return n;
+}
+
+/* The curved partition of one polygon: x = x0 + bend cos(pi z / 2) over
+ * the room's depth and height, `seg` columns and `rows` rows of quads
+ * facing +x. */
+static double partition_x(double z, double bend)
+{
+    return 0.37 + bend * cos(PI * z / 2);
+}
+
+static size_t add_partition(float *t, size_t n, double bend, int seg, int rows)
+{
+    for (int i = 0; i < seg; i++)
+        for (int j = 0; j < rows; j++) {
+            double z0 = -1 + 2.0 * i / seg, z1 = -1 + 2.0 * (i + 1) / seg, y0 = 2.5 * j / rows,
+                   y1 = 2.5 * (j + 1) / rows;
+            double a[3] = {partition_x(z0, bend), y0, z0}, b[3] = {partition_x(z1, bend), y0, z1},
+                   c[3] = {partition_x(z1, bend), y1, z1}, d[3] = {partition_x(z0, bend), y1, z0}, f[3] = {1, 0, 0};
+            n = add_triangle(t, n, a, b, c, f);
+            n = add_triangle(t, n, a, c, d, f);
+        }
+    return n;
+}
+
+/* The regions of a scene of n triangles (a lamp its first), or 0 where
+ * making them failed (reported). */
+static int regions_of(const float *tris, size_t n, int cells, double offset, cell_regions *out)
+{
+    lvcl_scene scene;
+    harness_triangle_scene(tris, n, &scene);
+    lvcl_material_desc *m = harness_materials(&scene, 2);
+    harness_make_lamp(&m[1], 1.0f);
+    scene.tri_material[0] = 1;
+    lvcl_accel accel = {0};
+    lvcl_packed_scene packed = {0};
+    lvcl_status st = {0};
+    lvcl_volume_settings vs = {.cells = cells, .offset = offset, .dirs = 4, .subcells = 0, .particles = 1};
+    size_t count = 0, share_count;
+    memset(out, 0, sizeof *out);
+    int ok = !lvcl_accel_build(&scene, &accel, &st);
+    if (ok) ok = !lvcl_pack_scene(&scene, &accel, 0, 8, &packed, &st);
+    if (ok) ok = !lvcl_volume_grid_choose(&packed, &vs, &out->g, &count, &st);
+    if (ok) ok = (out->slot = malloc(count * sizeof *out->slot)) != NULL;
+    if (ok) ok = !lvcl_volume_assign_slots(&packed, &out->g, count, out->slot, &st);
+    if (ok)
+        ok = !lvcl_volume_build_regions(&packed, &out->g, count, out->slot, &out->regions, &out->shares, &share_count,
+                                        &st);
+    if (!ok) fprintf(stderr, "mixed regions: making the regions failed: %s\n", st.message);
+    lvcl_packed_scene_free(&packed);
+    lvcl_accel_free(&accel);
+    lvcl_scene_free(&scene);
+    return ok;
+}
+
+static void release(cell_regions *r)
+{
+    free(r->slot);
+    free(r->regions);
+    free(r->shares);
+}
+
+static size_t mixed_slots(const cell_regions *r)
+{
+    size_t mixed = 0;
+    for (uint32_t s = 0; s < r->g.slot_count; s++) mixed += (r->regions[s].flags & LV_REGION_MIXED) != 0;
+    return mixed;
+}
+
+/* Which side each slot has seen points of (bit 0: front, bit 1: back). */
+typedef struct {
+    uint8_t *seen;
+    int shared, flagged; /* slots holding both sides: not flagged, flagged */
+} sides;
+
+static void see(const cell_regions *r, sides *s, const double p[3], int side)
+{
+    float q[3] = {(float)p[0], (float)p[1], (float)p[2]};
+    uint32_t slot = lvcl_volume_grid_slot_at(&r->g, r->slot, r->regions, q, NULL);
+    if (slot == LV_EMPTY_CELL) return;
+    uint8_t before = s->seen[slot];
+    s->seen[slot] |= (uint8_t)(1 << side);
+    if (before != 3 && s->seen[slot] == 3) {
+        if (r->regions[slot].flags & LV_REGION_MIXED) s->flagged++;
+        else {
+            s->shared++;
+            if (getenv("MIXDBG")) {
+                long c;
+                lvcl_volume_grid_slot_at(&r->g, r->slot, r->regions, q, &c);
+                fprintf(stderr, "SHARED slot %u cell %ld planes %u at %.4f %.4f %.4f side %d h %g\n", slot, c,
+                        r->regions[slot].plane_count, p[0], p[1], p[2], side, r->g.cell_size);
+            }
+        }
+    }
+}
+
+/* Points off triangles [first, end) of tris: at 0.1 mm, 1 mm and 1 cm
+ * along their fronts (side 0) or backs (side 1), a few per triangle. */
+static void see_off(const cell_regions *r, sides *s, const float *tris, size_t first, size_t end, int back, int side)
+{
+    static const double offs[] = {1e-4, 1e-3, 1e-2},
+                        bary[][2] = {{1 / 3.0, 1 / 3.0}, {0.1, 0.1}, {0.8, 0.1}, {0.1, 0.8}};
+    for (size_t i = first; i < end; i++) {
+        const float *v = tris + 9 * i;
+        double e1[3], e2[3], nrm[3];
+        for (int k = 0; k < 3; k++) e1[k] = v[3 + k] - v[k], e2[k] = v[6 + k] - v[k];
+        nrm[0] = e1[1] * e2[2] - e1[2] * e2[1], nrm[1] = e1[2] * e2[0] - e1[0] * e2[2],
+        nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+        if (!(len > 0)) continue;
+        for (size_t b = 0; b < sizeof bary / sizeof *bary; b++)
+            for (size_t o = 0; o < sizeof offs / sizeof *offs; o++) {
+                double p[3];
+                for (int k = 0; k < 3; k++)
+                    p[k] = v[k] + bary[b][0] * e1[k] + bary[b][1] * e2[k] + (back ? -1 : 1) * offs[o] * nrm[k] / len;
+                see(r, s, p, side);
+            }
+    }
+}
+
+/* The room with a lamp (first) and its walls; returns the count. */
+static size_t room(float *t)
+{
+    const double a[3] = {-0.3, 2.499, -0.3}, b[3] = {0.3, 2.499, -0.3}, c[3] = {0.3, 2.499, 0.3}, down[3] = {0, -1, 0};
+    size_t n = add_triangle(t, 0, a, b, c, down);
+    return harness_add_room(t, n, ROOM_LO, ROOM_HI);
+}
+
+/* A closed shell (shape 0: sphere, 1: cylinder) of wall `thick` in the room:
+ * the air outside it against the air inside. */
+static int shell_sides(int shape, double thick, int cells, double offset, int *shared, int *flagged)
+{
+    float *t = malloc(MAX_TRIS * 9 * sizeof *t);
+    const double c[3] = {0.05, 1.1, -0.1}, r = 0.6;
+    size_t n = room(t), outer = n;
+    n = shape ? add_cylinder(t, n, c, r, r, 20, 0) : add_sphere(t, n, c, r, 20, 0);
+    size_t inner = n;
+    n = shape ? add_cylinder(t, n, c, r - thick, r - thick, 20, 1) : add_sphere(t, n, c, r - thick, 20, 1);
+    cell_regions reg;
+    int ok = regions_of(t, n, cells, offset, &reg);
+    if (ok) {
+        sides s = {calloc(reg.g.slot_count + 1, 1), 0, 0};
+        see_off(&reg, &s, t, outer, inner, 0, 0);
+        see_off(&reg, &s, t, inner, n, 0, 1);
+        *shared = s.shared, *flagged = s.flagged;
+        free(s.seen);
+        release(&reg);
+    }
+    free(t);
+    return ok;
+}
+
+/* The partition of one polygon between two rooms: its front's air against its back's. */
+static int partition_sides(double bend, int rows, int cells, double offset, int *shared, int *flagged)
+{
+    float *t = malloc(MAX_TRIS * 9 * sizeof *t);
+    size_t n = room(t), first = n;
+    n = add_partition(t, n, bend, 16, rows);
+    cell_regions reg;
+    int ok = regions_of(t, n, cells, offset, &reg);
+    if (ok) {
+        sides s = {calloc(reg.g.slot_count + 1, 1), 0, 0};
+        see_off(&reg, &s, t, first, n, 0, 0);
+        see_off(&reg, &s, t, first, n, 1, 1);
+        *shared = s.shared, *flagged = s.flagged;
+        free(s.seen);
+        release(&reg);
+    }
+    free(t);
+    return ok;
+}
+
+/* Slots flagged in a scene where nothing mixes: kind 0, a flat wall of one
+ * polygon between two rooms, turned; 1, a 2 cm solid wall, turned; 2, a
+ * rippled tile (a height field with open edges) on the room's wall; 3, a
+ * hollow block (five sides, open at the bottom) on the floor. -1 where
+ * making the regions failed. */
+static long flags_where_nothing_mixes(int kind, int cells, double offset)
+{
+    float *t = malloc(MAX_TRIS * 9 * sizeof *t);
+    size_t n = room(t);
+    if (kind == 0 || kind == 1) {
+        if (kind == 0) {
+            const float a[3] = {0.37f, 0, -1}, up[3] = {0, 2.5f, 0}, across[3] = {0, 0, 2};
+            n = harness_add_quad(t, n, a, up, across);
+        } else {
+            const float lo[3] = {0.36f, 0, -1}, hi[3] = {0.38f, 2.5f, 1};
+            n = harness_add_box(t, n, lo, hi);
+        }
+        for (size_t v = 0; v < 3 * n; v++) harness_turn(t + 3 * v, 17, 9); /* the whole scene */
+    } else if (kind == 2) {
+        /* 24 cm square, 6 mm proud at its middle, 12 x 12 quads, against x = -2. */
+        for (int i = 0; i < 12; i++)
+            for (int j = 0; j < 12; j++) {
+                double p[4][3];
+                for (int q = 0; q < 4; q++) {
+                    double u = (i + (q == 1 || q == 2)) / 12.0, w = (j + (q / 2)) / 12.0;
+                    p[q][0] = -2 + 0.006 * sin(PI * u) * sin(PI * w) * (1 + 0.2 * sin(7 * PI * u));
+                    p[q][1] = 1.0 + 0.24 * u, p[q][2] = -0.3 + 0.24 * w;
+                }
+                const double f[3] = {1, 0, 0};
+                n = add_triangle(t, n, p[0], p[1], p[2], f);
+                n = add_triangle(t, n, p[0], p[2], p[3], f);
+            }
+    } else {
+        const float lo[3] = {-1.2f, 0, -0.3f}, hi[3] = {-0.4f, 0.3f, 0.3f};
+        size_t first = n;
+        n = harness_add_box(t, n, lo, hi);
+        /* Drop the bottom's two triangles (those with every corner at y = 0). */
+        size_t kept = first;
+        for (size_t i = first; i < n; i++)
+            if (!(t[9 * i + 1] == 0 && t[9 * i + 4] == 0 && t[9 * i + 7] == 0))
+                memmove(t + 9 * kept++, t + 9 * i, 9 * sizeof *t);
+        n = kept;
+    }
+    cell_regions reg;
+    long mixed = regions_of(t, n, cells, offset, &reg) ? (long)mixed_slots(&reg) : -1;
+    if (mixed >= 0) release(&reg);
+    free(t);
+    return mixed;
+}
+
+int main(void)
+{
+    const int cell_counts[] = {12, 23, 40};
+    const double offsets[] = {0.0, 0.37};
+    const double thicknesses[] = {0.005, 0.03, 0.15};
+    for (int shape = 0; shape < 2; shape++)
+        for (size_t ti = 0; ti < sizeof thicknesses / sizeof *thicknesses; ti++) {
+            int shared = 0, flagged = 0, built = 1;
+            for (size_t ci = 0; ci < sizeof cell_counts / sizeof *cell_counts; ci++)
+                for (size_t oi = 0; oi < sizeof offsets / sizeof *offsets; oi++) {
+                    int s = 0, f = 0;
+                    built &= shell_sides(shape, thicknesses[ti], cell_counts[ci], offsets[oi], &s, &f);
+                    shared += s, flagged += f;
+                }
+            char name[160];
+            snprintf(name, sizeof name,
+                     "mixed regions: a closed %s shell %g cm thick: no region that is read holds air from both sides",
+                     shape ? "cylinder" : "sphere", 1e2 * thicknesses[ti]);
+            CHECK(name, built && shared == 0, "%d slots hold both sides unflagged (%d flagged)", shared, flagged);
+        }
+    const double bends[] = {0.3, 0.5};
+    for (size_t bi = 0; bi < sizeof bends / sizeof *bends; bi++)
+        for (int rows = 1; rows <= 5; rows += 4) {
+            int shared = 0, flagged = 0, built = 1;
+            for (size_t ci = 0; ci < sizeof cell_counts / sizeof *cell_counts; ci++)
+                for (size_t oi = 0; oi < sizeof offsets / sizeof *offsets; oi++) {
+                    int s = 0, f = 0;
+                    built &= partition_sides(bends[bi], rows, cell_counts[ci], offsets[oi], &s, &f);
+                    shared += s, flagged += f;
+                }
+            char name[200];
+            snprintf(name, sizeof name,
+                     "mixed regions: a curved partition of one polygon (bend %g m, %d row%s of quads): no region that "
+                     "is read holds air from both sides",
+                     bends[bi], rows, rows > 1 ? "s" : "");
+            CHECK(name, built && shared == 0 && flagged > 0, "%d slots hold both sides unflagged (%d flagged)", shared,
+                  flagged);
+        }
+    static const char *const calm[] = {
+        "a flat wall of one polygon between two rooms, turned", "a flat 2 cm wall between two rooms, turned",
+        "a rippled tile against a wall (its back a pocket)", "a hollow block open at the bottom, on the floor"};
+    for (int kind = 0; kind < 4; kind++) {
+        long worst = 0;
+        for (size_t ci = 0; ci < sizeof cell_counts / sizeof *cell_counts; ci++)
+            for (size_t oi = 0; oi < sizeof offsets / sizeof *offsets; oi++) {
+                long m = flags_where_nothing_mixes(kind, cell_counts[ci], offsets[oi]);
+                worst = m < 0 || worst < 0 ? -1 : (m > worst ? m : worst);
+            }
+        char name[160];
+        snprintf(name, sizeof name, "mixed regions: none flagged for %s", calm[kind]);
+        CHECK(name, worst == 0, "up to %ld slots flagged (-1: making the regions failed)", worst);
+    }
+    CHECK_EXIT();
+}
