@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../host/accel/accel.h"
+#include "../host/render/light_volume_internal.h"
 #include "../host/scene/materials.h"
 
 extern const unsigned char lvcl_test_kernel_source[];
@@ -340,4 +342,40 @@ lvcl_render_request harness_request(lvcl_mode mode, int size, int spp, int cells
         .integrate = 1,
         .see_through = 1,
     };
+}
+
+int harness_build_regions(const char *who, const float *tris, size_t n, int cells, double offset, int subcells,
+                          harness_regions *out)
+{
+    lvcl_scene scene;
+    harness_triangle_scene(tris, n, &scene);
+    lvcl_material_desc *m = harness_materials(&scene, 2);
+    harness_make_lamp(&m[1], 1.0f);
+    scene.tri_material[0] = 1; /* a lamp, as the grid expects one */
+    lvcl_accel accel = {0};
+    lvcl_packed_scene packed = {0};
+    lvcl_status st = {0};
+    lvcl_volume_settings vs = {.cells = cells, .offset = offset, .dirs = 4, .subcells = subcells, .particles = 1};
+    size_t count = 0, share_count;
+    memset(out, 0, sizeof *out);
+    int ok = !lvcl_accel_build(&scene, &accel, &st);
+    if (ok) ok = !lvcl_pack_scene(&scene, &accel, 0, 8, &packed, &st);
+    if (ok) ok = !lvcl_volume_grid_choose(&packed, &vs, &out->g, &count, &st);
+    if (ok) ok = (out->slot = malloc(count * sizeof *out->slot)) != NULL;
+    if (ok) ok = !lvcl_volume_assign_slots(&packed, &out->g, count, out->slot, &st);
+    if (ok)
+        ok = !lvcl_volume_build_regions(&packed, &out->g, count, out->slot, &out->regions, &out->shares, &share_count,
+                                        &st);
+    if (!ok) fprintf(stderr, "%s: making the regions failed: %s\n", who, st.message);
+    lvcl_packed_scene_free(&packed);
+    lvcl_accel_free(&accel);
+    lvcl_scene_free(&scene);
+    return ok;
+}
+
+void harness_free_regions(harness_regions *r)
+{
+    free(r->slot);
+    free(r->regions);
+    free(r->shares);
 }

@@ -27,6 +27,21 @@ size_t harness_add_quad(float *t, size_t n, const float a[3], const float u[3], 
 size_t harness_add_box(float *t, size_t n, const float lo[3], const float hi[3]);
 size_t harness_add_room(float *t, size_t n, const float lo[3], const float hi[3]);
 
+/* The light volume's grid and the regions of its cut cells for a scene of
+ * n triangles (9 floats each; the first a lamp, the rest diffuse), on the
+ * host alone (host/render/volume_planes.c): `cells` along the longest
+ * axis, the grid shifted by `offset` cells, k = subcells. Returns 0 (and
+ * says why on stderr, after `who`) where making them failed. */
+typedef struct {
+    lv_grid_info g;
+    uint32_t *slot; /* per cell */
+    lv_slot_region *regions;
+    float *shares;
+} harness_regions;
+int harness_build_regions(const char *who, const float *tris, size_t n, int cells, double offset, int subcells,
+                          harness_regions *out);
+void harness_free_regions(harness_regions *r);
+
 /* v turned by yaw about y, then by pitch about x (degrees), about the origin. */
 void harness_turn(float v[3], float yaw_deg, float pitch_deg);
 

@@ -36,7 +36,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../../host/accel/accel.h"
 #include "../../host/render/light_volume_internal.h"
 #include "../check.h"
 #include "../harness.h"
@@ -48,13 +47,6 @@ typedef struct {
     float block, shelf;   /* widths, metres */
     float gap, thickness; /* metres */
 } stack;
-
-typedef struct {
-    lv_grid_info g;
-    uint32_t *slot;
-    lv_slot_region *regions;
-    float *shares;
-} cell_regions;
 
 /* Box lo..hi of the stack's frame (x, up, z) placed with `up` along world
  * axis `axis`. */
@@ -95,55 +87,15 @@ static size_t make_stack(const stack *u, int axis, int shelf_first, int reversed
     return n;
 }
 
-/* The regions of the scene of n triangles, or 0 where making them failed
- * (reported). */
-static int regions_of(const float *tris, size_t n, int cells, double offset, int subcells, cell_regions *out)
-{
-    lvcl_scene scene;
-    harness_triangle_scene(tris, n, &scene);
-    lvcl_material_desc *m = harness_materials(&scene, 2);
-    harness_make_lamp(&m[1], 1.0f);
-    scene.tri_material[0] = 1; /* a lamp somewhere, as the grid expects */
-    lvcl_accel accel = {0};
-    lvcl_packed_scene packed = {0};
-    lvcl_status st = {0};
-    /* The planes do not depend on the subcells, and their shares took
-     * seven in eight parts of this test's time: the planes' checks have none. */
-    lvcl_volume_settings vs = {.cells = cells, .offset = offset, .dirs = 4, .subcells = subcells, .particles = 1};
-    size_t count = 0;
-    memset(out, 0, sizeof *out);
-    int ok = !lvcl_accel_build(&scene, &accel, &st);
-    if (ok) ok = !lvcl_pack_scene(&scene, &accel, 0, 8, &packed, &st);
-    if (ok) ok = !lvcl_volume_grid_choose(&packed, &vs, &out->g, &count, &st);
-    if (ok) ok = (out->slot = malloc(count * sizeof *out->slot)) != NULL;
-    if (ok) ok = !lvcl_volume_assign_slots(&packed, &out->g, count, out->slot, &st);
-    size_t share_count;
-    if (ok)
-        ok = !lvcl_volume_build_regions(&packed, &out->g, count, out->slot, &out->regions, &out->shares, &share_count,
-                                        &st);
-    if (!ok) fprintf(stderr, "cell planes: making the regions failed: %s\n", st.message);
-    lvcl_packed_scene_free(&packed);
-    lvcl_accel_free(&accel);
-    lvcl_scene_free(&scene);
-    return ok;
-}
-
-static void release(cell_regions *r)
-{
-    free(r->slot);
-    free(r->regions);
-    free(r->shares);
-}
-
 /* Point p's cell (its index, or -1 outside) and the slot of its region. */
-static uint32_t slot_at(const cell_regions *r, const float p[3], long *cell)
+static uint32_t slot_at(const harness_regions *r, const float p[3], long *cell)
 {
     return lvcl_volume_grid_slot_at(&r->g, r->slot, r->regions, p, cell);
 }
 
 /* Whether points a and b share a cell and its region; counts the pairs
  * that share a cell in *pairs. */
-static int share_region(const cell_regions *r, const float a[3], const float b[3], int *pairs)
+static int share_region(const harness_regions *r, const float a[3], const float b[3], int *pairs)
 {
     long ca, cb;
     uint32_t sa = slot_at(r, a, &ca), sb = slot_at(r, b, &cb);
@@ -155,7 +107,7 @@ static int share_region(const cell_regions *r, const float a[3], const float b[3
 /* Of the lattice points over the stack's footprint whose gap point shares
  * a cell with the point beyond the shelf (or inside the block), how many
  * share its region too. */
-static int shared_regions(const cell_regions *r, const stack *u, int axis, int *pairs)
+static int shared_regions(const harness_regions *r, const stack *u, int axis, int *pairs)
 {
     const double base = 0.9, half = 0.5 * fmin(u->block, u->shelf) - 1e-3;
     const double ups[3] = {base + 0.5 * u->gap, base + u->gap + u->thickness + 0.5 * u->gap, base - 0.5 * u->gap};
@@ -181,7 +133,7 @@ static int shared_regions(const cell_regions *r, const stack *u, int axis, int *
 }
 
 /* Whether two builds gave every cell the same planes (to 10^-5). */
-static int same_planes(const cell_regions *a, const cell_regions *b, size_t cells)
+static int same_planes(const harness_regions *a, const harness_regions *b, size_t cells)
 {
     if (a->g.slot_count != b->g.slot_count) return 0;
     for (size_t c = 0; c < cells; c++) {
@@ -218,11 +170,11 @@ static int wall_beside_gaps(int cells, double offset, int *pairs, int *built)
         const float hi[3] = {wall, lo[1] + 0.01f, 0.3f};
         n = harness_add_box(tris, n, lo, hi);
     }
-    cell_regions r;
+    harness_regions r;
     memset(&r, 0, sizeof r);
     int shared = 0;
     *pairs = 0;
-    *built = regions_of(tris, n, cells, offset, 0, &r);
+    *built = harness_build_regions("cell planes", tris, n, cells, offset, 0, &r);
     const float heights[4] = {base + 0.001f, base + 0.007f, base + 0.013f, base + 0.019f};
     for (int i = 0; *built && i < 4; i++)
         for (int j = 0; j < LATTICE; j++) {
@@ -230,7 +182,7 @@ static int wall_beside_gaps(int cells, double offset, int *pairs, int *built)
             const float here[3] = {wall - 0.005f, heights[i], z}, there[3] = {wall + 0.025f, heights[i], z};
             shared += share_region(&r, here, there, pairs);
         }
-    release(&r);
+    harness_free_regions(&r);
     return shared;
 }
 
@@ -261,10 +213,10 @@ static int wall_in_building(float wall, float shell, float twin, float door, flo
     }
     for (size_t v = 0; v < 3 * n; v++) harness_turn(&tris[3 * v], yaw, pitch);
     const float near_x = HARNESS_WALL_X + wall / 2 + fmaxf(twin, 0), far_x = HARNESS_WALL_X - wall / 2 + fminf(twin, 0);
-    cell_regions r;
+    harness_regions r;
     int shared = 0;
     *pairs = 0;
-    *built = regions_of(tris, n, cells, offset, 0, &r);
+    *built = harness_build_regions("cell planes", tris, n, cells, offset, 0, &r);
     const float inset = 0.004f, y_span = HARNESS_ROOMS_Y - 2 * inset, z_span = 2 * HARNESS_ROOMS_Z - 2 * inset;
     for (int i = 0; *built && i < 2 * LATTICE; i++)
         for (int j = 0; j < 2 * LATTICE; j++) {
@@ -275,7 +227,7 @@ static int wall_in_building(float wall, float shell, float twin, float door, flo
             harness_turn(there, yaw, pitch);
             shared += share_region(&r, here, there, pairs);
         }
-    if (*built) release(&r);
+    if (*built) harness_free_regions(&r);
     return shared;
 }
 
@@ -303,10 +255,10 @@ static int layers_apart(int panel, float apart, int cells, double offset, int *p
     } else {
         n = harness_add_quad(tris, n, back, up, across);
     }
-    cell_regions r;
+    harness_regions r;
     int shared = 0;
     *pairs = 0;
-    *built = regions_of(tris, n, cells, offset, 0, &r);
+    *built = harness_build_regions("cell planes", tris, n, cells, offset, 0, &r);
     const float inset = 0.004f;
     const float xs[3][2] = {{wall + inset, wall - inset}, /* the panel: in front of the wall and behind */
                             {wall - apart / 2, wall + inset},
@@ -319,7 +271,7 @@ static int layers_apart(int panel, float apart, int cells, double offset, int *p
                 const float a[3] = {xs[k][0], y, z}, b[3] = {xs[k][1], y, z};
                 shared += share_region(&r, a, b, pairs);
             }
-    if (*built) release(&r);
+    if (*built) harness_free_regions(&r);
     return shared;
 }
 
@@ -346,10 +298,10 @@ static int corridor_in_room(float apart, int away, float yaw, float pitch, int c
                            : harness_add_quad(tris, n, corner, up, across);
     }
     for (size_t v = 0; v < 3 * n; v++) harness_turn(&tris[3 * v], yaw, pitch);
-    cell_regions r;
+    harness_regions r;
     int shared = 0;
     *pairs = 0;
-    *built = regions_of(tris, n, cells, offset, 0, &r);
+    *built = harness_build_regions("cell planes", tris, n, cells, offset, 0, &r);
     const float inset = 0.004f, y_span = Y - 2 * inset, z_span = 2 * Z - 2 * inset;
     const float beyond[2] = {W - inset, W + apart + inset};
     for (int i = 0; *built && i < 2 * LATTICE; i++)
@@ -362,13 +314,13 @@ static int corridor_in_room(float apart, int away, float yaw, float pitch, int c
                 harness_turn(out, yaw, pitch);
                 shared += share_region(&r, middle, out, pairs);
             }
-    if (*built) release(&r);
+    if (*built) harness_free_regions(&r);
     return shared;
 }
 
 /* Checks the subcell records' layout of r (k subcells); returns the
  * number of faults, and counts the cut cells in *cut. */
-static int record_faults(const cell_regions *r, uint32_t k, size_t cells, int *cut)
+static int record_faults(const harness_regions *r, uint32_t k, size_t cells, int *cut)
 {
     enum { PER = 1 + LV_SUBCELL_MAX };
     const uint32_t sub = k * k * k;
@@ -423,12 +375,12 @@ int main(void)
                 double h = 2.0 / cells; /* the room's longest side over the cell count */
                 if (u->gap >= 0.25 * h) continue;
                 for (size_t oi = 0; oi < sizeof offsets / sizeof offsets[0]; oi++) {
-                    cell_regions r[3];
+                    harness_regions r[3];
                     memset(r, 0, sizeof r);
                     for (int v = 0; v < 3 && built; v++) {
                         float tris[MAX_TRIS * 9];
                         size_t n = make_stack(u, axis, v == 1, v == 2, tris);
-                        built &= regions_of(tris, n, cells, offsets[oi], 0, &r[v]);
+                        built &= harness_build_regions("cell planes", tris, n, cells, offsets[oi], 0, &r[v]);
                     }
                     if (built) {
                         size_t count = (size_t)r[0].g.dims[0] * r[0].g.dims[1] * r[0].g.dims[2];
@@ -440,7 +392,7 @@ int main(void)
                         same &= same_planes(&r[0], &r[1], count) && same_planes(&r[0], &r[2], count);
                         cases++;
                     }
-                    for (int v = 0; v < 3; v++) release(&r[v]);
+                    for (int v = 0; v < 3; v++) harness_free_regions(&r[v]);
                 }
             }
             char name[200];
@@ -579,12 +531,12 @@ int main(void)
         for (int v = 0; v < 2 && ok; v++) {
             float tris[MAX_TRIS * 9];
             size_t n = make_stack(&stacks[v ? 4 : 2], v, 0, 0, tris);
-            cell_regions r;
+            harness_regions r;
             int c = 0;
-            ok = regions_of(tris, n, v ? 24 : 16, v ? 0.37 : 0.0, (int)k, &r);
+            ok = harness_build_regions("cell planes", tris, n, v ? 24 : 16, v ? 0.37 : 0.0, (int)k, &r);
             if (ok) faults += record_faults(&r, k, (size_t)r.g.dims[0] * r.g.dims[1] * r.g.dims[2], &c);
             cut += c;
-            release(&r);
+            harness_free_regions(&r);
         }
         char name[160];
         snprintf(name, sizeof name,

@@ -22,7 +22,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../../host/accel/accel.h"
 #include "../../host/render/light_volume_internal.h"
 #include "../check.h"
 #include "../harness.h"
@@ -31,13 +30,6 @@
 #define MAX_TRIS 8192
 /* The room the shapes stand in: x, z in [-2, 2] and [-1, 1], y in [0, 2.5]. */
 static const float ROOM_LO[3] = {-2.0f, 0.0f, -1.0f}, ROOM_HI[3] = {2.0f, 2.5f, 1.0f};
-
-typedef struct {
-    lv_grid_info g;
-    uint32_t *slot;
-    lv_slot_region *regions;
-    float *shares;
-} cell_regions;
 
 /* Appends triangle a, b, c, wound to face along `facing`. */
 static size_t add_triangle(float *t, size_t n, const double a[3], const double b[3], const double c[3],
@@ -113,44 +105,7 @@ static size_t add_partition(float *t, size_t n, double bend, int seg, int rows)
     return n;
 }
 
-/* The regions of a scene of n triangles (a lamp its first), or 0 where
- * making them failed (reported). */
-static int regions_of(const float *tris, size_t n, int cells, double offset, cell_regions *out)
-{
-    lvcl_scene scene;
-    harness_triangle_scene(tris, n, &scene);
-    lvcl_material_desc *m = harness_materials(&scene, 2);
-    harness_make_lamp(&m[1], 1.0f);
-    scene.tri_material[0] = 1;
-    lvcl_accel accel = {0};
-    lvcl_packed_scene packed = {0};
-    lvcl_status st = {0};
-    lvcl_volume_settings vs = {.cells = cells, .offset = offset, .dirs = 4, .subcells = 0, .particles = 1};
-    size_t count = 0, share_count;
-    memset(out, 0, sizeof *out);
-    int ok = !lvcl_accel_build(&scene, &accel, &st);
-    if (ok) ok = !lvcl_pack_scene(&scene, &accel, 0, 8, &packed, &st);
-    if (ok) ok = !lvcl_volume_grid_choose(&packed, &vs, &out->g, &count, &st);
-    if (ok) ok = (out->slot = malloc(count * sizeof *out->slot)) != NULL;
-    if (ok) ok = !lvcl_volume_assign_slots(&packed, &out->g, count, out->slot, &st);
-    if (ok)
-        ok = !lvcl_volume_build_regions(&packed, &out->g, count, out->slot, &out->regions, &out->shares, &share_count,
-                                        &st);
-    if (!ok) fprintf(stderr, "mixed regions: making the regions failed: %s\n", st.message);
-    lvcl_packed_scene_free(&packed);
-    lvcl_accel_free(&accel);
-    lvcl_scene_free(&scene);
-    return ok;
-}
-
-static void release(cell_regions *r)
-{
-    free(r->slot);
-    free(r->regions);
-    free(r->shares);
-}
-
-static size_t mixed_slots(const cell_regions *r)
+static size_t mixed_slots(const harness_regions *r)
 {
     size_t mixed = 0;
     for (uint32_t s = 0; s < r->g.slot_count; s++) mixed += (r->regions[s].flags & LV_REGION_MIXED) != 0;
@@ -163,7 +118,7 @@ typedef struct {
     int shared, flagged; /* slots holding both sides: not flagged, flagged */
 } sides;
 
-static void see(const cell_regions *r, sides *s, const double p[3], int side)
+static void see(const harness_regions *r, sides *s, const double p[3], int side)
 {
     float q[3] = {(float)p[0], (float)p[1], (float)p[2]};
     uint32_t slot = lvcl_volume_grid_slot_at(&r->g, r->slot, r->regions, q, NULL);
@@ -186,7 +141,7 @@ static void see(const cell_regions *r, sides *s, const double p[3], int side)
 
 /* Points off triangles [first, end) of tris: at 0.1 mm, 1 mm and 1 cm
  * along their fronts (side 0) or backs (side 1), a few per triangle. */
-static void see_off(const cell_regions *r, sides *s, const float *tris, size_t first, size_t end, int back, int side)
+static void see_off(const harness_regions *r, sides *s, const float *tris, size_t first, size_t end, int back, int side)
 {
     static const double offs[] = {1e-4, 1e-3, 1e-2},
                         bary[][2] = {{1 / 3.0, 1 / 3.0}, {0.1, 0.1}, {0.8, 0.1}, {0.1, 0.8}};
@@ -216,6 +171,27 @@ static size_t room(float *t)
     return harness_add_room(t, n, ROOM_LO, ROOM_HI);
 }
 
+/* Makes the regions of the n triangles t and counts the slots that hold
+ * points off triangles [a0, a1) (side 0) and off [b0, b1) (side 1), off
+ * their fronts, or their backs where *_back: *shared those not flagged,
+ * *flagged the rest. Frees t. Returns 0 where making the regions failed. */
+static int count_sides(float *t, size_t n, int cells, double offset, size_t a0, size_t a1, int a_back, size_t b0,
+                       size_t b1, int b_back, int *shared, int *flagged)
+{
+    harness_regions reg;
+    int ok = harness_build_regions("mixed regions", t, n, cells, offset, 0, &reg);
+    if (ok) {
+        sides s = {calloc(reg.g.slot_count + 1, 1), 0, 0};
+        see_off(&reg, &s, t, a0, a1, a_back, 0);
+        see_off(&reg, &s, t, b0, b1, b_back, 1);
+        *shared = s.shared, *flagged = s.flagged;
+        free(s.seen);
+        harness_free_regions(&reg);
+    }
+    free(t);
+    return ok;
+}
+
 /* A closed shell (shape 0: sphere, 1: cylinder) of wall `thick` in the room:
  * the air outside it against the air inside. */
 static int shell_sides(int shape, double thick, int cells, double offset, int *shared, int *flagged)
@@ -226,18 +202,7 @@ static int shell_sides(int shape, double thick, int cells, double offset, int *s
     n = shape ? add_cylinder(t, n, c, r, r, 20, 0) : add_sphere(t, n, c, r, 20, 0);
     size_t inner = n;
     n = shape ? add_cylinder(t, n, c, r - thick, r - thick, 20, 1) : add_sphere(t, n, c, r - thick, 20, 1);
-    cell_regions reg;
-    int ok = regions_of(t, n, cells, offset, &reg);
-    if (ok) {
-        sides s = {calloc(reg.g.slot_count + 1, 1), 0, 0};
-        see_off(&reg, &s, t, outer, inner, 0, 0);
-        see_off(&reg, &s, t, inner, n, 0, 1);
-        *shared = s.shared, *flagged = s.flagged;
-        free(s.seen);
-        release(&reg);
-    }
-    free(t);
-    return ok;
+    return count_sides(t, n, cells, offset, outer, inner, 0, inner, n, 0, shared, flagged);
 }
 
 /* The partition of one polygon between two rooms: its front's air against its back's. */
@@ -246,18 +211,7 @@ static int partition_sides(double bend, int rows, int cells, double offset, int 
     float *t = malloc(MAX_TRIS * 9 * sizeof *t);
     size_t n = room(t), first = n;
     n = add_partition(t, n, bend, 16, rows);
-    cell_regions reg;
-    int ok = regions_of(t, n, cells, offset, &reg);
-    if (ok) {
-        sides s = {calloc(reg.g.slot_count + 1, 1), 0, 0};
-        see_off(&reg, &s, t, first, n, 0, 0);
-        see_off(&reg, &s, t, first, n, 1, 1);
-        *shared = s.shared, *flagged = s.flagged;
-        free(s.seen);
-        release(&reg);
-    }
-    free(t);
-    return ok;
+    return count_sides(t, n, cells, offset, first, n, 0, first, n, 1, shared, flagged);
 }
 
 /* Slots flagged in a scene where nothing mixes: kind 0, a flat wall of one
@@ -303,9 +257,9 @@ static long flags_where_nothing_mixes(int kind, int cells, double offset)
                 memmove(t + 9 * kept++, t + 9 * i, 9 * sizeof *t);
         n = kept;
     }
-    cell_regions reg;
-    long mixed = regions_of(t, n, cells, offset, &reg) ? (long)mixed_slots(&reg) : -1;
-    if (mixed >= 0) release(&reg);
+    harness_regions reg;
+    long mixed = harness_build_regions("mixed regions", t, n, cells, offset, 0, &reg) ? (long)mixed_slots(&reg) : -1;
+    if (mixed >= 0) harness_free_regions(&reg);
     free(t);
     return mixed;
 }
