@@ -428,12 +428,13 @@ static int faces_across(const turned_facet *t, const cluster *c, double h)
     return 1;
 }
 
-/* Clusters one cell's facets into w->clusters (w->turned holds the
- * facets, *facet_count of them); returns their count, or -1 out of memory. Facets fall into groups of parallel ones (within 25
- * degrees of the group's first, either way round); each group, in order
- * of offset, is swept once: a facet joins the cluster before it when it
- * lies within a quarter cell of that cluster's mean and they do not stay
- * apart, else it starts the next. */
+/* Clusters one cell's facets into w->clusters (w->turned then holds the
+ * facets, *facet_count of them, by group and offset); returns their
+ * count, or -1 out of memory. Facets fall into groups of parallel ones
+ * (within 25 degrees of the group's first, either way round); each group,
+ * in order of offset, is swept once: a facet joins the cluster before it
+ * when it lies within a quarter cell of that cluster's mean and they do
+ * not stay apart, else it starts the next. */
 static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h, size_t *facet_count)
 {
     size_t m = 0;
