@@ -11,11 +11,11 @@ static int segment_meets_box(const float lo[3], const float hi[3], const double 
 {
     double t0 = 0, t1 = len;
     for (int k = 0; k < 3; k++) {
-        double a = (lo[k] - o[k]) / d[k], b = (hi[k] - o[k]) / d[k];
         if (d[k] == 0) {
             if (o[k] < lo[k] || o[k] > hi[k]) return 0;
             continue;
         }
+        double a = (lo[k] - o[k]) / d[k], b = (hi[k] - o[k]) / d[k];
         if (a > b) {
             double t = a;
             a = b, b = t;
