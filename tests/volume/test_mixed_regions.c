@@ -127,15 +127,7 @@ static void see(const harness_regions *r, sides *s, const double p[3], int side)
     s->seen[slot] |= (uint8_t)(1 << side);
     if (before != 3 && s->seen[slot] == 3) {
         if (r->regions[slot].flags & LV_REGION_MIXED) s->flagged++;
-        else {
-            s->shared++;
-            if (getenv("MIXDBG")) {
-                long c;
-                lvcl_volume_grid_slot_at(&r->g, r->slot, r->regions, q, &c);
-                fprintf(stderr, "SHARED slot %u cell %ld planes %u at %.4f %.4f %.4f side %d h %g\n", slot, c,
-                        r->regions[slot].plane_count, p[0], p[1], p[2], side, r->g.cell_size);
-            }
-        }
+        else s->shared++;
     }
 }
 
