@@ -1,7 +1,7 @@
-/* Rays against the packed scene on the host, for checks made while the
- * light volume is laid out (host/render/volume_planes.c): slow (every
- * instance's tree is walked with its boxes placed in the world), so only
- * for the few rays such checks cast. */
+/* Walks of the packed scene's placed trees on the host: every instance's
+ * binary tree with its boxes placed in the world, for the light volume's
+ * grid (host/render/volume_grid.c) and for the few rays its checks cast
+ * (host/render/volume_planes.c). Slow: no top-level tree. */
 #include <math.h>
 
 #include "packed_scene.h"
@@ -43,7 +43,7 @@ static int segment_meets_triangle(const float v[9], const double o[3], const dou
     return t > 0 && t <= len;
 }
 
-int lvcl_packed_segment_hits(const lvcl_packed_scene *p, const double o[3], const double d[3], double len)
+int lvcl_packed_walk(const lvcl_packed_scene *p, lvcl_node_filter enter, lvcl_triangle_visitor triangle, void *ctx)
 {
     int stack[LVCL_BVH_MAX_DEPTH + 1];
     for (size_t in = 0; in < p->instance_count; in++) {
@@ -54,7 +54,7 @@ int lvcl_packed_segment_hits(const lvcl_packed_scene *p, const double o[3], cons
             const lvcl_bvh_node *n = &p->tree_nodes[stack[--top]];
             float lo[3], hi[3];
             lvcl_transform_box(inst->world_from_object, n->bmin, n->bmax, lo, hi);
-            if (!segment_meets_box(lo, hi, o, d, len)) continue;
+            if (!enter(ctx, lo, hi)) continue;
             if (n->count == 0) {
                 stack[top++] = (int)(n - p->tree_nodes) + 1;
                 stack[top++] = n->index;
@@ -63,9 +63,32 @@ int lvcl_packed_segment_hits(const lvcl_packed_scene *p, const double o[3], cons
             for (size_t t = (size_t)n->index; t < (size_t)n->index + (size_t)n->count; t++) {
                 float v[9];
                 lvcl_packed_triangle_world(p, in, t, v);
-                if (segment_meets_triangle(v, o, d, len)) return 1;
+                if (triangle(ctx, v)) return 1;
             }
         }
     }
     return 0;
+}
+
+typedef struct {
+    const double *o, *d;
+    double len;
+} segment;
+
+static int box_on_segment(void *ctx, const float lo[3], const float hi[3])
+{
+    const segment *s = ctx;
+    return segment_meets_box(lo, hi, s->o, s->d, s->len);
+}
+
+static int triangle_on_segment(void *ctx, const float v[9])
+{
+    const segment *s = ctx;
+    return segment_meets_triangle(v, s->o, s->d, s->len);
+}
+
+int lvcl_packed_segment_hits(const lvcl_packed_scene *p, const double o[3], const double d[3], double len)
+{
+    segment s = {o, d, len};
+    return lvcl_packed_walk(p, box_on_segment, triangle_on_segment, &s);
 }

@@ -53,9 +53,18 @@ lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *accel, uin
 /* The world-space corners (9 floats) of leaf-ordered triangle tri as
  * placed by instance `instance`. */
 void lvcl_packed_triangle_world(const lvcl_packed_scene *p, size_t instance, size_t tri, float v[9]);
+/* Walks every instance's binary tree depth first, each node's box placed
+ * in the world: enter(ctx, lo, hi) says whether to go into a node (its
+ * children, or a leaf's triangles), and triangle(ctx, v) gets the world
+ * corners of each triangle of the leaves entered; it ends the walk by
+ * returning nonzero, and then so does the walk (packed_rays.c). */
+typedef int (*lvcl_node_filter)(void *ctx, const float lo[3], const float hi[3]);
+typedef int (*lvcl_triangle_visitor)(void *ctx, const float v[9]);
+int lvcl_packed_walk(const lvcl_packed_scene *p, lvcl_node_filter enter, lvcl_triangle_visitor triangle, void *ctx);
+
 /* Whether the segment o + t d, 0 < t <= len (d unit), meets a triangle of
- * the packed scene (packed_rays.c: a walk of every instance's tree, for
- * the few rays of host-side checks). */
+ * the packed scene (a walk of every instance's tree: for the few rays of
+ * host-side checks). */
 int lvcl_packed_segment_hits(const lvcl_packed_scene *p, const double o[3], const double d[3], double len);
 
 void lvcl_packed_scene_free(lvcl_packed_scene *packed);

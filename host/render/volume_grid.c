@@ -31,36 +31,38 @@ static void mark_range(const lv_grid_info *g, const int lo[3], const int hi[3], 
             for (int x = lo[0]; x <= hi[0]; x++) mark[lvcl_volume_cell_index(g, x, y, z)] = 1;
 }
 
+typedef struct {
+    const lv_grid_info *g;
+    lvcl_box_visitor visit;
+    void *ctx;
+} geometry_walk;
+
+/* A placed node that spans few cells is one box; others are entered. */
+static int node_or_box(void *ctx, const float lo_w[3], const float hi_w[3])
+{
+    const geometry_walk *w = ctx;
+    int lo[3], hi[3];
+    if (!lvcl_volume_box_cells(w->g, lo_w, hi_w, lo, hi)) return 1;
+    w->visit(w->g, lo_w, hi_w, w->ctx);
+    return 0;
+}
+
+static int triangle_box(void *ctx, const float v[9])
+{
+    const geometry_walk *w = ctx;
+    float lo_w[3], hi_w[3];
+    for (int k = 0; k < 3; k++) {
+        lo_w[k] = fminf(v[k], fminf(v[3 + k], v[6 + k]));
+        hi_w[k] = fmaxf(v[k], fmaxf(v[3 + k], v[6 + k]));
+    }
+    w->visit(w->g, lo_w, hi_w, w->ctx);
+    return 0;
+}
+
 void lvcl_volume_walk_geometry(const lvcl_packed_scene *p, const lv_grid_info *g, lvcl_box_visitor visit, void *ctx)
 {
-    int stack[LVCL_BVH_MAX_DEPTH + 1];
-    for (size_t in = 0; in < p->instance_count; in++) {
-        const lv_instance *inst = &p->instances[in];
-        int top = 0;
-        stack[top++] = (int)p->mesh_tree_root[inst->mesh];
-        while (top > 0) {
-            const lvcl_bvh_node *n = &p->tree_nodes[stack[--top]];
-            float lo_w[3], hi_w[3];
-            int lo[3], hi[3];
-            lvcl_transform_box(inst->world_from_object, n->bmin, n->bmax, lo_w, hi_w);
-            if (lvcl_volume_box_cells(g, lo_w, hi_w, lo, hi)) {
-                visit(g, lo_w, hi_w, ctx);
-            } else if (n->count > 0) {
-                for (int t = n->index; t < n->index + n->count; t++) {
-                    float v[9];
-                    lvcl_packed_triangle_world(p, in, (size_t)t, v);
-                    for (int k = 0; k < 3; k++) {
-                        lo_w[k] = fminf(v[k], fminf(v[3 + k], v[6 + k]));
-                        hi_w[k] = fmaxf(v[k], fmaxf(v[3 + k], v[6 + k]));
-                    }
-                    visit(g, lo_w, hi_w, ctx);
-                }
-            } else {
-                stack[top++] = (int)(n - p->tree_nodes) + 1;
-                stack[top++] = n->index;
-            }
-        }
-    }
+    geometry_walk w = {g, visit, ctx};
+    lvcl_packed_walk(p, node_or_box, triangle_box, &w);
 }
 
 /* Marks the cells a box of geometry touches (conservative for slanted
