@@ -4,6 +4,7 @@
  * (host/render/volume_planes.c). Slow: no top-level tree. */
 #include <math.h>
 
+#include "../util/vec3.h"
 #include "packed_scene.h"
 
 /* Whether o + t d for t in [0, len] meets box [lo, hi]. */
@@ -31,15 +32,15 @@ static int segment_meets_triangle(const float v[9], const double o[3], const dou
 {
     double e1[3], e2[3], s[3], p[3], q[3];
     for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k], s[k] = o[k] - v[k];
-    p[0] = d[1] * e2[2] - d[2] * e2[1], p[1] = d[2] * e2[0] - d[0] * e2[2], p[2] = d[0] * e2[1] - d[1] * e2[0];
-    double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+    lvcl_cross3(d, e2, p);
+    double det = lvcl_dot3(e1, p);
     if (det == 0) return 0;
-    double u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) / det;
+    double u = lvcl_dot3(s, p) / det;
     if (u < 0 || u > 1) return 0;
-    q[0] = s[1] * e1[2] - s[2] * e1[1], q[1] = s[2] * e1[0] - s[0] * e1[2], q[2] = s[0] * e1[1] - s[1] * e1[0];
-    double w = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
+    lvcl_cross3(s, e1, q);
+    double w = lvcl_dot3(d, q) / det;
     if (w < 0 || u + w > 1) return 0;
-    double t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
+    double t = lvcl_dot3(e2, q) / det;
     return t > 0 && t <= len;
 }
 

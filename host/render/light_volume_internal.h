@@ -7,6 +7,7 @@
 #ifndef LVCL_LIGHT_VOLUME_INTERNAL_H
 #define LVCL_LIGHT_VOLUME_INTERNAL_H
 
+#include "../util/vec3.h"
 #include "light_volume.h"
 
 struct lvcl_light_volume {
@@ -47,20 +48,6 @@ struct lvcl_light_volume {
 /* Planes whose normals are within 25 degrees (cos 25 degrees) are one
  * wall's to the regions of cut cells (volume_planes.c, volume_refine.c). */
 #define LVCL_SAME_NORMAL 0.9063077870366499
-
-/* Dot and cross products of double 3-vectors, for the host's geometry of
- * cells (regions and their shares). */
-static inline double lvcl_dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static inline void lvcl_cross3(const double a[3], const double b[3], double r[3])
-{
-    r[0] = a[1] * b[2] - a[2] * b[1];
-    r[1] = a[2] * b[0] - a[0] * b[2];
-    r[2] = a[0] * b[1] - a[1] * b[0];
-}
 
 /* The index of cell (x, y, z) in the grid's cell arrays (cell_slot). */
 static inline size_t lvcl_volume_cell_index(const lv_grid_info *g, int x, int y, int z)

@@ -35,10 +35,10 @@ static const float ROOM_LO[3] = {-2.0f, 0.0f, -1.0f}, ROOM_HI[3] = {2.0f, 2.5f, 
 static size_t add_triangle(float *t, size_t n, const double a[3], const double b[3], const double c[3],
                            const double facing[3])
 {
-    double e1[3], e2[3];
+    double e1[3], e2[3], nrm[3];
     for (int k = 0; k < 3; k++) e1[k] = b[k] - a[k], e2[k] = c[k] - a[k];
-    double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2], nz = e1[0] * e2[1] - e1[1] * e2[0];
-    int flip = nx * facing[0] + ny * facing[1] + nz * facing[2] < 0;
+    lvcl_cross3(e1, e2, nrm);
+    int flip = lvcl_dot3(nrm, facing) < 0;
     const double *v[3] = {a, flip ? c : b, flip ? b : c};
     for (int i = 0; i < 3; i++)
         for (int k = 0; k < 3; k++) t[9 * n + 3 * i + k] = (float)v[i][k];
@@ -141,9 +141,8 @@ static void see_off(const harness_regions *r, sides *s, const float *tris, size_
         const float *v = tris + 9 * i;
         double e1[3], e2[3], nrm[3];
         for (int k = 0; k < 3; k++) e1[k] = v[3 + k] - v[k], e2[k] = v[6 + k] - v[k];
-        nrm[0] = e1[1] * e2[2] - e1[2] * e2[1], nrm[1] = e1[2] * e2[0] - e1[0] * e2[2],
-        nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
-        double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+        lvcl_cross3(e1, e2, nrm);
+        double len = sqrt(lvcl_dot3(nrm, nrm));
         if (!(len > 0)) continue;
         for (size_t b = 0; b < sizeof bary / sizeof *bary; b++)
             for (size_t o = 0; o < sizeof offs / sizeof *offs; o++) {
