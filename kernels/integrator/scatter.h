@@ -82,16 +82,8 @@ __attribute__((always_inline)) inline int lv_scatter_along(const lv_scene *sc, c
         if (lv_rng_next(rng) >= q) return 0;
         *beta /= q;
     }
-    float3 n = reflected ? sh->ng_out : -sh->ng_out, from = s->p;
-    /* A particle reflected where two surfaces meet (a wall and the
-     * ceiling, a partition and a wall) may have hit the one whose hit
-     * point lies a rounding error beyond the other, and an offset along
-     * its normal alone would start it behind that other surface, in the
-     * space on its far side: it leaves from a step back along the way it
-     * came, on the side it came from. */
-    if (w.mode == LV_IMPORTANCE && reflected)
-        from -= r->dir * fmin(lv_offset_step(from, n, sc->info.scene_scale), 0.5f * h.t);
-    *r = lv_ray_make(lv_offset_origin(from, n, sc->info.scene_scale), wi, LV_FAR, h.inst, h.tri);
+    float3 n = reflected ? sh->ng_out : -sh->ng_out;
+    *r = lv_ray_make(lv_leave_point(s->p, n, -r->dir, h.t, sc->info.scene_scale), wi, LV_FAR, h.inst, h.tri);
     return 1;
 }
 

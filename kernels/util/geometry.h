@@ -93,6 +93,32 @@ inline float3 lv_offset_origin(float3 p, float3 n, float scene_scale)
 #define LV_HAS_FP_REASSOCIATE_PRAGMA 0
 #endif
 
+/* How far back along its arriving ray, in offset steps, a new ray may
+ * start (lv_leave_point). */
+#define LV_LEAVE_REACH 8.0f
+
+/* The origin of a new ray leaving surface point p on the side of unit
+ * normal n, where p was found by a ray arriving along -back (unit) after t.
+ * Where the new ray leaves on the side the old one came from, it starts on
+ * the old ray, the offset's height above the surface (at most LV_LEAVE_REACH
+ * offsets and half the way back; a grazing ray makes up the rest along n):
+ * where two surfaces meet at an acute angle (a partition against a wall, a
+ * wall and a sloping ceiling) the hit on one may lie within an offset of
+ * the other, and an offset along n alone would start the new ray behind
+ * that other surface, in the space on its far side; the way back lies in
+ * the space the old ray crossed. */
+inline float3 lv_leave_point(float3 p, float3 n, float3 back, float t, float scene_scale)
+{
+    float step = lv_offset_step(p, n, scene_scale), up = dot(back, n);
+    if (up > 0.0f) {
+        float along = fmin(fmin(step / up, LV_LEAVE_REACH * step), 0.5f * t);
+        p += back * along;
+        step = fmax(step - along * up, 0.0f);
+    }
+    float3 q = p + step * n;
+    return nextafter(q, q + n);
+}
+
 /* The distance t > 0 at which the half-line p + t dir crosses the triangle
  * v0 + b1 e1 + b2 e2, either face (Moller and Trumbore's test), or 0 where
  * it does not. */

@@ -87,8 +87,8 @@ inline int lv_region_mixed(const lv_grid *grid, float3 q)
     return slot != LV_EMPTY_CELL && (grid->regions[slot].flags & LV_REGION_MIXED);
 }
 
-/* Where the gather at surface point p (front normal n) reads the volume.
- * With subcells: the jittered point if light reached it and p sees it (near
+/* Where the gather at surface point p (front normal n) reads the volume;
+ * `from` is where its rays leave p (lv_leave_point). With subcells: the jittered point if light reached it and p sees it (near
  * a corner the box reaches behind the other wall); else the layer in front
  * of p if light reached that; else dark: no light the volume holds reaches
  * p. Without subcells: the jittered point if p sees it, else the layer in
@@ -96,10 +96,10 @@ inline int lv_region_mixed(const lv_grid *grid, float3 q)
  * side's light). A jittered point in a mixed region falls back to the
  * layer in front of p too, and where that is mixed the volume is not read
  * at all. */
-inline int lv_lookup_point(const lv_grid *grid, const lv_scene *sc, float3 p, float3 n, lv_rng *rng, float3 *q)
+inline int lv_lookup_point(const lv_grid *grid, const lv_scene *sc, float3 p, float3 n, float3 from, lv_rng *rng,
+                           float3 *q)
 {
     *q = lv_jitter_lookup(grid, p, n, rng);
-    float3 from = lv_offset_origin(p, n, sc->info.scene_scale);
     int seen = !lv_region_mixed(grid, *q) && !lv_occluded(sc, from, *q - from, 1.0f, LV_NO_HIT, LV_NO_HIT);
     if (grid->g.subcells == 0u) {
         if (!seen) *q = lv_visible_front_point(grid, sc, p, n, from);

@@ -1,7 +1,9 @@
 /* The self-intersection offset: rays re-shot from lv_offset_origin never
  * hit their own triangle, at any scene scale and far from the origin, and
  * step off the surface by a small fraction of the scene; on a closed needle
- * of sliver faces, rays skipping the face they leave go where they should. */
+ * of sliver faces, rays skipping the face they leave go where they should;
+ * rays that leave a hit near the corner of an acute wedge (lv_leave_point)
+ * start inside it. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -183,6 +185,101 @@ static void check_needle(void)
     free(needle.v);
 }
 
+/* Two faces meeting at a corner line at `angle` degrees (A in its plane
+ * z = 0, B turned up from it about the y axis; both 2 x 2 squares), the
+ * whole turned and moved. Rays from inside the wedge at 10 degrees or more
+ * from both faces hit one face within four offsets of the corner line, so
+ * that an offset along its normal alone would leave them behind the other
+ * face where the wedge is acute; each hit is re-shot from lv_leave_point
+ * towards the other face (at 6 degrees or more from both), which it must
+ * then hit: it starts inside the wedge. Returns how many missed. */
+static size_t check_wedge(double angle, double scale, vec3 centre, uint64_t seed, size_t *hits_out)
+{
+    rng r = {seed};
+    double th = angle * PI / 180;
+    /* A frame turned at random: the faces face no axis. */
+    vec3 ex = random_unit(&r), ey = normalized(cross(ex, random_unit(&r))), ez = cross(ex, ey);
+#define WEDGE_AT(x, y, z) add(centre, mul(add(add(mul(ex, x), mul(ey, y)), mul(ez, z)), scale))
+    vec3 ub = v3(cos(th), 0, sin(th));
+    tri_list scene = {0};
+    add_tri(&scene, WEDGE_AT(-2, -1, 0), WEDGE_AT(2, -1, 0), WEDGE_AT(2, 1, 0));
+    add_tri(&scene, WEDGE_AT(-2, -1, 0), WEDGE_AT(2, 1, 0), WEDGE_AT(-2, 1, 0));
+    add_tri(&scene, WEDGE_AT(0, -1, 0), WEDGE_AT(2 * ub.x, -1, 2 * ub.z), WEDGE_AT(2 * ub.x, 1, 2 * ub.z));
+    add_tri(&scene, WEDGE_AT(0, -1, 0), WEDGE_AT(2 * ub.x, 1, 2 * ub.z), WEDGE_AT(0, 1, 0));
+    gpu_scene g;
+    gpu_scene_make(&scene, &g);
+
+    /* Local normals into the wedge: A's is +z, B's (sin, 0, -cos). */
+    vec3 na = v3(0, 0, 1), nb = v3(sin(th), 0, -cos(th));
+    size_t n = 4000;
+    reshot_rays l = reshot_rays_make(n);
+    int *on_b = malloc(n * sizeof *on_b);
+    for (size_t i = 0; i < n; i++) {
+        int b = uniform(&r) < 0.5;
+        /* The target: on face A (or B) at distance d from the corner line. */
+        vec3 along = b ? ub : v3(1, 0, 0);
+        double y = range(&r, -0.5, 0.5);
+        vec3 p = WEDGE_AT(0, y, 0), nl = b ? nb : na;
+        vec3 nw = add(add(mul(ex, nl.x), mul(ey, nl.y)), mul(ez, nl.z));
+        /* The offset's length there (lv_offset_step). */
+        double eps =
+            0x1p-18 * (fabs(nw.x * p.x) + fabs(nw.y * p.y) + fabs(nw.z * p.z)) + 0x1p-20 * g.packed.info.scene_scale;
+        double d = range(&r, 0, 4) * eps / scale;
+        vec3 target = add(mul(along, d), v3(0, y, 0));
+        /* The ray's origin: half a unit back, at 10 degrees or more from both faces and tilted along y. */
+        double a = range(&r, 10, angle - 10) * PI / 180, tilt = range(&r, -30, 30) * PI / 180;
+        vec3 back = v3(cos(a) * cos(tilt), sin(tilt), sin(a) * cos(tilt));
+        vec3 o = add(target, mul(back, 0.5));
+        /* The re-shoot: towards the other face, 6 degrees or more from both. */
+        vec3 nh = b ? nb : na, no = b ? na : nb, e;
+        do e = random_unit(&r);
+        while (dot(e, nh) < 0.1 || dot(e, no) > -0.1);
+        vec3 ew = add(add(mul(ex, e.x), mul(ey, e.y)), mul(ez, e.z));
+        add_ray(&l.rays, WEDGE_AT(o.x, o.y, o.z), sub(WEDGE_AT(target.x, target.y, target.z), WEDGE_AT(o.x, o.y, o.z)),
+                NO_LIMIT);
+        float *rec = &l.reshoot[4 * l.rays.count - 4];
+        rec[0] = (float)ew.x, rec[1] = (float)ew.y, rec[2] = (float)ew.z, rec[3] = 3.0f;
+        on_b[i] = b;
+    }
+#undef WEDGE_AT
+    float *res = run_rays(&g, "t_offset_rays", &l.rays, l.reshoot);
+    size_t hits = 0, missed = 0;
+    for (size_t i = 0; i < n; i++) {
+        const float *o = &res[4 * i];
+        /* A ray that met the other face first (it passed the corner
+         * within a rounding error) is not counted. */
+        if (o[0] < 0 || (o[0] >= 2) != on_b[i]) continue;
+        hits++;
+        int other = o[1] >= 0 && ((o[1] >= 2) != on_b[i]);
+        missed += !other;
+    }
+    *hits_out = hits;
+    free(on_b);
+    free(res);
+    reshot_rays_free(&l);
+    gpu_scene_free(&g);
+    free(scene.v);
+    return missed;
+}
+
+static void test_wedges(void)
+{
+    const double angles[] = {30, 45, 60, 80, 100, 135};
+    const double scales[] = {1e-3, 1, 1e3};
+    uint64_t seed = 40;
+    for (size_t i = 0; i < sizeof angles / sizeof *angles; i++)
+        for (size_t k = 0; k < sizeof scales / sizeof *scales; k++)
+            for (int far = 0; far < 2; far++) {
+                vec3 centre = far ? mul(v3(1000, -700, 300), scales[k]) : v3(0, 0, 0);
+                size_t hits, missed = check_wedge(angles[i], scales[k], centre, seed++, &hits);
+                char name[160];
+                snprintf(name, sizeof name,
+                         "offset: rays leaving a hit near the corner of a %g-degree wedge (scale %g%s) start inside it",
+                         angles[i], scales[k], far ? ", far from the origin" : "");
+                CHECK(name, missed == 0 && hits > 3900, "%zu of %zu re-shot rays missed the other face", missed, hits);
+            }
+}
+
 static void test_offset(void)
 {
     /* A closed sphere and a soup through it, at three scales and far from
@@ -210,6 +307,7 @@ int main(void)
 {
     traversal_open();
     test_offset();
+    test_wedges();
     traversal_close();
     CHECK_EXIT();
 }

@@ -309,7 +309,9 @@ __kernel void t_trace_brute_force(LV_KERNEL_PARAMS(T_TRACE_ARGS))
  * side), as the path tracer does. reshoot: per ray, the new direction in the
  * frame of that normal (xyz, z > 0) and w > 0 to stay on the side the ray
  * came from (reflection) or w < 0 to cross the surface (transmission);
- * |w| = 2 also skips the triangle left, as the renderer's rays do.
+ * |w| = 2 also skips the triangle left, as the renderer's rays do; |w| = 3
+ * skips it too and leaves from lv_leave_point (a step back along the ray
+ * first), with the new direction xyz in world space.
  * Results: 4 floats per ray (prim_id first hit or -1, prim_id the new ray
  * hits or -1, its t, distance of the new origin from the hit point). */
 __kernel void t_offset_rays(LV_KERNEL_PARAMS(T_OFFSET_RAYS_ARGS))
@@ -327,8 +329,11 @@ __kernel void t_offset_rays(LV_KERNEL_PARAMS(T_OFFSET_RAYS_ARGS))
     float3 ng_in = dot(r.dir, s.ng) < 0.0f ? s.ng : -s.ng; /* towards the arriving ray */
     float4 l = reshoot[i];
     float3 n = l.w > 0.0f ? ng_in : -ng_in;
-    lv_ray r2 = lv_ray_make(lv_offset_origin(s.p, n, sc.info.scene_scale), lv_to_world(lv_frame_make(n), l.xyz), LV_FAR,
-                            h.inst, fabs(l.w) > 1.5f ? h.tri : LV_NO_HIT);
+    int leave = fabs(l.w) > 2.5f;
+    float3 from = leave ? lv_leave_point(s.p, n, -normalize(r.dir), h.t * length(r.dir), sc.info.scene_scale)
+                        : lv_offset_origin(s.p, n, sc.info.scene_scale);
+    lv_ray r2 = lv_ray_make(from, leave ? l.xyz : lv_to_world(lv_frame_make(n), l.xyz), LV_FAR, h.inst,
+                            fabs(l.w) > 1.5f ? h.tri : LV_NO_HIT);
     lv_hit h2 = lv_trace(&sc, r2, 0);
     o[0] = (float)lv_triangle_record(&sc, h.tri).prim_id;
     o[1] = h2.tri == LV_NO_HIT ? -1.0f : (float)lv_triangle_record(&sc, h2.tri).prim_id;
