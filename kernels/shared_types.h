@@ -123,7 +123,7 @@ typedef struct {
     lv_u32 instance;  /* the instance an area light's triangle belongs to */
     float cdf;        /* cumulative selection probability up to and including this light */
     float pdf_select; /* probability of choosing this light */
-    lv_u32 pad;
+    lv_u32 group;     /* its emissive material's or punctual light's number among them, from 0 */
 } lv_light;
 
 #define LV_PUNCTUAL_POINT 0
@@ -540,6 +540,9 @@ enum { LV_SCENE_BUFFERS(LV_SCENE_STRIDE_SPLIT, LV_IGNORE_ONE) lv_scene_stride_en
     X(lv_particle_trace, BUFFER, const uint, subcells_seen) SEP() /* each slot's masks before the batch */ \
     X(lv_particle_trace, BUFFER, const float, bin_table) SEP()                                \
     X(lv_particle_trace, BUFFER, const float, fine_bin_table) SEP() /* the bin table of 2n x 2n */ \
+    X(lv_particle_trace, VALUE, lv_u32, view_groups) SEP() /* a view probe's light groups; 0: none */ \
+    X(lv_particle_trace, BUFFER, const uint, view_slots) SEP() /* lv_view_probe (particle_trace.h) */ \
+    X(lv_particle_trace, BUFFER, long, view_light) SEP() \
     X(lv_particle_trace, BUFFER, uint, ray_counts)           /* segments, visibility rays */
 
 #define LV_LIT_VOLUMES_ARGS(X, SEP)               \

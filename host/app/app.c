@@ -175,6 +175,7 @@ static lvcl_error render(const lvcl_options *o, lvcl_cluster *cluster, lvcl_sess
                    .refine_peak = o->refine_peak,
                    .refine_memory = (uint64_t)(o->refine_memory_mib * 1048576.0),
                    .particles = (uint64_t)o->particles,
+                   .view_odds = !strcmp(o->view_odds, "on"),
                    .progress = !o->quiet},
         .integrate = !strcmp(o->gather, "integrate"),
         .see_through = !strcmp(o->see_through, "on"),

@@ -110,6 +110,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
     o->gather = "integrate";
     o->adaptive = "on";
     o->see_through = "on";
+    o->view_odds = "on";
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         /* Flags that take no value. */
@@ -162,6 +163,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
                                            "--gather",
                                            "--adaptive",
                                            "--see-through",
+                                           "--view-odds",
                                            "--device-memory",
                                            "--visibility-rate",
                                            "--merge-tolerance",
@@ -232,6 +234,7 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         } else if (!strcmp(a, "--gather")) o->gather = v;
         else if (!strcmp(a, "--adaptive")) o->adaptive = v;
         else if (!strcmp(a, "--see-through")) o->see_through = v;
+        else if (!strcmp(a, "--view-odds")) o->view_odds = v;
         else if (!strcmp(a, "--refine")) e = parse_switch(a, v, LVCL_REFINE_DENSITY, &o->refine_density, st);
         else if (!strcmp(a, "--refine-dirs")) e = parse_switch(a, v, LVCL_REFINE_PEAK, &o->refine_peak, st);
         else if (!strcmp(a, "--refine-focus")) {
@@ -254,6 +257,8 @@ lvcl_error lvcl_options_parse(int argc, char **argv, lvcl_options *o, lvcl_statu
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown --adaptive '%s' (expected on or off)", o->adaptive);
     if (strcmp(o->see_through, "on") && strcmp(o->see_through, "off"))
         return lvcl_fail(st, LVCL_ERR_USAGE, "unknown --see-through '%s' (expected on or off)", o->see_through);
+    if (strcmp(o->view_odds, "on") && strcmp(o->view_odds, "off"))
+        return lvcl_fail(st, LVCL_ERR_USAGE, "unknown --view-odds '%s' (expected on or off)", o->view_odds);
     /* Refined cells by default in lv mode, where they split only cells
      * whose light is focused (LVCL_REFINE_FOCUS); the guide of guided paths
      * gains nothing from them, and merged cells exclude them. */
@@ -313,6 +318,9 @@ void lvcl_options_print_help(const char *program)
         "  --see-through on|off shadow rays blocked by glass go on through it, so lamps seen through\n"
         "                       glass light rough surfaces sharply and with little noise (pt, guided,\n"
         "                       lv; lv's volume then leaves that light out; default on)\n"
+        "  --view-odds on|off   lv, lv-all: after a quarter of the particles, choose the lights whose\n"
+        "                       particles reach what the camera sees more often, for the rest and\n"
+        "                       for light samples (scenes of two or more lamp materials; default on)\n"
         "  --spp N              samples per pixel (default 64; under --time-limit as many as fit)\n"
         "  --adaptive on|off    after the first 8 samples per pixel, give each further 8 (on average)\n"
         "                       to the pixels whose neighbours show the most error (default on)\n"

@@ -32,6 +32,7 @@ typedef struct {
     const char *gather;       /* "sample" or "integrate" */
     const char *adaptive;     /* "on" or "off": adaptive sampling */
     const char *see_through;  /* "on" or "off": lv's gather finds lamps seen through glass */
+    const char *view_odds;    /* "on" or "off": lv's lights' odds follow what the camera sees */
     double device_memory_mib; /* cap on device memory, 0 = the device's own */
     double time_limit;
     int quiet;

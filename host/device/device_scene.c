@@ -123,6 +123,15 @@ lvcl_error lvcl_device_scene_upload(const lvcl_device *dev, const lvcl_scene *sc
     return LVCL_OK;
 }
 
+lvcl_error lvcl_device_scene_update_lights(const lvcl_device *dev, const lvcl_packed_scene *p, lvcl_device_scene *ds,
+                                           lvcl_status *st)
+{
+    if (!p->light_count) return LVCL_OK;
+    return lvcl_cl_check(clEnqueueWriteBuffer(dev->queue, ds->buffers.lights, CL_TRUE, 0,
+                                              p->light_count * sizeof(lv_light), p->lights, 0, NULL, NULL),
+                         "updating the light table", st);
+}
+
 void lvcl_device_scene_release(lvcl_device_scene *ds)
 {
     lvcl_scene_buffers_release(&ds->buffers);

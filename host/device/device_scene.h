@@ -21,6 +21,9 @@ typedef struct {
  * them exceed its memory. */
 lvcl_error lvcl_device_scene_upload(const lvcl_device *dev, const lvcl_scene *scene, const lvcl_packed_scene *packed,
                                     lvcl_device_scene *ds, lvcl_status *st);
+/* Writes the packed scene's light table (its odds changed) to ds. */
+lvcl_error lvcl_device_scene_update_lights(const lvcl_device *dev, const lvcl_packed_scene *packed,
+                                           lvcl_device_scene *ds, lvcl_status *st);
 void lvcl_device_scene_release(lvcl_device_scene *ds);
 
 /* Binds the scene block (LV_SCENE_PARAMS, LV_SCENE_ARG_COUNT arguments) of

@@ -27,8 +27,8 @@ static int segment_meets_box(const float lo[3], const float hi[3], const double 
     return 1;
 }
 
-/* Whether o + t d for t in (0, len] meets triangle v (either face). */
-static int segment_meets_triangle(const float v[9], const double o[3], const double d[3], double len)
+/* The t in (0, len] at which o + t d meets triangle v (either face), or 0. */
+static double segment_meets_triangle(const float v[9], const double o[3], const double d[3], double len)
 {
     double e1[3], e2[3], s[3], p[3], q[3];
     for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k], s[k] = o[k] - v[k];
@@ -41,7 +41,7 @@ static int segment_meets_triangle(const float v[9], const double o[3], const dou
     double w = lvcl_dot3(d, q) / det;
     if (w < 0 || u + w > 1) return 0;
     double t = lvcl_dot3(e2, q) / det;
-    return t > 0 && t <= len;
+    return t > 0 && t <= len ? t : 0;
 }
 
 int lvcl_packed_walk(const lvcl_packed_scene *p, lvcl_node_filter enter, lvcl_triangle_visitor triangle, void *ctx)
@@ -74,6 +74,7 @@ int lvcl_packed_walk(const lvcl_packed_scene *p, lvcl_node_filter enter, lvcl_tr
 typedef struct {
     const double *o, *d;
     double len;
+    int shortened; /* lvcl_packed_first_hit: len is a hit's */
 } segment;
 
 static int box_on_segment(void *ctx, const float lo[3], const float hi[3])
@@ -85,11 +86,27 @@ static int box_on_segment(void *ctx, const float lo[3], const float hi[3])
 static int triangle_on_segment(void *ctx, const float v[9])
 {
     const segment *s = ctx;
-    return segment_meets_triangle(v, s->o, s->d, s->len);
+    return segment_meets_triangle(v, s->o, s->d, s->len) > 0;
+}
+
+/* Shortens the segment to the triangle's hit, and goes on. */
+static int triangle_nearer(void *ctx, const float v[9])
+{
+    segment *s = ctx;
+    double t = segment_meets_triangle(v, s->o, s->d, s->len);
+    if (t > 0) s->len = t, s->shortened = 1;
+    return 0;
 }
 
 int lvcl_packed_segment_hits(const lvcl_packed_scene *p, const double o[3], const double d[3], double len)
 {
-    segment s = {o, d, len};
+    segment s = {o, d, len, 0};
     return lvcl_packed_walk(p, box_on_segment, triangle_on_segment, &s);
+}
+
+double lvcl_packed_first_hit(const lvcl_packed_scene *p, const double o[3], const double d[3], double len)
+{
+    segment s = {o, d, len, 0};
+    lvcl_packed_walk(p, box_on_segment, triangle_nearer, &s);
+    return s.shortened ? s.len : 0;
 }

@@ -128,12 +128,29 @@ static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lv
     double weight_total = 0;
     for (i = 0; i < n; i++) weight_total += (double)power[i] * factor[group[i]];
     double acc = 0;
+    p->light_odds = malloc((n ? n : 1) * sizeof *p->light_odds);
+    /* The groups numbered from 0 in the order their first light comes. */
+    size_t *number = malloc((groups ? groups : 1) * sizeof *number), numbered = 0;
+    if (number)
+        for (size_t g = 0; g < groups; g++) number[g] = SIZE_MAX;
+    for (i = 0; number && i < n; i++)
+        if (number[group[i]] == SIZE_MAX) number[group[i]] = numbered++;
+    if (!p->light_odds || !number) {
+        free(number);
+        free(power);
+        free(group);
+        free(group_power);
+        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building a table of %zu lights", n);
+    }
     for (i = 0; i < n; i++) {
         double w = (double)power[i] * factor[group[i]];
         acc += w;
         p->lights[i].pdf_select = (float)(w / weight_total);
         p->lights[i].cdf = i + 1 == n ? 1.0f : (float)(acc / weight_total);
+        p->lights[i].group = (lv_u32)number[group[i]];
+        p->light_odds[i] = p->lights[i].pdf_select;
     }
+    free(number);
     p->light_count = total > 0 ? n : 0;
     p->info.light_count = (lv_u32)p->light_count;
     p->info.total_light_power = (float)total;
@@ -142,6 +159,39 @@ static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lv
     free(group);
     free(group_power);
     return LVCL_OK;
+}
+
+size_t lvcl_packed_light_groups(const lvcl_packed_scene *p)
+{
+    size_t groups = 0;
+    for (size_t i = 0; i < p->light_count; i++)
+        if (p->lights[i].group + (size_t)1 > groups) groups = p->lights[i].group + (size_t)1;
+    return groups;
+}
+
+int lvcl_packed_set_light_odds(lvcl_packed_scene *p, const double *group_weight, double keep)
+{
+    size_t n = p->light_count, groups = lvcl_packed_light_groups(p);
+    double total = 0, *packed_group = calloc(groups ? groups : 1, sizeof *packed_group);
+    if (!packed_group) return 0; /* out of memory: the odds stay as they are */
+    for (size_t i = 0; i < n; i++) packed_group[p->lights[i].group] += p->light_odds[i];
+    for (size_t g = 0; group_weight && g < groups; g++) total += group_weight[g];
+    int changed = 0;
+    double acc = 0;
+    for (size_t i = 0; i < n; i++) {
+        double q = p->light_odds[i], w = q;
+        if (total > 0 && q > 0) {
+            uint32_t g = p->lights[i].group;
+            w = (1.0 - keep) * (group_weight[g] / total) * (q / packed_group[g]) + keep * q;
+        }
+        acc += w;
+        float pdf = (float)w, cdf = i + 1 == n ? 1.0f : (float)acc;
+        changed |= pdf != p->lights[i].pdf_select || cdf != p->lights[i].cdf;
+        p->lights[i].pdf_select = pdf;
+        p->lights[i].cdf = cdf;
+    }
+    free(packed_group);
+    return changed;
 }
 
 /* Copies a binary tree after the nodes already packed, with its indices
@@ -345,5 +395,6 @@ void lvcl_packed_scene_free(lvcl_packed_scene *p)
     free(p->textures);
     free(p->texels);
     free(p->lights);
+    free(p->light_odds);
     memset(p, 0, sizeof *p);
 }

@@ -32,6 +32,7 @@ typedef struct {
     size_t texel_count;
     lv_light *lights;
     size_t light_count;
+    float *light_odds; /* each light's pdf_select as packed (lvcl_packed_set_light_odds departs from it) */
     lv_scene_info info;
     float bounds_min[3], bounds_max[3];
 } lvcl_packed_scene;
@@ -44,6 +45,16 @@ typedef struct {
  * all lights shine into one space the variance grows by at most 2x
  * (docs/light-volume.md, "Which light a particle leaves"). */
 #define LVCL_EVEN_LIGHT_SHARE 0.5
+
+/* Sets the lights' odds (pdf_select and cdf) to
+ * (1 - keep) w_g / W * q_i / q_g + keep q_i, q_i the odds as packed, w_g
+ * the weight of light i's group (lv_light.group; groups of weight 0 get
+ * only their share of `keep`), W the weights' sum and q_g the group's
+ * packed odds; with `group_weight` NULL, or W 0, the odds as packed.
+ * Returns whether any light's odds changed. */
+int lvcl_packed_set_light_odds(lvcl_packed_scene *p, const double *group_weight, double keep);
+/* The number of light groups (one past the largest lv_light.group). */
+size_t lvcl_packed_light_groups(const lvcl_packed_scene *p);
 
 /* Packs scene and its acceleration structure. The packed scene borrows
  * nothing from either. */
@@ -66,6 +77,9 @@ int lvcl_packed_walk(const lvcl_packed_scene *p, lvcl_node_filter enter, lvcl_tr
  * the packed scene (a walk of every instance's tree: for the few rays of
  * host-side checks). */
 int lvcl_packed_segment_hits(const lvcl_packed_scene *p, const double o[3], const double d[3], double len);
+/* The t of the segment's nearest hit, or 0 where it meets nothing (the
+ * same walk). */
+double lvcl_packed_first_hit(const lvcl_packed_scene *p, const double o[3], const double d[3], double len);
 
 void lvcl_packed_scene_free(lvcl_packed_scene *packed);
 

@@ -261,6 +261,7 @@ void lvcl_volume_release(lvcl_light_volume *vol)
     if (vol->fine_bin_table_buf) clReleaseMemObject(vol->fine_bin_table_buf);
     if (vol->guide_table_buf) clReleaseMemObject(vol->guide_table_buf);
     if (vol->axis_sums_buf) clReleaseMemObject(vol->axis_sums_buf);
+    lvcl_volume_view_probe(vol, NULL, 0, 0, NULL);
     free(vol->region_shares);
     free(vol);
 }

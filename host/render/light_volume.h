@@ -54,6 +54,8 @@ typedef struct {
     double refine_focus;          /* refined cells: the least share of focused light a cell splits with; 0 = any */
     double refine_peak;           /* refined directions: see lvcl_volume_refine; 0 = no fine bins */
     uint64_t refine_memory;       /* bytes a refined volume may take on the device; 0 = twice the unrefined */
+    int view_odds;                /* lv renders: after the first part the lights' odds follow what the camera
+                                     sees (host/render/session_view.c); 0 = the packed odds throughout */
     int progress;
 } lvcl_volume_settings;
 
@@ -196,6 +198,23 @@ size_t lvcl_volume_record_bytes(const lvcl_light_volume *vol);
 lvcl_error lvcl_volume_read_lit(const lvcl_light_volume *vol, float **lit, lvcl_status *st);
 
 const lv_grid_info *lvcl_volume_grid(const lvcl_light_volume *vol);
+
+/* From the next trace on (retraces excepted), each particle adds the light
+ * it brings to a surface to the sum of the region in front of it (on its
+ * side) and of its light group (lv_light.group, below `groups`), where
+ * seen[slot] (slot_count + 1 entries) numbers that region among `count`
+ * the camera sees, else is LV_EMPTY_CELL (host/render/session_view.c).
+ * seen NULL: no more (st may then be NULL). */
+lvcl_error lvcl_volume_view_probe(lvcl_light_volume *vol, const uint32_t *seen, size_t count, size_t groups,
+                                  lvcl_status *st);
+/* Whether the volume is probing the view, and its sums' count (count x
+ * groups x 2; 0 without a probe). */
+int lvcl_volume_view_probing(const lvcl_light_volume *vol);
+size_t lvcl_volume_view_sums(const lvcl_light_volume *vol);
+/* The probe's sums, count x groups x 2 (units of 2^-20 of the lights'
+ * power: the light straight from the lights, then after scattering); all 0
+ * without a probe. */
+lvcl_error lvcl_volume_view_light(const lvcl_light_volume *vol, int64_t *units, lvcl_status *st);
 
 /* The first slot of cell (x, y, z) (its region 0), or LV_EMPTY_CELL. */
 uint32_t lvcl_volume_slot(const lvcl_light_volume *vol, uint32_t x, uint32_t y, uint32_t z);

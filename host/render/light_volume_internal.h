@@ -30,6 +30,9 @@ struct lvcl_light_volume {
     cl_mem fine_bin_table_buf; /* the bin table of 2n x 2n, once there are fine slots */
     cl_mem guide_table_buf;    /* guided mode: lvcl_volume_fill_guide's table, or NULL */
     cl_mem axis_sums_buf;      /* lvcl_volume_axis_sums's, for axis_sums_slots slots, or NULL */
+    cl_mem view_slots_buf;     /* lvcl_volume_view_probe's slots, or NULL: the trace does not probe */
+    cl_mem view_light_buf;     /* and its sums, view_seen x view_groups x 2 */
+    size_t view_seen, view_groups;
     uint32_t axis_sums_slots;
     int axis_sums_current; /* they sum the volume lvcl_volume_finish last finished */
     float *region_shares;  /* host copy of the cut cells' region shares */

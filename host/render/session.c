@@ -74,6 +74,7 @@ void lvcl_session_close(lvcl_session *s)
         lvcl_device_scene_release(&sd->device_scene);
         lvcl_device_close(&sd->device);
     }
+    free(s->gather_odds);
     lvcl_packed_scene_free(&s->packed);
     lvcl_accel_free(&s->accel);
     lvcl_scene_free(&s->scene);

@@ -274,18 +274,21 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
     vs.see_through = lvcl_session_volume_sees_through(s, req);
     vs.source = NULL;
     lvcl_error e = lvcl_session_new_volume(s, 0, &vs, st);
-    if (e) return e;
+    if (e || (e = lvcl_session_view_start(s, vs.view_odds, st))) return e;
     lvcl_budget_report *b = &s->budget;
     b->used = 1;
     b->adaptive_share = 1.0;
     if (vs.particles) { /* --particles given: traced whole, the gather takes what is left */
-        uint64_t split_at = lvcl_volume_split_point(&vs);
+        uint64_t split_at = lvcl_volume_split_point(&vs), first_part = split_at;
+        if (!first_part && lvcl_volume_view_probing(sd->volume)) first_part = LVCL_VIEW_PART(vs.particles);
         if (split_at > 0 &&
             ((e = trace_range(s, &vs, 0, split_at, 0, st)) ||
              (e = lvcl_volume_refine(sd->volume, (double)vs.particles, &vs, st)) ||
              (e = retrace_split(s, &vs, split_at, st))))
             return e;
-        if ((e = trace_range(s, &vs, split_at, vs.particles, 0, st)) ||
+        if (!split_at && first_part > 0 && (e = trace_range(s, &vs, 0, first_part, 0, st))) return e;
+        if ((e = lvcl_session_view_decide(s, vs.store_emitted, st)) ||
+            (e = trace_range(s, &vs, first_part, vs.particles, 0, st)) ||
             (e = finish_pass(s, &vs, (double)vs.particles, st)))
             return e;
         b->planned_particles = vs.particles;
@@ -315,11 +318,12 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
         if (b->planned_particles > traced) {
             /* Refined cells split now, when the plan knows the particle count. */
             if ((e = lvcl_volume_refine(sd->volume, (double)b->planned_particles, &vs, st)) ||
-                (e = retrace_split(s, &vs, traced, st)))
+                (e = retrace_split(s, &vs, traced, st)) || (e = lvcl_session_view_decide(s, vs.store_emitted, st)))
                 return e;
             if ((e = trace_to_plan(s, &vs, b, traced, end, st)) || (e = finish_pass(s, &vs, 0, st))) return e;
         }
     }
+    if ((e = lvcl_session_view_gather(s, st))) return e;
     lvcl_pass_settings pass = req->pass;
     pass.time_limit = end - lvcl_seconds();
     if (pass.time_limit < 1e-3) pass.time_limit = 1e-3; /* at least one sample is taken */

@@ -41,7 +41,10 @@
  * guide table from it. */
 static lvcl_error trace_guide(lvcl_session *s, const lvcl_volume_settings *vs, lvcl_status *st)
 {
-    lvcl_error e = lvcl_session_trace_volume(s, vs, st);
+    /* Guided paths keep the packed light odds (--view-odds is lv's). */
+    lvcl_volume_settings packed_odds = *vs;
+    packed_odds.view_odds = 0;
+    lvcl_error e = lvcl_session_trace_volume(s, &packed_odds, st);
     for (int d = 0; d < s->device_count && !e; d++)
         e = lvcl_volume_fill_guide(s->devices[d].volume, &s->devices[d].program, st);
     return e;

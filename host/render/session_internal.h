@@ -1,7 +1,8 @@
 /* The session's private parts, shared by session.c (opening, closing,
  * accessors), session_volume.c (the light volume over every device),
  * session_render.c (the camera passes), session_budget.c (one time
- * budget for an lv render) and session_guided.c (guided renders). */
+ * budget for an lv render), session_guided.c (guided renders) and
+ * session_view.c (the lights' odds learned from the view). */
 #ifndef LVCL_SESSION_INTERNAL_H
 #define LVCL_SESSION_INTERNAL_H
 
@@ -28,6 +29,7 @@ struct lvcl_session {
     double bvh_build_seconds;
     lvcl_budget_report budget;
     lvcl_guided_report guided;
+    double *gather_odds; /* session_view.c: per light group, the weights the view gave light samples, or NULL */
 };
 
 /* Whether req's lv render's volume leaves out lamps seen through glass,
@@ -52,6 +54,21 @@ lvcl_error lvcl_session_camera_pass(lvcl_session *s, const lvcl_render_request *
  * machine code PoCL compiles at a kernel's first launch of each size class
  * (up to 2 s on a cold cache). */
 lvcl_error lvcl_session_warm_camera_pass(lvcl_session *s, const lvcl_render_request *req, lvcl_status *st);
+
+/* Light odds learned from the view (session_view.c). view_start: the
+ * lights' odds return to the packed ones and, with `follow` and where the
+ * odds may follow the view, every device's volume starts a view probe of
+ * the camera's regions. view_decide: after the probed part of the trace,
+ * the particles' odds follow the light the probes found scattered (with
+ * store_emitted, all they found), on every device, and the probes end.
+ * view_gather: after the trace, the light samples' odds follow the light
+ * the probes found straight from the lights (nothing without a probe). */
+lvcl_error lvcl_session_view_start(lvcl_session *s, int follow, lvcl_status *st);
+lvcl_error lvcl_session_view_decide(lvcl_session *s, int store_emitted, lvcl_status *st);
+lvcl_error lvcl_session_view_gather(lvcl_session *s, lvcl_status *st);
+/* The particles a probed trace without a split point traces before
+ * view_decide. */
+#define LVCL_VIEW_PART(particles) ((particles) / 4)
 
 /* An lv render that keeps to req->pass.time_limit on one device. */
 lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,

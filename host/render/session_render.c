@@ -131,6 +131,9 @@ lvcl_error lvcl_session_render(lvcl_session *s, const lvcl_render_request *req, 
         e = lvcl_image_pass_check_size(&s->devices[d].device, req->width, req->height, st);
     /* Refusals every process meets are reported once, as themselves. */
     if ((e = lvcl_cluster_agree(s->cluster, e, st))) return e;
+    /* Every render starts from the packed light odds; an lv trace may
+     * then make them follow the view (session_view.c). */
+    if ((e = lvcl_session_view_start(s, 0, st))) return e;
     if (req->mode == LVCL_MODE_PT) {
         if (req->pass.time_limit > 0 && (e = lvcl_session_warm_camera_pass(s, req, st))) return e;
         return lvcl_session_camera_pass(s, req, req->width, req->height, &req->pass, out, st);

@@ -82,7 +82,11 @@ lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings
     for (int d = 0; d < n && !e; d++) e = lvcl_session_new_volume(s, d, settings, st);
     if ((e = lvcl_cluster_agree(s->cluster, e, st))) return e;
     s->merge_seconds = 0;
+    if ((e = lvcl_session_view_start(s, settings->view_odds, st))) return e;
     uint64_t split_at = lvcl_volume_split_point(settings);
+    /* A view probe needs a first part to sum over: the split's, or its own. */
+    uint64_t first_part = split_at;
+    if (!first_part && lvcl_volume_view_probing(s->devices[0].volume)) first_part = LVCL_VIEW_PART(settings->particles);
     if (split_at > 0) {
         /* Refined cells: every device holds the same tallies after the
          * merge, so each splits the same cells; all but the first (of
@@ -99,8 +103,14 @@ lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings
         lvcl_volume_settings retrace = *settings;
         retrace.restarted_only = 1;
         if ((e = trace_devices(s, &retrace, 0, split_at, 0, st))) return e;
+    } else if (first_part > 0 && (e = trace_devices(s, settings, 0, first_part, 0, st))) {
+        return e;
     }
-    if (!e) e = trace_devices(s, settings, split_at, settings->particles, 1, st);
+    /* The particles from here on leave the lights by the view's odds (the
+     * retrace above walked its particles with the odds they first had). */
+    if ((e = lvcl_session_view_decide(s, settings->store_emitted, st))) return e;
+    e = trace_devices(s, settings, first_part, settings->particles, 1, st);
+    if (!e) e = lvcl_session_view_gather(s, st);
     /* Every device holds the same tallies now, so each merges the same blocks. */
     for (int d = 0; d < n && !e; d++)
         e = lvcl_volume_adapt(s->devices[d].volume, (double)settings->particles, settings->merge_tolerance, st);

@@ -134,17 +134,68 @@ lvcl_error lvcl_volume_empty(lvcl_light_volume *vol, lvcl_status *st)
     return e;
 }
 
-/* Empties the volume, its counters too, and fills the bins' directions. */
+/* Zeroes the view probe's sums. */
+static lvcl_error clear_view_probe(lvcl_light_volume *vol, lvcl_status *st)
+{
+    cl_long zero = 0;
+    return lvcl_cl_check(clEnqueueFillBuffer(vol->dev->queue, vol->view_light_buf, &zero, sizeof zero, 0,
+                                             vol->view_seen * vol->view_groups * 2 * sizeof zero, 0, NULL, NULL),
+                         "clearing the view probe", st);
+}
+
+/* Empties the volume, its counters and view probe too, and fills the bins' directions. */
 static lvcl_error clear_volume(lvcl_light_volume *vol, const lvcl_program *prog, lvcl_status *st)
 {
     lvcl_error e;
     if ((e = fill_bin_table(vol, prog, vol->buf.info.dirs, vol->bin_table_buf, st)) || (e = lvcl_volume_empty(vol, st)))
         return e;
+    if (vol->view_light_buf && (e = clear_view_probe(vol, st))) return e;
     vol->segments = vol->visibility_rays = vol->particles = 0;
     vol->trace_seconds = 0;
     vol->buf.info.particles = 0;
     vol->split_from = 0; /* split cells, if any, hold every particle from here on */
     return LVCL_OK;
+}
+
+lvcl_error lvcl_volume_view_probe(lvcl_light_volume *vol, const uint32_t *seen, size_t count, size_t groups,
+                                  lvcl_status *st)
+{
+    if (vol->view_slots_buf) clReleaseMemObject(vol->view_slots_buf);
+    if (vol->view_light_buf) clReleaseMemObject(vol->view_light_buf);
+    vol->view_slots_buf = vol->view_light_buf = NULL;
+    vol->view_seen = vol->view_groups = 0;
+    if (!seen || !count || !groups) return LVCL_OK;
+    cl_int err, err2;
+    size_t sums = count * groups * 2;
+    vol->view_slots_buf =
+        lvcl_buffer_create(vol->dev, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                           ((size_t)vol->buf.info.slot_count + 1) * sizeof(cl_uint), (void *)seen, &err);
+    vol->view_light_buf = lvcl_buffer_create(vol->dev, CL_MEM_READ_WRITE, sums * sizeof(cl_long), NULL, &err2);
+    lvcl_error e = lvcl_cl_check(err != CL_SUCCESS ? err : err2, "allocating the view probe", st);
+    vol->view_seen = count;
+    vol->view_groups = groups;
+    if (!e) e = clear_view_probe(vol, st);
+    if (e) lvcl_volume_view_probe(vol, NULL, 0, 0, NULL);
+    return e;
+}
+
+int lvcl_volume_view_probing(const lvcl_light_volume *vol)
+{
+    return vol->view_slots_buf != NULL;
+}
+
+size_t lvcl_volume_view_sums(const lvcl_light_volume *vol)
+{
+    return vol->view_seen * vol->view_groups * 2;
+}
+
+lvcl_error lvcl_volume_view_light(const lvcl_light_volume *vol, int64_t *units, lvcl_status *st)
+{
+    if (!vol->view_light_buf) return LVCL_OK;
+    return lvcl_cl_check(clEnqueueReadBuffer(vol->dev->queue, vol->view_light_buf, CL_TRUE, 0,
+                                             vol->view_seen * vol->view_groups * 2 * sizeof(cl_long), units, 0, NULL,
+                                             NULL),
+                         "reading the view probe", st);
 }
 
 /* Copies every slot's subcell marks into `seen`, which the next batch
@@ -189,6 +240,15 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
         clReleaseMemObject(counter);
         return e;
     }
+    /* Without a view probe the kernel gets a buffer it does not read. */
+    int probe = vol->view_slots_buf && !s->restarted_only;
+    cl_mem unused = NULL;
+    if (!probe) unused = lvcl_buffer_create(dev, CL_MEM_READ_WRITE, 8, NULL, &err);
+    if (!probe && (e = lvcl_cl_check(err, "allocating the view probe's stand-in", st))) {
+        clReleaseMemObject(seen);
+        clReleaseMemObject(counter);
+        return e;
+    }
     cl_kernel k = NULL;
     lvcl_particle_trace_args args = {.scene = &ds->buffers,
                                      .volume = &vol->buf,
@@ -198,10 +258,14 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
                                      .subcells_seen = seen,
                                      .bin_table = lvcl_volume_bin_table(vol),
                                      .fine_bin_table = lvcl_volume_fine_bin_table(vol),
+                                     .view_groups = probe ? (cl_uint)vol->view_groups : 0u,
+                                     .view_slots = probe ? vol->view_slots_buf : unused,
+                                     .view_light = probe ? vol->view_light_buf : unused,
                                      .ray_counts = counter};
     if ((e = lvcl_kernel_create(prog, "lv_particle_trace", &k, st)) ||
         (e = lvcl_bind_lv_particle_trace(k, &args, st))) {
         if (k) clReleaseKernel(k);
+        if (unused) clReleaseMemObject(unused);
         clReleaseMemObject(seen);
         clReleaseMemObject(counter);
         return e;
@@ -237,6 +301,7 @@ lvcl_error lvcl_volume_trace(lvcl_light_volume *vol, const lvcl_program *prog, c
     }
     lvcl_progress_finish(&bar);
     clReleaseKernel(k);
+    if (unused) clReleaseMemObject(unused);
     clReleaseMemObject(seen);
     clReleaseMemObject(counter);
     vol->trace_seconds += lvcl_seconds() - start;

@@ -17,6 +17,32 @@ typedef struct {
     uint visibility_rays;
 } lv_particle_rays;
 
+/* A view probe (host/render/session_view.c): per slot, its number among
+ * the regions the camera sees, or LV_EMPTY_CELL; per such region and light
+ * group, the light the particles bring to surfaces there, straight from
+ * the lights and after scattering, in units of 2^-20 of the lights' power. */
+typedef struct {
+    __global const uint *slots;
+    __global long *light;
+    uint groups; /* 0: no probe */
+} lv_view_probe;
+
+/* Adds the light a particle of the light group `group` and weight
+ * `throughput` (power over the lights' total), arriving along dir after
+ * `depth` segments, brings to surface point p: to the region in front of
+ * p on its side, where the camera sees that. Integers, so that the sums
+ * are the same on every device and in every order. */
+inline void lv_view_add(const lv_grid *grid, const lv_view_probe *v, uint group, float3 p, float3 dir, uint depth,
+                        float3 throughput)
+{
+    uint slot = lv_grid_slot_at(grid, p - dir * (0.01f * grid->g.cell_size));
+    uint seen = slot == LV_EMPTY_CELL ? LV_EMPTY_CELL : v->slots[slot];
+    float units = lv_luminance(throughput) * 0x1p20f;
+    if (seen == LV_EMPTY_CELL || !(units >= 1.0f)) return;
+    lv_tally_atomic_add(&v->light[2u * (seen * v->groups + group) + (depth > 1u ? 1u : 0u)],
+                        (long)fmin(units, 0x1p40f));
+}
+
 /* Adds segment r, which carried `weight` (power over total power) up to
  * hit h (surface s, if any) through a medium of absorption sigma, to the
  * volume (its light concentrated where `concentrated`, the bin tables, is
@@ -52,9 +78,10 @@ inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray 
  * tables). store_emitted: tally the first segment (emitted light) too,
  * which lv mode leaves to shadow rays. see_through: leave out light seen
  * through glass (see_through.h), which lv mode's gather finds itself; its
- * segments still mark the subcells they pass. */
+ * segments still mark the subcells they pass. view: a view probe
+ * (lv_view_add) or none. */
 inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *grid, const lv_bin_tables *tables,
-                                          lv_rng *rng, uint store_emitted, uint see_through)
+                                          lv_rng *rng, uint store_emitted, uint see_through, const lv_view_probe *view)
 {
     int specular_only = 1; /* every scatter so far a delta lobe: the light is still concentrated */
     int through_glass = 1; /* and every one at a surface where no gather reads the volume, turning light only
@@ -63,6 +90,7 @@ inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *gri
     lv_emission_sample es;
     float2 ul = lv_rng_next2(rng), ud = lv_rng_next2(rng);
     if (!lv_sample_emission(sc, ul, ud, lv_rng_next(rng), &es)) return n;
+    uint group = view->groups ? sc->lights[es.light].group : 0u;
     const lv_walk walk = {LV_IMPORTANCE, LV_ROULETTE_ON, es.weight};
     float3 throughput = es.weight;
     lv_ray r = lv_ray_make(es.origin, es.dir, LV_FAR, es.instance, es.triangle);
@@ -88,6 +116,7 @@ inline lv_particle_rays lv_trace_particle(const lv_scene *sc, const lv_grid *gri
         }
         if (h.tri == LV_NO_HIT || depth == sc->info.max_depth) break;
         throughput *= exp(-sigma * h.t);
+        if (view->groups) lv_view_add(grid, view, group, s.p, r.dir, depth, throughput);
 
         lv_shading sh;
         if (!lv_shading_at(sc, &s, r.dir, &sh)) break;

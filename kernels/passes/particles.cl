@@ -17,7 +17,8 @@ __kernel void lv_particle_trace(LV_KERNEL_PARAMS(LV_PARTICLE_TRACE_ARGS))
     grid.restarted_only = restarted_only;
     lv_rng rng = lv_rng_make(sc.info.seed ^ LV_PARTICLE_STREAM, first + id, 0u);
     lv_bin_tables tables = {bin_table, fine_bin_table};
-    lv_particle_rays n = lv_trace_particle(&sc, &grid, &tables, &rng, store_emitted, see_through);
+    lv_view_probe view = {view_slots, view_light, view_groups};
+    lv_particle_rays n = lv_trace_particle(&sc, &grid, &tables, &rng, store_emitted, see_through, &view);
     atomic_add(&ray_counts[0], n.segments);
     atomic_add(&ray_counts[1], n.visibility_rays);
 }

@@ -187,6 +187,7 @@ static int render(const float bright[3], const float dim[3], const setup *u, uin
     req.volume.refine_density = u->refine;
     req.volume.refine_peak = u->fine;
     req.volume.refine_memory = (uint64_t)1 << 32;
+    req.volume.view_odds = 1; /* as lvcl renders by default */
     if (harness_render(&scene, NULL, 5, &req, r, &st)) {
         CHECK("two rooms: render", 0, "%s", st.message);
         return 0;
