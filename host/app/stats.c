@@ -51,10 +51,11 @@ lvcl_error lvcl_stats_write(const char *path, const lvcl_stats *s, lvcl_status *
             lvcl_session_bvh_build_seconds(ss), s->startup_seconds, r->first_launch_seconds, r->render_seconds);
     fprintf(f,
             "  \"width\": %d,\n  \"height\": %d,\n  \"spp\": %d,\n  \"interrupted\": %s,\n  \"adaptive\": %s,\n"
-            "  \"samples_per_second\": %.1f,\n  \"seed\": %u,\n  \"max_depth\": %d,\n  \"see_through\": %s",
+            "  \"samples_per_second\": %.1f,\n  \"seed\": %u,\n  \"max_depth\": %d,\n  \"see_through\": %s,\n"
+            "  \"view_odds\": %s",
             r->width, r->height, r->samples, s->interrupted_by ? "true" : "false", r->adaptive ? "true" : "false",
             r->render_seconds > 0 ? pixel_samples / r->render_seconds : 0.0, s->options->seed, s->options->max_depth,
-            r->see_through ? "true" : "false");
+            r->see_through ? "true" : "false", r->view_odds ? "true" : "false");
     /* The light volume: the grid is every device's; the work adds up,
      * over every rank's devices where several shared it. */
     int devices = lvcl_session_device_count(ss);

@@ -23,6 +23,7 @@ typedef struct {
     int samples;                 /* samples per pixel actually taken */
     int adaptive;                /* the samples were placed by adaptive sampling (one device, past one epoch) */
     int see_through;             /* light samples went on through glass (kernels/integrator/see_through.h) */
+    int view_odds;               /* lv: the lights' odds followed the camera's view (host/render/session_view.c) */
     double first_launch_seconds; /* first launch, which may compile machine code */
     double render_seconds;
 } lvcl_render_result;

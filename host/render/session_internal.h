@@ -30,6 +30,7 @@ struct lvcl_session {
     lvcl_budget_report budget;
     lvcl_guided_report guided;
     double *gather_odds; /* session_view.c: per light group, the weights the view gave light samples, or NULL */
+    int view_odds;       /* session_view.c: the light table now holds the view's odds */
 };
 
 /* Whether req's lv render's volume leaves out lamps seen through glass,

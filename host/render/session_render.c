@@ -88,6 +88,7 @@ lvcl_error lvcl_session_camera_pass(lvcl_session *s, const lvcl_render_request *
     }
     if (!e) e = lvcl_image_pass(passes, s->device_count, &cam, s->cluster, pass, out, st);
     if (!e) out->see_through = pass_sees_through(s, &s->devices[0], req);
+    if (!e) out->view_odds = s->view_odds && req->mode != LVCL_MODE_PT && req->mode != LVCL_MODE_GUIDED;
     for (int d = 0; d < s->device_count; d++) {
         if (passes[d].kernel) clReleaseKernel(passes[d].kernel);
         passes[d].kernel = NULL;

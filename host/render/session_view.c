@@ -102,6 +102,7 @@ lvcl_error lvcl_session_view_start(lvcl_session *s, int follow, lvcl_status *st)
     lvcl_error e = LVCL_OK;
     free(s->gather_odds);
     s->gather_odds = NULL;
+    s->view_odds = 0;
     if (lvcl_packed_set_light_odds(&s->packed, NULL, 0) && (e = upload_lights(s, st))) return e;
     if (!follow || !view_applies(s) || !s->devices[0].volume) return LVCL_OK;
     size_t slot_count = (size_t)lvcl_volume_grid(s->devices[0].volume)->slot_count + 1, count = 0;
@@ -181,5 +182,6 @@ lvcl_error lvcl_session_view_gather(lvcl_session *s, lvcl_status *st)
     int changed = lvcl_packed_set_light_odds(&s->packed, s->gather_odds, VIEW_KEEP);
     free(s->gather_odds);
     s->gather_odds = NULL;
+    s->view_odds = 1;
     return changed ? upload_lights(s, st) : LVCL_OK;
 }

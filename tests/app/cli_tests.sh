@@ -73,6 +73,7 @@ expect_error "device memory not a number" 2 --device-memory lots cornell
 expect_error "light volume over the device memory" 1 --device-memory 2 --mode lv --spp 1 --width 8 cornell
 expect_error "unknown adaptive setting" 2 --adaptive maybe cornell
 expect_error "unknown see-through setting" 2 --see-through maybe cornell
+expect_error "unknown view-odds setting" 2 --view-odds maybe cornell
 expect_error "refine not on, off or a density" 2 --mode lv --refine lots cornell
 expect_error "refine density negative" 2 --mode lv --refine -1 cornell
 expect_error "refine memory below a MiB" 2 --mode lv --refine on --refine-memory 0 cornell
