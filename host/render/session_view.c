@@ -4,14 +4,16 @@
  * by their power and an even share: with a lamp 1000 times brighter behind
  * a wall, the room in view got a quarter of both, and its lv image had 8
  * times the error it had with that lamp off. So the first part of the
- * particle trace also sums, per light, the light its particles bring to
- * surfaces in the regions of cells the camera sees (a probe of camera
- * rays on the host), and the rest of the trace and the gather choose the lights'
- * groups in proportion to those sums, every light keeping a share of its
- * packed odds. Each particle's weight is its own odds', so the volume is
- * unbiased whatever the odds; the sums are integers, so every device and
- * every run decides alike (docs/light-volume.md, "Which light a particle
- * leaves"). */
+ * particle trace also sums, per region the camera sees (found by camera
+ * rays on the host) and light group, the light the particles bring to
+ * surfaces there, straight from the lights and after scattering; the rest
+ * of the trace chooses groups by the scattered light's sums and the
+ * gather's light samples by the direct light's (group_weights), every
+ * light keeping a share of its packed odds. Each particle's weight is its
+ * own odds', and a light sample's pdf the table the gather reads, so the
+ * estimators are unbiased whatever the odds; the sums are integers, so
+ * every device and every run decides alike (docs/light-volume.md, "Odds
+ * learned from the view"). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -24,8 +26,10 @@
  * no use for still gets a quarter of them, so its weight grows at most 4x. */
 #define VIEW_KEEP 0.25
 
-/* The most light groups a probe sums for: beyond, the odds stay packed. */
+/* The most light groups, and sums, a probe keeps: beyond, the odds stay
+ * packed. */
 #define VIEW_GROUPS 64
+#define VIEW_SUMS (1u << 22)
 
 /* Whether the lights' odds may follow the view: two lit groups or more
  * (up to VIEW_GROUPS), and one process (a cluster's processes would each
@@ -115,8 +119,9 @@ lvcl_error lvcl_session_view_start(lvcl_session *s, int follow, lvcl_status *st)
         view_slots(s, s->devices[0].volume, w, h, marks);
         for (size_t i = 0; i < slot_count; i++) seen[i] = marks[i] ? (uint32_t)count++ : LV_EMPTY_CELL;
     }
-    for (int d = 0; d < s->device_count && !e; d++)
-        e = lvcl_volume_view_probe(s->devices[d].volume, seen, count, lvcl_packed_light_groups(&s->packed), st);
+    size_t groups = lvcl_packed_light_groups(&s->packed);
+    for (int d = 0; d < s->device_count && !e && count * groups * 2 <= VIEW_SUMS; d++)
+        e = lvcl_volume_view_probe(s->devices[d].volume, seen, count, groups, st);
     free(marks);
     free(seen);
     return e;
