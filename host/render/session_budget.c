@@ -279,8 +279,7 @@ lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request
     b->used = 1;
     b->adaptive_share = 1.0;
     if (vs.particles) { /* --particles given: traced whole, the gather takes what is left */
-        uint64_t split_at = lvcl_volume_split_point(&vs), first_part = split_at;
-        if (!first_part && lvcl_volume_view_probing(sd->volume)) first_part = LVCL_VIEW_PART(vs.particles);
+        uint64_t split_at = lvcl_volume_split_point(&vs), first_part = lvcl_session_first_part(s, &vs);
         if (split_at > 0 &&
             ((e = trace_range(s, &vs, 0, split_at, 0, st)) ||
              (e = lvcl_volume_refine(sd->volume, (double)vs.particles, &vs, st)) ||

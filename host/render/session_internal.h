@@ -67,9 +67,10 @@ lvcl_error lvcl_session_warm_camera_pass(lvcl_session *s, const lvcl_render_requ
 lvcl_error lvcl_session_view_start(lvcl_session *s, int follow, lvcl_status *st);
 lvcl_error lvcl_session_view_decide(lvcl_session *s, int store_emitted, lvcl_status *st);
 lvcl_error lvcl_session_view_gather(lvcl_session *s, lvcl_status *st);
-/* The particles a probed trace without a split point traces before
- * view_decide. */
-#define LVCL_VIEW_PART(particles) ((particles) / 4)
+/* The particles a trace of vs traces before view_decide: the refinement's
+ * split point, or with a view probe and no split a quarter of them; 0:
+ * none (nothing to split or probe). */
+uint64_t lvcl_session_first_part(const lvcl_session *s, const lvcl_volume_settings *vs);
 
 /* An lv render that keeps to req->pass.time_limit on one device. */
 lvcl_error lvcl_session_render_budget(lvcl_session *s, const lvcl_render_request *req, lvcl_render_result *out,

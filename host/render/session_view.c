@@ -101,6 +101,12 @@ static lvcl_error upload_lights(lvcl_session *s, lvcl_status *st)
     return e;
 }
 
+uint64_t lvcl_session_first_part(const lvcl_session *s, const lvcl_volume_settings *vs)
+{
+    uint64_t split_at = lvcl_volume_split_point(vs);
+    return split_at || !lvcl_volume_view_probing(s->devices[0].volume) ? split_at : vs->particles / 4;
+}
+
 lvcl_error lvcl_session_view_start(lvcl_session *s, int follow, lvcl_status *st)
 {
     lvcl_error e = LVCL_OK;

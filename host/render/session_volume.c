@@ -83,10 +83,7 @@ lvcl_error lvcl_session_trace_volume(lvcl_session *s, const lvcl_volume_settings
     if ((e = lvcl_cluster_agree(s->cluster, e, st))) return e;
     s->merge_seconds = 0;
     if ((e = lvcl_session_view_start(s, settings->view_odds, st))) return e;
-    uint64_t split_at = lvcl_volume_split_point(settings);
-    /* A view probe needs a first part to sum over: the split's, or its own. */
-    uint64_t first_part = split_at;
-    if (!first_part && lvcl_volume_view_probing(s->devices[0].volume)) first_part = LVCL_VIEW_PART(settings->particles);
+    uint64_t split_at = lvcl_volume_split_point(settings), first_part = lvcl_session_first_part(s, settings);
     if (split_at > 0) {
         /* Refined cells: every device holds the same tallies after the
          * merge, so each splits the same cells; all but the first (of

@@ -139,7 +139,7 @@ static lvcl_error clear_view_probe(lvcl_light_volume *vol, lvcl_status *st)
 {
     cl_long zero = 0;
     return lvcl_cl_check(clEnqueueFillBuffer(vol->dev->queue, vol->view_light_buf, &zero, sizeof zero, 0,
-                                             vol->view_seen * vol->view_groups * 2 * sizeof zero, 0, NULL, NULL),
+                                             lvcl_volume_view_sums(vol) * sizeof zero, 0, NULL, NULL),
                          "clearing the view probe", st);
 }
 
@@ -193,8 +193,7 @@ lvcl_error lvcl_volume_view_light(const lvcl_light_volume *vol, int64_t *units, 
 {
     if (!vol->view_light_buf) return LVCL_OK;
     return lvcl_cl_check(clEnqueueReadBuffer(vol->dev->queue, vol->view_light_buf, CL_TRUE, 0,
-                                             vol->view_seen * vol->view_groups * 2 * sizeof(cl_long), units, 0, NULL,
-                                             NULL),
+                                             lvcl_volume_view_sums(vol) * sizeof(cl_long), units, 0, NULL, NULL),
                          "reading the view probe", st);
 }
 
