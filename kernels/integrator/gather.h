@@ -174,7 +174,7 @@ inline float3 lv_gather_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint
         if (!lv_shading_at(sc, &s, r.dir, &sh)) break;
         int rough = lv_bsdf_gathers(sh.b.type, sh.b.alpha);
         int point = rough
-            ? lv_lookup_point(&g->grid, sc, s.p, sh.ng_out,
+            ? lv_lookup_point(&g->grid, sc, sh.ng_out,
                               lv_leave_point(s.p, sh.ng_out, -r.dir, h.t, sc->info.scene_scale), rng, &lookup_point)
             : LV_POINT_DARK;
         /* Where the volume mixes both sides of a surface the path goes on

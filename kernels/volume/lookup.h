@@ -43,14 +43,14 @@ inline float3 lv_front_point(const lv_grid *grid, float3 p, float3 n)
     return p + n * (0.5f * grid->g.cell_size / (float)k);
 }
 
-/* lv_front_point, or, where a surface closer than it faces p (a table top
- * 1 mm above a leg), the point halfway to that surface: a point beyond it
- * reads light that never reaches p (inside a glass slab, the light that
- * total internal reflection traps there). `from` is p offset off its
- * surface. */
-inline float3 lv_visible_front_point(const lv_grid *grid, const lv_scene *sc, float3 p, float3 n, float3 from)
+/* lv_front_point of `from` (p offset off its surface), or, where a
+ * surface closer than it faces p (a table top 1 mm above a leg), the point
+ * halfway to that surface: a point beyond it reads light that never
+ * reaches p (inside a glass slab, the light that total internal reflection
+ * traps there). */
+inline float3 lv_visible_front_point(const lv_grid *grid, const lv_scene *sc, float3 n, float3 from)
 {
-    float3 q = lv_front_point(grid, p, n);
+    float3 q = lv_front_point(grid, from, n);
     lv_hit h = lv_trace(sc, lv_ray_make(from, q - from, 1.0f, LV_NO_HIT, LV_NO_HIT), 0);
     return h.tri == LV_NO_HIT ? q : from + (q - from) * (0.5f * h.t);
 }
@@ -87,25 +87,29 @@ inline int lv_region_mixed(const lv_grid *grid, float3 q)
     return slot != LV_EMPTY_CELL && (grid->regions[slot].flags & LV_REGION_MIXED);
 }
 
-/* Where the gather at surface point p (front normal n) reads the volume;
- * `from` is where its rays leave p (lv_leave_point). With subcells: the jittered point if light reached it and p sees it (near
- * a corner the box reaches behind the other wall); else the layer in front
- * of p if light reached that; else dark: no light the volume holds reaches
- * p. Without subcells: the jittered point if p sees it, else the layer in
- * front of p (the region of a cut cell behind a wall holds the other
- * side's light). A jittered point in a mixed region falls back to the
- * layer in front of p too, and where that is mixed the volume is not read
- * at all. */
-inline int lv_lookup_point(const lv_grid *grid, const lv_scene *sc, float3 p, float3 n, float3 from, lv_rng *rng,
-                           float3 *q)
+/* Where the gather at a surface point (front normal n) reads the volume;
+ * `from` is where its rays leave the point (lv_leave_point), and every
+ * point tried is built from it: the surface point itself may lie on
+ * another surface's plane (where a wall ends against another), so points
+ * built from it lie on that plane too, and the cell's regions may count
+ * them on its far side; `from` lies on the side the arriving ray came
+ * from. With subcells: the jittered point if light reached it and `from`
+ * sees it (near a corner the box reaches behind the other wall); else the
+ * layer in front if light reached that; else dark: no light the volume
+ * holds reaches the point. Without subcells: the jittered point if `from`
+ * sees it, else the layer in front (the region of a cut cell behind a
+ * wall holds the other side's light). A jittered point in a mixed region
+ * falls back to the layer in front too, and where that is mixed the
+ * volume is not read at all. */
+inline int lv_lookup_point(const lv_grid *grid, const lv_scene *sc, float3 n, float3 from, lv_rng *rng, float3 *q)
 {
-    *q = lv_jitter_lookup(grid, p, n, rng);
+    *q = lv_jitter_lookup(grid, from, n, rng);
     int seen = !lv_region_mixed(grid, *q) && !lv_occluded(sc, from, *q - from, 1.0f, LV_NO_HIT, LV_NO_HIT);
     if (grid->g.subcells == 0u) {
-        if (!seen) *q = lv_visible_front_point(grid, sc, p, n, from);
+        if (!seen) *q = lv_visible_front_point(grid, sc, n, from);
     } else {
         if (seen && lv_point_lit(grid, sc, *q)) return LV_POINT_LIT;
-        *q = lv_visible_front_point(grid, sc, p, n, from);
+        *q = lv_visible_front_point(grid, sc, n, from);
     }
     if (lv_region_mixed(grid, *q)) return LV_POINT_UNTRUSTED;
     return grid->g.subcells == 0u || lv_point_lit(grid, sc, *q) ? LV_POINT_LIT : LV_POINT_DARK;
