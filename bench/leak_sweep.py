@@ -4,12 +4,16 @@ each draws a wall (one polygon to 20 cm), outer walls of one polygon or of
 slabs, a cupboard against the wall or none, a turn of the whole scene, a
 grid (12 to 40 cells, any offset), --subcells and a brightness ratio (with
 --wide also the scale, the wall's material and the bright light's kind;
-with --curved a third of the set-ups bow a wall of one polygon); the
+with --curved a third of the set-ups bow a wall of one polygon; with
+--tees half of those without a cupboard, corridor or bow add a wall across
+the dim room's side that ends against the shared one, a third room lit as
+brightly beyond it; with --edges half of them zoom the camera onto a line
+where the wall meets another surface); the
 bright lamp is red and the dim one blue, so any red in the dim room is the
 bright room's light read through the wall (its true value, and the path
 tracer's, is 0).
 
-    python3 bench/leak_sweep.py [--seed S] [--count N] [--corridors] [--wide] [--curved] [--build build]
+    python3 bench/leak_sweep.py [--seed S] [--count N] [--corridors] [--wide] [--curved] [--tees] [--edges] [--build build]
 
 One JSON object per set-up (its parameters, the dim room's mean red and
 blue, leak = red / (ratio x blue) and red / blue, the share of the dim
@@ -31,7 +35,9 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes"))
-from make_two_rooms import two_rooms  # noqa: E402
+import math  # noqa: E402
+
+from make_two_rooms import WALL_X, Y, Z, two_rooms  # noqa: E402
 
 LEAK = 1e-4
 
@@ -80,6 +86,40 @@ def dim_room_mean(build, exr):
     return json.loads(text)["mean"]
 
 
+def draw_tee(r, u):
+    """The draws of --tees, from their own stream: in half the set-ups
+    without a cupboard, corridor or bow, a wall across the dim room's side
+    at z = -0.45 to -0.1 (make_two_rooms.py --split)."""
+    free = not u["cupboard_m"] and not u["corridor_m"] and not u.get("bend_m", 0.0)
+    split = round(r.uniform(-0.45, -0.1), 3) if r.random() < 0.5 else None
+    return {"split_z": split if free else None}
+
+
+def draw_edges(r, u):
+    """The draws of --edges, from their own stream: in half the set-ups a
+    point on a line where the camera's face of the shared wall meets the
+    floor, the ceiling or a side wall, or where the cupboard meets the wall
+    or ends (in the rooms' own frame), for a camera zoomed onto it (a field
+    of view of 1e-5 degrees: every pixel within a few hundred nanometres of
+    the line, where a surface point lies on both surfaces' planes)."""
+    if r.random() < 0.5:
+        return {"look_at": None}
+    def face(z):
+        bend = u.get("bend_m", 0.0)
+        if bend:
+            return WALL_X + bend * math.cos(math.pi * z / (2 * Z))
+        return WALL_X + u["corridor_m"] + u["wall_m"] / 2
+    z, y = round(r.uniform(-0.9, 0.9), 3), round(r.uniform(0.1, Y - 0.1), 3)
+    lines = [(face(z), 0.0, z), (face(z), Y, z), (face(Z), y, Z), (face(-Z), y, -Z)]
+    if u.get("split_z") is not None:
+        # Where the split-off room's wall ends against the shared one, twice the odds.
+        lines += [(face(0.0), y, u["split_z"] + u["wall_m"] / 2)] * 2
+    if u["cupboard_m"] > 0 and not u.get("bend_m", 0.0):
+        x0, top = face(0.0), 0.9
+        lines += [(x0, round(r.uniform(0.05, top - 0.05), 3), 0.5), (x0 + u["cupboard_m"], top, z / 2)]
+    return {"look_at": [round(c, 6) for c in r.choice(lines)]}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seed", type=int, default=1)
@@ -94,8 +134,15 @@ def main():
     ap.add_argument("--curved", action="store_true",
                     help="also bow the shared wall (one polygon, 10-60 cm, no doorway or corridor) in a third of the "
                          "set-ups")
+    ap.add_argument("--tees", action="store_true",
+                    help="in half the set-ups without a cupboard, corridor or bow add a wall across the dim room's side "
+                         "that ends against the shared one, a room lit as brightly as the bright one beyond it")
+    ap.add_argument("--edges", action="store_true",
+                    help="in half the set-ups zoom the camera onto a line where the wall meets the floor, the "
+                         "ceiling, a side wall or the cupboard")
     a = ap.parse_args()
     r, r_wide, r_curved = random.Random(a.seed), random.Random(a.seed + 1000003), random.Random(a.seed + 2000003)
+    r_edges, r_tees = random.Random(a.seed + 3000017), random.Random(a.seed + 4000037)
     leaks, pt_leaks, worst, worst_share = 0, 0, 0.0, 0.0
     with tempfile.TemporaryDirectory() as tmp:
         scene, image = os.path.join(tmp, "rooms.gltf"), os.path.join(tmp, "rooms.exr")
@@ -109,6 +156,10 @@ def main():
             curved = draw_curved(r_curved) if a.curved else {"bend_m": 0.0, "bend_rows": 1}
             if curved["bend_m"]:
                 u.update(curved, wall_m=0.0, corridor_m=0.0, door_m=0.0, back_to_back=False)
+            if a.tees:
+                u.update(draw_tee(r_tees, u))
+            if a.edges:
+                u.update(draw_edges(r_edges, u))
             with open(os.devnull, "w") as quiet:
                 saved, sys.stdout = sys.stdout, quiet
                 try:
@@ -116,7 +167,9 @@ def main():
                               panel=u["cupboard_m"], yaw=u["yaw_deg"], pitch=u["pitch_deg"], corridor=u["corridor_m"],
                               door=u["door_m"], back_to_back=u["back_to_back"], scale=wide["scale"],
                               wall_material=wide["wall_material"], bright_light=wide["bright_light"],
-                              bend=curved["bend_m"], bend_rows=curved["bend_rows"])
+                              bend=curved["bend_m"], bend_rows=curved["bend_rows"],
+                              look_at_point=u.get("look_at"), fov_deg=1e-5 if u.get("look_at") else 70.0,
+                              split=u.get("split_z"))
                 finally:
                     sys.stdout = saved
             subprocess.run([os.path.join(a.build, "lvcl"), "-q", "--mode", "lv", "--cells", str(u["cells"]),

@@ -8,7 +8,7 @@ ratio, and the path tracer's, is 1).
     python3 scenes/make_two_rooms.py OUT.gltf --thickness 0.02 --ratio 25 [--bright-off | --dim-off]
         [--shell 0.1] [--panel 0.04] [--door 0.1] [--yaw 12 --pitch 7] [--scale 100]
         [--wall-material lambert|glossy|mirror] [--bright-light area|point|spot]
-        [--bend 0.4 [--bend-rows 5]]
+        [--bend 0.4 [--bend-rows 5]] [--split -0.3] [--look-at X,Y,Z --fov 1e-5]
 
 --thickness 0 makes the wall one double-sided polygon; --shell S builds the
 outer walls, floor and ceiling as slabs S thick; --panel D stands a
@@ -21,7 +21,11 @@ axis; --scale multiplies every length (radiance, and so the image, stay
 the same); --wall-material gives the shared wall(s) a finish of their own;
 --bright-light replaces the bright lamp by a point or spot light of its
 power; --bend bows the shared wall (--thickness 0) into the camera's room,
-so that no cell's plane fits it. The geometry is the same as
+so that no cell's plane fits it; --look-at and --fov aim the camera (a
+field of view of 1e-5 degrees puts every pixel within a few hundred
+nanometres of the point: onto the line where the wall meets the floor,
+say); --split adds a wall across the camera's side, ending against the
+shared one (a T), with a bright room beyond it. The geometry is the same as
 tests/volume/test_two_rooms.c builds in memory."""
 import argparse
 import math
@@ -69,7 +73,7 @@ def bowed_wall(mesh, bend, rows, columns=16):
 
 def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel=0.0, yaw=0.0, pitch=0.0,
               door=0.0, dim_on=True, corridor=0.0, back_to_back=False, scale=1.0, wall_material="lambert",
-              bright_light="area", bend=0.0, bend_rows=1):
+              bright_light="area", bend=0.0, bend_rows=1, look_at_point=None, fov_deg=70.0, split=None):
     """colours: the bright lamp red and the dim one blue (grey walls keep
     the channels apart), so that any red in the dim room is a leak.
     scale: every length times this (radiance is the same, so the image
@@ -78,7 +82,14 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
     ceiling lamp), point or spot (a KHR_lights_punctual light of the same
     power at the lamp's centre; spot: 60 degrees, pointing down); bend: the
     shared wall, of one polygon, bowed that far into the camera's room
-    (bowed_wall; thickness 0, no doorway or corridor)."""
+    (bowed_wall; thickness 0, no doorway or corridor); look_at_point: where
+    the camera looks (in the scene's own frame, before the turn and scale;
+    None: the middle of the wall), fov_deg its vertical field of view;
+    split: a wall like the shared one across the camera's side at z =
+    split (-0.45 to -0.1), from the shared wall to the outer wall, and a
+    third lamp, as bright as the bright one, beyond it: the two walls meet
+    in a T, and a hit on the end of the second lies on the first's plane
+    (no cupboard, corridor or bow)."""
     WHITE, DIM, BRIGHT, WALL = range(4)
     dim_le = DIM_LE if dim_on else 0.0
     bright_le = DIM_LE * ratio if bright_on else 0.0
@@ -135,6 +146,14 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
                     shared.quad([(x, y0, z1), (x, Y, z1), (x, Y, z0), (x, y0, z0)], (-1.0, 0.0, 0.0))
                 else:
                     shared.quad([(x, y0, z0), (x, Y, z0), (x, Y, z1), (x, y0, z1)], (1.0, 0.0, 0.0))
+    if split is not None:
+        if panel > 0 or corridor > 0 or bend or not -0.45 <= split <= -0.1:
+            raise ValueError("a split is a wall at z = -0.45 to -0.1, without a cupboard, corridor or bow")
+        x0 = WALL_X + thickness / 2
+        if thickness > 0:
+            box(shared, (x0, 0.0, split - thickness / 2), (X, Y, split + thickness / 2))
+        else:
+            shared.quad([(x0, 0.0, split), (X, 0.0, split), (X, Y, split), (x0, Y, split)], (0.0, 0.0, 1.0))
     if panel > 0:
         x0 = (walls[-1] if walls else WALL_X + bend) + thickness / 2
         box(room, (x0, 0.0, -0.5), (x0 + panel, 0.9, 0.5))
@@ -146,12 +165,19 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
         lamp.quad([(x0, Y - 0.001, -0.3), (x1, Y - 0.001, -0.3), (x1, Y - 0.001, 0.3), (x0, Y - 0.001, 0.3)],
                   (0.0, -1.0, 0.0))
         meshes.append(lamp)
+    if split is not None:
+        # The split-off room's lamp, as bright as the bright room's.
+        lamp, z0, z1 = Mesh("split-off lamp", BRIGHT), (split - Z) / 2 - 0.12, (split - Z) / 2 + 0.12
+        lamp.quad([(1.0, Y - 0.001, z0), (1.6, Y - 0.001, z0), (1.6, Y - 0.001, z1), (1.0, Y - 0.001, z1)],
+                  (0.0, -1.0, 0.0))
+        meshes.append(lamp)
     yaw, pitch = math.radians(yaw), math.radians(pitch)
     for m in meshes:
         m.positions = [tuple(scale * c for c in turn(p, yaw, pitch)) for p in m.positions]
-    eye, target = turn((1.9, 1.2, 0.0), yaw, pitch), turn((walls[-1] if walls else WALL_X, 1.1, 0.0), yaw, pitch)
+    aim = look_at_point if look_at_point is not None else (walls[-1] if walls else WALL_X, 1.1, 0.0)
+    eye, target = turn((1.9, 1.2, 0.0), yaw, pitch), turn(aim, yaw, pitch)
     eye, target = tuple(scale * c for c in eye), tuple(scale * c for c in target)
-    camera = {"yfov": math.radians(70.0), "aspect": 1.0, "translation": list(eye), "rotation": look_at(eye, target),
+    camera = {"yfov": math.radians(fov_deg), "aspect": 1.0, "translation": list(eye), "rotation": look_at(eye, target),
               "znear": 0.01 * scale}
     doc, blob = gltf_document([flat_arrays(m) for m in meshes], materials, camera, "lvcl scenes/make_two_rooms.py",
                               note="two closed rooms sharing a %g m wall at x = %g%s; lamps %g (camera's room) and "
@@ -209,6 +235,14 @@ def main():
     ap.add_argument("--bend", type=float, default=0.0,
                     help="the shared wall, of one polygon, bowed this far into the camera's room (metres)")
     ap.add_argument("--bend-rows", type=int, default=1, help="rows of quads of the bowed wall")
+    ap.add_argument("--split", type=float, default=None, metavar="Z",
+                    help="a wall like the shared one across the camera's side at z = Z (-0.45 to -0.1), a third lamp "
+                         "as bright as the bright one beyond it: the walls meet in a T")
+    ap.add_argument("--look-at", default=None, metavar="X,Y,Z",
+                    help="where the camera looks, in the rooms' own frame (before --yaw, --pitch and --scale; default "
+                         "the middle of the wall)")
+    ap.add_argument("--fov", type=float, default=70.0,
+                    help="the camera's vertical field of view, degrees (a tiny one zooms onto --look-at)")
     a = ap.parse_args()
     if a.bend and (a.thickness > 0 or a.door > 0 or a.corridor > 0):
         ap.error("--bend makes the wall one polygon: use it with --thickness 0 and no --door or --corridor")
@@ -216,11 +250,23 @@ def main():
         ap.error("--bend-rows must be at least 1")
     if a.scale <= 0:
         ap.error("--scale must be positive")
+    look = None
+    if a.look_at is not None:
+        try:
+            look = tuple(float(c) for c in a.look_at.split(","))
+        except ValueError:
+            look = ()
+        if len(look) != 3:
+            ap.error("--look-at expects three numbers X,Y,Z, not '%s'" % a.look_at)
+    if a.split is not None and (a.panel > 0 or a.corridor > 0 or a.bend or not -0.45 <= a.split <= -0.1):
+        ap.error("--split expects a z from -0.45 to -0.1, without --panel, --corridor or --bend")
+    if not 0 < a.fov < 180:
+        ap.error("--fov must be between 0 and 180 degrees")
     if a.bright_off and a.dim_off:
         ap.error("--bright-off and --dim-off together leave the scene dark")
     two_rooms(a.out, a.thickness, a.ratio, not a.bright_off, a.colours, a.shell, a.panel, a.yaw, a.pitch, a.door,
               not a.dim_off, a.corridor, a.back_to_back, a.scale, a.wall_material, a.bright_light, a.bend,
-              a.bend_rows)
+              a.bend_rows, look, a.fov, a.split)
 
 
 if __name__ == "__main__":
