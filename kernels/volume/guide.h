@@ -238,11 +238,14 @@ inline int lv_guide_lobe_only(lv_guide_vertex *gv, float lobe)
     return lobe > 0.0f;
 }
 
-/* The slot whose light a rough surface at p (geometric normal ng, on the
- * side light arrives from) reads: the region of the cell just in front. */
-inline uint lv_guide_slot(const lv_guide *g, float3 p, float3 ng)
+/* The slot whose light a rough surface reads (geometric normal ng, on the
+ * side light arrives from): the region of the cell just in front of
+ * `from`, where rays leave the surface point (lv_leave_point; as the
+ * gather's lookup points, lv_lookup_point, so that a point on the end of a
+ * wall, which lies on the plane of the wall it meets, reads its own side). */
+inline uint lv_guide_slot(const lv_guide *g, float3 from, float3 ng)
 {
-    return lv_grid_slot_at(&g->grid, lv_front_point(&g->grid, p, ng));
+    return lv_grid_slot_at(&g->grid, lv_front_point(&g->grid, from, ng));
 }
 
 /* The mean radiance (luminance, over all its bins) of the indirect light
