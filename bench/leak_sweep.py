@@ -28,6 +28,7 @@ Set-ups draw 10^5 particles and 4 samples of a 32 x 32 image: a leak is
 there or not, and shows at that count. Takes about a second a set-up."""
 import argparse
 import json
+import math
 import os
 import random
 import subprocess
@@ -35,8 +36,6 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes"))
-import math  # noqa: E402
-
 from make_two_rooms import WALL_X, Y, Z, two_rooms  # noqa: E402
 
 LEAK = 1e-4
@@ -139,7 +138,7 @@ def main():
                          "that ends against the shared one, a room lit as brightly as the bright one beyond it")
     ap.add_argument("--edges", action="store_true",
                     help="in half the set-ups zoom the camera onto a line where the wall meets the floor, the "
-                         "ceiling, a side wall or the cupboard")
+                         "ceiling, a side wall, the cupboard or the --tees wall")
     a = ap.parse_args()
     r, r_wide, r_curved = random.Random(a.seed), random.Random(a.seed + 1000003), random.Random(a.seed + 2000003)
     r_edges, r_tees = random.Random(a.seed + 3000017), random.Random(a.seed + 4000037)
