@@ -11,7 +11,7 @@
  * so the layer in front of it lay on that plane, and the cell's regions
  * counted it on the far side: a camera zoomed onto the line (every pixel
  * within a few hundred nanometres of it) read the bright room's light in
- * most pixels, red 40 times the dim room's blue. Lookup points are now
+ * most pixels, red 12 to 68 times the dim room's blue. Lookup points are now
  * built from where the gather's rays leave the point, on the side the
  * camera ray came from (kernels/volume/lookup.h, lv_lookup_point).
  *
@@ -31,7 +31,6 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "../check.h"
 #include "../harness.h"
