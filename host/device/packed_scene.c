@@ -80,10 +80,13 @@ static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lv
     size_t *group = malloc((n ? n : 1) * sizeof *group), groups = p->material_count + scene->punctual_count;
     double *group_power = calloc(groups ? groups : 1, sizeof *group_power);
     p->lights = calloc(n ? n : 1, sizeof *p->lights);
-    if (!power || !group || !group_power || !p->lights) {
+    p->light_odds = malloc((n ? n : 1) * sizeof *p->light_odds);
+    size_t *number = malloc((groups ? groups : 1) * sizeof *number); /* lv_light.group of each group */
+    if (!power || !group || !group_power || !p->lights || !p->light_odds || !number) {
         free(power);
         free(group);
         free(group_power);
+        free(number);
         free(emitters);
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building a table of %zu lights", n);
     }
@@ -128,20 +131,11 @@ static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lv
     double weight_total = 0;
     for (i = 0; i < n; i++) weight_total += (double)power[i] * factor[group[i]];
     double acc = 0;
-    p->light_odds = malloc((n ? n : 1) * sizeof *p->light_odds);
     /* The groups numbered from 0 in the order their first light comes. */
-    size_t *number = malloc((groups ? groups : 1) * sizeof *number), numbered = 0;
-    if (number)
-        for (size_t g = 0; g < groups; g++) number[g] = SIZE_MAX;
-    for (i = 0; number && i < n; i++)
+    size_t numbered = 0;
+    for (size_t g = 0; g < groups; g++) number[g] = SIZE_MAX;
+    for (i = 0; i < n; i++)
         if (number[group[i]] == SIZE_MAX) number[group[i]] = numbered++;
-    if (!p->light_odds || !number) {
-        free(number);
-        free(power);
-        free(group);
-        free(group_power);
-        return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory building a table of %zu lights", n);
-    }
     for (i = 0; i < n; i++) {
         double w = (double)power[i] * factor[group[i]];
         acc += w;

@@ -333,8 +333,8 @@ int main(void)
             int shared = 0, flagged = 0, built = 1;
             const int cupboard_cells[] = {12, 24, 40};
             const double cupboard_offsets[] = {0.0, 0.37, 0.5};
-            for (size_t ci = 0; ci < 3; ci++)
-                for (size_t oi = 0; oi < 3; oi++)
+            for (size_t ci = 0; ci < sizeof cupboard_cells / sizeof *cupboard_cells; ci++)
+                for (size_t oi = 0; oi < sizeof cupboard_offsets / sizeof *cupboard_offsets; oi++)
                     for (size_t ti = 0; ti < sizeof turns / sizeof *turns; ti++) {
                         int s = 0, f = 0;
                         built &= cupboard_sides(bends[bi], rows, cupboard_cells[ci], cupboard_offsets[oi], turns[ti][0],
