@@ -113,12 +113,19 @@ lvcl_error lvcl_volume_adapt(lvcl_light_volume *vol, double expected_particles, 
                              lvcl_status *st);
 
 /* A fixed-count trace with refined cells or directions refines after this
- * share (1 / LVCL_SPLIT_AFTER) of its particles: the particle it refines
- * at, or 0 where the settings refine nothing. */
+ * share (1 / LVCL_SPLIT_AFTER) of its particles, or after
+ * LVCL_SPLIT_MAX_PARTICLES where that comes first (the particles a time
+ * budget splits after): the particles before the split are traced twice
+ * (the retrace), and scoring the cells needs a number of particles, not a
+ * share. The particle it refines at, or 0 where the settings refine nothing. */
 #define LVCL_SPLIT_AFTER 4
+#define LVCL_SPLIT_MAX_PARTICLES ((uint64_t)1 << 18)
 static inline uint64_t lvcl_volume_split_point(const lvcl_volume_settings *s)
 {
-    return s->refine_density > 0 || s->refine_peak > 0 ? s->particles / LVCL_SPLIT_AFTER : 0;
+    uint64_t share = s->particles / LVCL_SPLIT_AFTER;
+    return s->refine_density > 0 || s->refine_peak > 0
+        ? (share < LVCL_SPLIT_MAX_PARTICLES ? share : LVCL_SPLIT_MAX_PARTICLES)
+        : 0;
 }
 /* --refine on: the density D that a cell's pieces per particle x N must
  * reach, D sqrt(N), to split (docs/light-volume.md, "Refined cells and
