@@ -93,9 +93,9 @@ void lvcl_program_feature_defines(unsigned features, char *defines, size_t size)
              features & LVCL_BUILD_EMULATED_INT64_ATOMICS ? " -DLV_EMULATE_INT64_ATOMICS" : "");
 }
 
-/* CPU devices read a segment's tally lines before their atomics
- * (kernels/volume/tally.h); not the simulator, whose race check would
- * report the read. */
+/* CPU devices prefetch a piece's tally line when they queue its atomics
+ * (kernels/volume/tally.h); not the simulator, which has no caches to
+ * fill. */
 static int preloads_tallies(const lvcl_device *dev)
 {
     return (dev->type & CL_DEVICE_TYPE_CPU) && !lvcl_device_is_simulator(dev);

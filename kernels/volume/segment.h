@@ -182,16 +182,14 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
             }
         }
         s = s_exit;
-        if (s_next.x <= s_next.y && s_next.x <= s_next.z) {
-            cell.x += step.x;
-            s_next.x += s_delta.x;
-        } else if (s_next.y <= s_next.z) {
-            cell.y += step.y;
-            s_next.y += s_delta.y;
-        } else {
-            cell.z += step.z;
-            s_next.z += s_delta.z;
-        }
+        /* On to the cell past the nearest boundary (x before y before z on
+         * ties), by selects: the axis changes from cell to cell, and as a
+         * branch it was mispredicted often enough to cost 3% of the trace. */
+        int x_first = s_next.x <= s_next.y && s_next.x <= s_next.z;
+        int y_first = !x_first && s_next.y <= s_next.z;
+        int3 across = (int3)(x_first ? -1 : 0, y_first ? -1 : 0, x_first || y_first ? 0 : -1);
+        cell += select((int3)(0), step, across);
+        s_next = select(s_next, s_next + s_delta, across);
         if (any(cell < 0) || any(cell >= idims)) break;
     }
     lv_tally_flush(&batch);
