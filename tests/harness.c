@@ -365,7 +365,7 @@ int harness_build_regions(const char *who, const float *tris, size_t n, int cell
     if (ok) ok = !lvcl_volume_assign_slots(&packed, &out->g, count, out->slot, &st);
     if (ok)
         ok = !lvcl_volume_build_regions(&packed, &out->g, count, out->slot, &out->regions, &out->shares, &share_count,
-                                        &st);
+                                        &out->solids, &st);
     if (!ok) fprintf(stderr, "%s: making the regions failed: %s\n", who, st.message);
     lvcl_packed_scene_free(&packed);
     lvcl_accel_free(&accel);
@@ -378,4 +378,5 @@ void harness_free_regions(harness_regions *r)
     free(r->slot);
     free(r->regions);
     free(r->shares);
+    free(r->solids);
 }

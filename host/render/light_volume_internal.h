@@ -10,6 +10,24 @@
 #include "../util/vec3.h"
 #include "light_volume.h"
 
+/* An opaque solid thinner than a quarter cell whose two faces one plane of
+ * a cell stands for (a wall; volume_planes.c): in cell units, the slab
+ * lo[0] <= axis[0] . u <= hi[0] between its faces (axis[0] its normal),
+ * bounded by its faces' extent along the two axes in their plane. The
+ * plane gives half of it to each side's region; without subcells a
+ * region's volume is its lit volume, and light never enters the solid, so
+ * its part there is left out (lvcl_region_open_volume). */
+typedef struct {
+    float axis[3][3];
+    float lo[3], hi[3];
+} lvcl_thin_solid;
+
+/* A stored cell's thin solids (one per plane at most). */
+typedef struct lvcl_cell_solids {
+    uint8_t count;
+    lvcl_thin_solid solid[LV_GEOMETRY_PLANES];
+} lvcl_cell_solids;
+
 struct lvcl_light_volume {
     const lvcl_device *dev;    /* borrowed */
     lvcl_volume_buffers buf;   /* the grid and the buffers the kernels take (tallies: info.slots_per_part
@@ -37,6 +55,7 @@ struct lvcl_light_volume {
     int axis_sums_current; /* they sum the volume lvcl_volume_finish last finished */
     float *region_shares;  /* host copy of the cut cells' region shares */
     size_t region_share_count;
+    lvcl_cell_solids *cell_solids; /* per stored cell, its thin solids (without subcells), or NULL */
     size_t cell_count; /* dims[0] * dims[1] * dims[2] */
     int tally_parts;
     cl_mem bin_table_buf; /* LV_BIN_TABLE_FLOATS(bins) floats, filled by lvcl_volume_trace */
@@ -87,9 +106,12 @@ lvcl_error lvcl_volume_assign_slots(const lvcl_packed_scene *p, lv_grid_info *g,
  * first slot, g->slot_count the slots and *regions (malloc'ed,
  * slot_count + 1 entries) every slot's planes, *shares (malloc'ed,
  * *share_count floats, at least one allocated) the exact region shares
- * that lv_slot_region.shares points into. */
+ * that lv_slot_region.shares points into, and *solids (malloc'ed, per
+ * stored cell; NULL with subcells, which find the lit part themselves)
+ * each cell's thin solids, which its regions' volumes leave out. */
 lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
-                                     lv_slot_region **regions, float **shares, size_t *share_count, lvcl_status *st);
+                                     lv_slot_region **regions, float **shares, size_t *share_count,
+                                     lvcl_cell_solids **solids, lvcl_status *st);
 
 /* The slot of the region holding world point p in a grid whose cells'
  * entries are cell_slot and whose slots' regions are `regions` (what
@@ -103,6 +125,7 @@ typedef struct {
     float planes[LV_REGION_PLANES][4];
     uint8_t count;
     uint64_t mixed; /* bit m: region pattern m is LV_REGION_MIXED */
+    lvcl_cell_solids solids;
 } lvcl_cell_planes;
 
 /* Fills out[] with stored cell s's region shares as lvcl_region_shares
@@ -116,7 +139,8 @@ typedef int (*lvcl_known_shares)(void *ctx, uint32_t s, float *out);
  * holds each cell's first slot (| LV_CUT_CELL where it has planes),
  * g->slot_count the slots, and *regions, *shares and *share_count are as
  * lvcl_volume_build_regions gives them. `known` (may be NULL) saves
- * computing the shares of cells whose planes did not change. */
+ * computing the shares of cells whose planes did not change. Without
+ * subcells a region's volume leaves out its cell's thin solids. */
 lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl_cell_planes *planes,
                                        lvcl_known_shares known, void *ctx, uint32_t *slot, lv_slot_region **regions,
                                        float **shares, size_t *share_count, lvcl_status *st);
@@ -127,6 +151,12 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
  * cell's, then the fraction of each subcell (of the cell if k = 0) in it
  * (volume_shares.c). */
 void lvcl_region_shares(const float planes[][4], int count, uint32_t k, float *out);
+
+/* The volume (over the cell's) of region `pattern` of a cell with these
+ * planes, less its parts inside the cell's thin solids; never under half
+ * the region's own volume (two solids that cross in one cell, a wall's
+ * corner, would take their overlap twice) (volume_shares.c). */
+double lvcl_region_open_volume(const float planes[][4], int count, uint32_t pattern, const lvcl_cell_solids *solids);
 
 /* Finds the blocks of 2 x 2 x 2 cells with no geometry inside whose
  * stored cells may share one tally set, and sets vol->block_of_slot

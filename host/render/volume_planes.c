@@ -576,6 +576,29 @@ static int is_chosen(const int *chosen, int count, int cluster)
     return 0;
 }
 
+/* Adds cluster k to *solids where it is an opaque solid's two faces, back
+ * to back (a face against its normal below one along it) and apart by
+ * more than a facet's tolerance, whose extent in the cell is known: the
+ * slab between them, in cell units from the corner lo. */
+static void keep_thin_solid(const cluster *k, const double lo[3], double h, lvcl_cell_solids *solids)
+{
+    if (k->clear || k->sheet || !k->along_extent || k->top_against == -HUGE_VAL || k->top_along == -HUGE_VAL ||
+        !(k->top_along - k->top_against > FACET_OFFSET * h) || !(lvcl_dot3(k->along_n, k->against_n) > LAYER_NORMAL) ||
+        solids->count >= LV_GEOMETRY_PLANES)
+        return;
+    lvcl_thin_solid *t = &solids->solid[solids->count++];
+    const double *axis[3] = {k->along_n, k->along_axes[0], k->along_axes[1]};
+    const double from[3] = {k->top_against, k->along_lo[0], k->along_lo[1]};
+    const double to[3] = {k->top_along, k->along_hi[0], k->along_hi[1]};
+    for (int a = 0; a < 3; a++) {
+        /* a . x = c  <=>  a . u = (c - a . lo) / h */
+        double at = lvcl_dot3(axis[a], lo);
+        for (int j = 0; j < 3; j++) t->axis[a][j] = (float)axis[a][j];
+        t->lo[a] = (float)((from[a] - at) / h);
+        t->hi[a] = (float)((to[a] - at) / h);
+    }
+}
+
 /* The planes of one stored cell (corner lo) from its clusters (count of
  * them in w), in cell units from its corner: those facing each other
  * across a gap narrower than a quarter cell (and wider than FACET_OFFSET:
@@ -585,8 +608,10 @@ static int is_chosen(const int *chosen, int count, int cluster)
  * gap's thin layer of air, unsplit, would share a region with the leg's
  * inside or with what lies beyond the top. Gaps come first for
  * GAP_PLANES planes, so that a crowded cell's heaviest other surface (a
- * wall between rooms, say) still finds room. Returns their count. */
-static int choose_planes(const cell_scratch *w, int clusters, const double lo[3], double h, float planes[][4])
+ * wall between rooms, say) still finds room. Returns their count; the
+ * thin solids their planes stand for are added to *solids. */
+static int choose_planes(const cell_scratch *w, int clusters, const double lo[3], double h, float planes[][4],
+                         lvcl_cell_solids *solids)
 {
     int chosen[LV_GEOMETRY_PLANES + LAYER_PLANES], count = 0, gaps = 0;
     for (int round = 0; round < LV_GEOMETRY_PLANES + LAYER_PLANES; round++) {
@@ -616,6 +641,7 @@ static int choose_planes(const cell_scratch *w, int clusters, const double lo[3]
         for (int j = 0; j < 3; j++) planes[count][j] = (float)n[j];
         planes[count][3] = (float)((d - lvcl_dot3(n, lo)) / h);
         count++;
+        keep_thin_solid(k, lo, h, solids);
     }
     return count;
 }
@@ -815,11 +841,13 @@ static uint8_t *sheet_triangles(const lvcl_packed_scene *p)
 }
 
 lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
-                                     lv_slot_region **regions, float **shares, size_t *share_count, lvcl_status *st)
+                                     lv_slot_region **regions, float **shares, size_t *share_count,
+                                     lvcl_cell_solids **solids, lvcl_status *st)
 {
     *regions = NULL;
     *shares = NULL;
     *share_count = 0;
+    *solids = NULL;
     size_t stored = g->slot_count;
     facets c = {0};
     cell_scratch w = {0};
@@ -869,8 +897,10 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
                     size_t facets_in = 0;
                     int clusters = cluster_cell(&c, (int)s, &w, g->cell_size, &facets_in);
                     c.failed |= clusters < 0;
-                    planes[s].count =
-                        clusters > 0 ? (uint8_t)choose_planes(&w, clusters, lo, g->cell_size, planes[s].planes) : 0;
+                    planes[s].solids.count = 0;
+                    planes[s].count = clusters > 0
+                        ? (uint8_t)choose_planes(&w, clusters, lo, g->cell_size, planes[s].planes, &planes[s].solids)
+                        : 0;
                     planes[s].mixed = clusters > 0
                         ? mixed_patterns(p, &w, facets_in, (const float(*)[4])planes[s].planes, planes[s].count, lo,
                                          g->cell_size)
@@ -883,9 +913,19 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
     free(w.turned);
     free(w.refs);
     free(w.clusters);
+    if (!failed && !g->subcells) {
+        /* Kept for a later refinement's new regions. */
+        *solids = malloc((stored ? stored : 1) * sizeof **solids);
+        failed = !*solids;
+        for (size_t i = 0; *solids && i < stored; i++) (*solids)[i] = planes[i].solids;
+    }
     lvcl_error e = failed
         ? lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' planes")
         : lvcl_volume_lay_out_regions(g, cells, planes, NULL, NULL, slot, regions, shares, share_count, st);
+    if (e) {
+        free(*solids);
+        *solids = NULL;
+    }
     free(planes);
     return e;
 }
@@ -927,11 +967,12 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
         base[s] = (uint32_t)total;
         first[s] = LV_NO_SHARES;
         kept[s] = 1;
+        int computed = 0; /* its shares, not the known ones */
         if (count) {
             /* The exact shares (volume_shares.c); a pattern whose region
              * has under a millionth of the cell gets no slot. */
-            if (!known || !known(ctx, (uint32_t)s, tmp))
-                lvcl_region_shares((const float(*)[4])planes[s].planes, (int)count, k, tmp);
+            computed = !known || !known(ctx, (uint32_t)s, tmp);
+            if (computed) lvcl_region_shares((const float(*)[4])planes[s].planes, (int)count, k, tmp);
             kept[s] = 0;
             for (uint32_t m = 0; m < patterns; m++)
                 if (tmp[m * per] > 1e-6f) kept[s] |= (uint64_t)1 << m, index[m] = n++;
@@ -972,7 +1013,12 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
                 const float *from = tmp + m * per;
                 uint64_t mask = present_subcells(from, k);
                 present[total++] = mask;
-                sh[share_total++] = from[0];
+                /* Without subcells the region's volume is its lit volume:
+                 * less its thin solids', where light never goes. */
+                sh[share_total++] = computed && !k && planes[s].solids.count
+                    ? (float)lvcl_region_open_volume((const float(*)[4])planes[s].planes, (int)count, m,
+                                                     &planes[s].solids)
+                    : from[0];
                 for (uint32_t i = 0; k && i < k * k * k; i++)
                     if (mask >> i & 1u) sh[share_total++] = from[1 + i];
             }

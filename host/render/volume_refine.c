@@ -151,6 +151,7 @@ static size_t collect(const lvcl_light_volume *vol, const int64_t *tallies, doub
         memcpy(planes[s].planes, vol->regions[base].planes, sizeof planes[s].planes);
         planes[s].count = (uint8_t)(entry & LV_CUT_CELL ? vol->regions[base].plane_count : 0);
         planes[s].mixed = 0; /* the new slots take their old slot's flag (lvcl_volume_refine) */
+        planes[s].solids = vol->cell_solids ? vol->cell_solids[s] : (lvcl_cell_solids){0};
         first_slot[s] = base;
         lvcl_cell_planes trial = planes[s];
         int added = add_middle_planes(&trial);

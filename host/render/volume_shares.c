@@ -175,3 +175,41 @@ void lvcl_region_shares(const float planes[][4], int count, uint32_t k, float *o
     }
     for (uint32_t m = 0; m < regions; m++) out[m * per] = (float)whole[m];
 }
+
+/* Solids' parts smaller than this (of the cell) are left in: a region that
+ * is all rounding keeps its volume. */
+#define OPEN_VOLUME_MIN 1e-3
+
+/* Keeps the part of t where s (n . u - c) >= 0, as clip does, but leaves
+ * t whole where all of it is there already: clip would add the face a
+ * plane through one of t's faces holds a second time as its cap. */
+static void clip_if_cut(polytope *t, const float plane[4], double s)
+{
+    double n[3] = {s * plane[0], s * plane[1], s * plane[2]}, c = s * plane[3];
+    int outside = 0;
+    for (int f = 0; f < t->n && !outside; f++)
+        for (int i = 0; i < t->f[f].n && !outside; i++) outside = lvcl_dot3(n, t->f[f].v[i]) - c < -1e-12;
+    if (outside) clip(t, plane, s);
+}
+
+double lvcl_region_open_volume(const float planes[][4], int count, uint32_t pattern, const lvcl_cell_solids *solids)
+{
+    const double origin[3] = {0, 0, 0};
+    polytope region;
+    make_box(&region, origin, 1.0);
+    for (int j = 0; j < count && region.n; j++) clip_if_cut(&region, planes[j], pattern >> j & 1u ? 1.0 : -1.0);
+    double whole = volume(&region), open = whole;
+    if (!(whole >= OPEN_VOLUME_MIN)) return whole;
+    for (int i = 0; i < solids->count; i++) {
+        const lvcl_thin_solid *s = &solids->solid[i];
+        polytope inside = region;
+        for (int a = 0; a < 3 && inside.n; a++) {
+            const float lo[4] = {s->axis[a][0], s->axis[a][1], s->axis[a][2], s->lo[a]};
+            const float hi[4] = {s->axis[a][0], s->axis[a][1], s->axis[a][2], s->hi[a]};
+            clip_if_cut(&inside, lo, 1.0);
+            if (inside.n) clip_if_cut(&inside, hi, -1.0);
+        }
+        open -= volume(&inside);
+    }
+    return fmax(open, 0.5 * whole);
+}

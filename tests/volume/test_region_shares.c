@@ -1,7 +1,9 @@
 /* The exact shares of the regions of cut cells (host/render/volume_shares.c):
  * closed forms for one plane (an axis-aligned wall, a corner cut by a
  * slanted one), and for three slanted planes a fine lattice of points;
- * the regions' shares of every subcell add up to 1. */
+ * the regions' shares of every subcell add up to 1; a region's volume
+ * less its parts inside thin solids (lvcl_region_open_volume) by closed
+ * forms and a lattice. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,6 +12,96 @@
 #include "../check.h"
 
 #define PER(k) (1u + ((k) ? (k) * (k) * (k) : 1u))
+
+/* A thin solid between n . u = lo and hi, over [a_lo, a_hi] along a1 and
+ * [b_lo, b_hi] along a2 (n, a1, a2 orthonormal). */
+static lvcl_thin_solid slab(const float n[3], float lo, float hi, const float a1[3], float a_lo, float a_hi,
+                            const float a2[3], float b_lo, float b_hi)
+{
+    lvcl_thin_solid t = {.lo = {lo, a_lo, b_lo}, .hi = {hi, a_hi, b_hi}};
+    for (int j = 0; j < 3; j++) t.axis[0][j] = n[j], t.axis[1][j] = a1[j], t.axis[2][j] = a2[j];
+    return t;
+}
+
+/* Region `pattern`'s volume outside the solids by a 120^3 lattice. */
+static double lattice_open(const float planes[][4], int count, unsigned pattern, const lvcl_cell_solids *c)
+{
+    const unsigned m = 120;
+    double open = 0;
+    for (unsigned z = 0; z < m; z++)
+        for (unsigned y = 0; y < m; y++)
+            for (unsigned x = 0; x < m; x++) {
+                double u[3] = {(x + 0.5) / m, (y + 0.5) / m, (z + 0.5) / m};
+                unsigned p = 0;
+                for (int j = 0; j < count; j++)
+                    if (planes[j][0] * u[0] + planes[j][1] * u[1] + planes[j][2] * u[2] > planes[j][3]) p |= 1u << j;
+                int inside = 0;
+                for (int i = 0; i < c->count && !inside; i++) {
+                    inside = 1;
+                    for (int a = 0; a < 3; a++) {
+                        const float *ax = c->solid[i].axis[a];
+                        double d = ax[0] * u[0] + ax[1] * u[1] + ax[2] * u[2];
+                        inside &= d >= c->solid[i].lo[a] && d <= c->solid[i].hi[a];
+                    }
+                }
+                open += p == pattern && !inside;
+            }
+    return open / ((double)m * m * m);
+}
+
+/* Thin solids leave their inside out of the regions' volumes. */
+static void test_open_volume(void)
+{
+    const float x[3] = {1, 0, 0}, y[3] = {0, 1, 0}, z[3] = {0, 0, 1};
+    /* A wall 0.1 thick through the middle, its plane at x = 0.5: each side
+     * loses 0.05; over half the cell's height, 0.025; with the slab off
+     * centre (0.46 to 0.56), the sides lose 0.04 and 0.06. */
+    float mid[1][4] = {{1, 0, 0, 0.5f}};
+    lvcl_cell_solids whole = {1, {slab(x, 0.45f, 0.55f, y, 0, 1, z, 0, 1)}};
+    lvcl_cell_solids half = {1, {slab(x, 0.45f, 0.55f, y, 0, 0.5f, z, 0, 1)}};
+    lvcl_cell_solids off = {1, {slab(x, 0.46f, 0.56f, y, 0, 1, z, 0, 1)}};
+    double v[6] = {lvcl_region_open_volume((const float(*)[4])mid, 1, 0, &whole),
+                   lvcl_region_open_volume((const float(*)[4])mid, 1, 1, &whole),
+                   lvcl_region_open_volume((const float(*)[4])mid, 1, 0, &half),
+                   lvcl_region_open_volume((const float(*)[4])mid, 1, 1, &half),
+                   lvcl_region_open_volume((const float(*)[4])mid, 1, 0, &off),
+                   lvcl_region_open_volume((const float(*)[4])mid, 1, 1, &off)};
+    const double want[6] = {0.45, 0.45, 0.475, 0.475, 0.46, 0.44};
+    double worst = 0;
+    for (int i = 0; i < 6; i++) worst = fmax(worst, fabs(v[i] - want[i]));
+    CHECK("open volume: a wall through the middle, whole, over half the cell, off centre", worst < 1e-6,
+          "off by %.2e (%g %g, %g %g, %g %g)", worst, v[0], v[1], v[2], v[3], v[4], v[5]);
+    /* No solid, or one outside the region: its whole volume. */
+    lvcl_cell_solids none = {0}, beyond = {1, {slab(x, 0.7f, 0.8f, y, 0, 1, z, 0, 1)}};
+    double free_side = lvcl_region_open_volume((const float(*)[4])mid, 1, 0, &none),
+           far_side = lvcl_region_open_volume((const float(*)[4])mid, 1, 0, &beyond);
+    CHECK("open volume: no solid in the region, its whole volume",
+          fabs(free_side - 0.5) < 1e-6 && fabs(far_side - 0.5) < 1e-6, "%g and %g, not 0.5", free_side, far_side);
+    /* More than half the region inside: never under half its volume. */
+    lvcl_cell_solids thick = {1, {slab(x, 0.1f, 0.9f, y, 0, 1, z, 0, 1)}};
+    double floor_v = lvcl_region_open_volume((const float(*)[4])mid, 1, 1, &thick);
+    CHECK("open volume: at least half the region", fabs(floor_v - 0.25) < 1e-6, "%g, not 0.25", floor_v);
+    /* A slanted wall with a plane through it, a slab of part of its
+     * extent, and a second wall across it (their overlap taken twice),
+     * against a lattice. */
+    const float r = (float)(1 / sqrt(2.0)), n[3] = {r, r, 0}, t[3] = {-r, r, 0};
+    float two[2][4] = {{r, r, 0, 0.7f}, {0, 0, 1, 0.6f}};
+    lvcl_cell_solids crossing = {
+        2, {slab(n, 0.65f, 0.75f, t, -0.5f, 0.3f, z, 0.1f, 0.9f), slab(z, 0.57f, 0.63f, x, 0, 1, y, 0.2f, 1)}};
+    double lattice_worst = 0;
+    for (unsigned p = 0; p < 4; p++) {
+        double exact = lvcl_region_open_volume((const float(*)[4])two, 2, p, &crossing);
+        /* Each solid's part taken out on its own, the overlap twice. */
+        lvcl_cell_solids first = {1, {crossing.solid[0]}}, second = {1, {crossing.solid[1]}};
+        double a = lattice_open((const float(*)[4])two, 2, p, &first);
+        double b = lattice_open((const float(*)[4])two, 2, p, &second);
+        double region = lattice_open((const float(*)[4])two, 2, p, &none);
+        lattice_worst = fmax(lattice_worst, fabs(exact - fmax(a + b - region, 0.5 * region)));
+    }
+    printf("(open volume: worst %.2e against the lattice)\n", lattice_worst);
+    CHECK("open volume: two slabs and two planes match a 120^3 lattice", lattice_worst < 2e-3, "off by %.2e",
+          lattice_worst);
+}
 
 int main(void)
 {
@@ -79,5 +171,6 @@ int main(void)
     CHECK("region shares: three slanted planes, each subcell's shares add up to 1",
           sum_worst < 1e-5 && whole_worst < 1e-6, "sum off by %.2e, the cell's volume by %.2e", sum_worst, whole_worst);
     free(lattice);
+    test_open_volume();
     CHECK_EXIT();
 }
