@@ -90,7 +90,7 @@ inline void lv_tally_lobe(__global long *lobe, float3 amount, float3 dir)
  * or or is a full fence: done as the walk meets the cells, each miss waits
  * for the one before. So each piece's line is prefetched (for writing)
  * when the piece is queued, and the atomics run when the batch is full,
- * by which time the walk has covered the misses (the particle trace 8%
+ * by which time the walk has covered the misses (the particle trace 5%
  * faster than reading the batch's lines in one burst before its atomics,
  * and that was 15-20% faster than no batch; docs/performance.md). A GPU
  * does its atomics in its caches, so there the batch is one add, done at
