@@ -37,7 +37,6 @@ typedef struct {
     uint32_t *slot; /* per cell */
     lv_slot_region *regions;
     float *shares;
-    struct lvcl_cell_solids *solids; /* without subcells, per stored cell */
 } harness_regions;
 int harness_build_regions(const char *who, const float *tris, size_t n, int cells, double offset, int subcells,
                           harness_regions *out);

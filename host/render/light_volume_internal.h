@@ -23,10 +23,19 @@ typedef struct {
 } lvcl_thin_solid;
 
 /* A stored cell's thin solids (one per plane at most). */
-typedef struct lvcl_cell_solids {
+typedef struct {
     uint8_t count;
     lvcl_thin_solid solid[LV_GEOMETRY_PLANES];
 } lvcl_cell_solids;
+
+/* The thin solids of the cells that have any, kept without subcells
+ * only (with subcells the lit volume leaves a solid's inside out by
+ * itself): per stored cell its entry in `list`, or LVCL_NO_SOLIDS. */
+#define LVCL_NO_SOLIDS 0xffffffffu
+typedef struct lvcl_thin_solids {
+    uint32_t *of_cell;
+    lvcl_cell_solids *list;
+} lvcl_thin_solids;
 
 struct lvcl_light_volume {
     const lvcl_device *dev;    /* borrowed */
@@ -55,7 +64,7 @@ struct lvcl_light_volume {
     int axis_sums_current; /* they sum the volume lvcl_volume_finish last finished */
     float *region_shares;  /* host copy of the cut cells' region shares */
     size_t region_share_count;
-    lvcl_cell_solids *cell_solids; /* per stored cell, its thin solids (without subcells), or NULL */
+    lvcl_thin_solids thin_solids; /* without subcells, the cells' thin solids (none: NULLs) */
     size_t cell_count; /* dims[0] * dims[1] * dims[2] */
     int tally_parts;
     cl_mem bin_table_buf; /* LV_BIN_TABLE_FLOATS(bins) floats, filled by lvcl_volume_trace */
@@ -106,12 +115,15 @@ lvcl_error lvcl_volume_assign_slots(const lvcl_packed_scene *p, lv_grid_info *g,
  * first slot, g->slot_count the slots and *regions (malloc'ed,
  * slot_count + 1 entries) every slot's planes, *shares (malloc'ed,
  * *share_count floats, at least one allocated) the exact region shares
- * that lv_slot_region.shares points into, and *solids (malloc'ed, per
- * stored cell; NULL with subcells, which find the lit part themselves)
- * each cell's thin solids, which its regions' volumes leave out. */
+ * that lv_slot_region.shares points into, and *solids (its arrays
+ * malloc'ed, or NULL with subcells or where no cell has any) the cells'
+ * thin solids, which their regions' volumes leave out. */
 lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
                                      lv_slot_region **regions, float **shares, size_t *share_count,
-                                     lvcl_cell_solids **solids, lvcl_status *st);
+                                     lvcl_thin_solids *solids, lvcl_status *st);
+
+/* Frees what lvcl_volume_build_regions put in *solids and empties it. */
+void lvcl_thin_solids_free(lvcl_thin_solids *solids);
 
 /* The slot of the region holding world point p in a grid whose cells'
  * entries are cell_slot and whose slots' regions are `regions` (what
@@ -125,7 +137,7 @@ typedef struct {
     float planes[LV_REGION_PLANES][4];
     uint8_t count;
     uint64_t mixed; /* bit m: region pattern m is LV_REGION_MIXED */
-    lvcl_cell_solids solids;
+    uint32_t solids; /* its entry in the thin solids' list, or LVCL_NO_SOLIDS */
 } lvcl_cell_planes;
 
 /* Fills out[] with stored cell s's region shares as lvcl_region_shares
@@ -140,10 +152,12 @@ typedef int (*lvcl_known_shares)(void *ctx, uint32_t s, float *out);
  * g->slot_count the slots, and *regions, *shares and *share_count are as
  * lvcl_volume_build_regions gives them. `known` (may be NULL) saves
  * computing the shares of cells whose planes did not change. Without
- * subcells a region's volume leaves out its cell's thin solids. */
+ * subcells a region's volume leaves out its cell's thin solids (solids:
+ * the list that planes[].solids index, or NULL). */
 lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl_cell_planes *planes,
-                                       lvcl_known_shares known, void *ctx, uint32_t *slot, lv_slot_region **regions,
-                                       float **shares, size_t *share_count, lvcl_status *st);
+                                       const lvcl_cell_solids *solids, lvcl_known_shares known, void *ctx,
+                                       uint32_t *slot, lv_slot_region **regions, float **shares, size_t *share_count,
+                                       lvcl_status *st);
 
 /* The exact shares of the 2^count regions of a cell with these planes (cell
  * units, lv_slot_region's convention) and k^3 subcells (k = 0: none): per

@@ -840,14 +840,46 @@ static uint8_t *sheet_triangles(const lvcl_packed_scene *p)
     return sheet;
 }
 
+void lvcl_thin_solids_free(lvcl_thin_solids *solids)
+{
+    free(solids->of_cell);
+    free(solids->list);
+    solids->of_cell = NULL;
+    solids->list = NULL;
+}
+
+/* Keeps stored cell s's thin solids (without subcells): its entry in
+ * solids->list, grown as needed (*capacity entries). Returns 0 out of
+ * memory. */
+static int keep_cell_solids(lvcl_thin_solids *solids, size_t stored, size_t s, const lvcl_cell_solids *found,
+                            size_t *count, size_t *capacity)
+{
+    if (!solids->of_cell) {
+        solids->of_cell = malloc((stored ? stored : 1) * sizeof *solids->of_cell);
+        if (!solids->of_cell) return 0;
+        for (size_t i = 0; i < stored; i++) solids->of_cell[i] = LVCL_NO_SOLIDS;
+    }
+    if (*count == *capacity) {
+        size_t grown = *capacity ? 2 * *capacity : 256;
+        lvcl_cell_solids *list = realloc(solids->list, grown * sizeof *list);
+        if (!list) return 0;
+        solids->list = list;
+        *capacity = grown;
+    }
+    solids->list[*count] = *found;
+    solids->of_cell[s] = (uint32_t)(*count)++;
+    return 1;
+}
+
 lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
                                      lv_slot_region **regions, float **shares, size_t *share_count,
-                                     lvcl_cell_solids **solids, lvcl_status *st)
+                                     lvcl_thin_solids *solids, lvcl_status *st)
 {
     *regions = NULL;
     *shares = NULL;
     *share_count = 0;
-    *solids = NULL;
+    *solids = (lvcl_thin_solids){0};
+    size_t solid_cells = 0, solid_capacity = 0;
     size_t stored = g->slot_count;
     facets c = {0};
     cell_scratch w = {0};
@@ -897,10 +929,15 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
                     size_t facets_in = 0;
                     int clusters = cluster_cell(&c, (int)s, &w, g->cell_size, &facets_in);
                     c.failed |= clusters < 0;
-                    planes[s].solids.count = 0;
+                    lvcl_cell_solids found = {0};
                     planes[s].count = clusters > 0
-                        ? (uint8_t)choose_planes(&w, clusters, lo, g->cell_size, planes[s].planes, &planes[s].solids)
+                        ? (uint8_t)choose_planes(&w, clusters, lo, g->cell_size, planes[s].planes, &found)
                         : 0;
+                    planes[s].solids = LVCL_NO_SOLIDS;
+                    /* Kept for the regions' volumes, and for a later refinement's new regions. */
+                    if (found.count && !g->subcells && !c.failed)
+                        c.failed = !keep_cell_solids(solids, stored, s, &found, &solid_cells, &solid_capacity);
+                    if (solids->of_cell) planes[s].solids = solids->of_cell[s];
                     planes[s].mixed = clusters > 0
                         ? mixed_patterns(p, &w, facets_in, (const float(*)[4])planes[s].planes, planes[s].count, lo,
                                          g->cell_size)
@@ -913,19 +950,10 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
     free(w.turned);
     free(w.refs);
     free(w.clusters);
-    if (!failed && !g->subcells) {
-        /* Kept for a later refinement's new regions. */
-        *solids = malloc((stored ? stored : 1) * sizeof **solids);
-        failed = !*solids;
-        for (size_t i = 0; *solids && i < stored; i++) (*solids)[i] = planes[i].solids;
-    }
-    lvcl_error e = failed
-        ? lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' planes")
-        : lvcl_volume_lay_out_regions(g, cells, planes, NULL, NULL, slot, regions, shares, share_count, st);
-    if (e) {
-        free(*solids);
-        *solids = NULL;
-    }
+    lvcl_error e = failed ? lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' planes")
+                          : lvcl_volume_lay_out_regions(g, cells, planes, solids->list, NULL, NULL, slot, regions,
+                                                        shares, share_count, st);
+    if (e) lvcl_thin_solids_free(solids);
     free(planes);
     return e;
 }
@@ -942,8 +970,9 @@ static uint64_t present_subcells(const float *share, uint32_t k)
 }
 
 lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl_cell_planes *planes,
-                                       lvcl_known_shares known, void *ctx, uint32_t *slot, lv_slot_region **regions,
-                                       float **shares, size_t *share_count, lvcl_status *st)
+                                       const lvcl_cell_solids *solids, lvcl_known_shares known, void *ctx,
+                                       uint32_t *slot, lv_slot_region **regions, float **shares, size_t *share_count,
+                                       lvcl_status *st)
 {
     *regions = NULL;
     *shares = NULL;
@@ -1015,9 +1044,9 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
                 present[total++] = mask;
                 /* Without subcells the region's volume is its lit volume:
                  * less its thin solids', where light never goes. */
-                sh[share_total++] = computed && !k && planes[s].solids.count
+                sh[share_total++] = computed && !k && solids && planes[s].solids != LVCL_NO_SOLIDS
                     ? (float)lvcl_region_open_volume((const float(*)[4])planes[s].planes, (int)count, m,
-                                                     &planes[s].solids)
+                                                     &solids[planes[s].solids])
                     : from[0];
                 for (uint32_t i = 0; k && i < k * k * k; i++)
                     if (mask >> i & 1u) sh[share_total++] = from[1 + i];
