@@ -70,7 +70,7 @@ inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray 
     lv_offer_lit_point(grid, lit, &side);
     /* Both go to the region of the lit point, the hit's side of the surface. */
     if (lv_rng_next(&side) < grid->g.visibility_rate)
-        return lv_sample_subcell_visibility(grid, sc, lit, r.origin, &side);
+        return lv_sample_subcell_visibility(grid, sc, s->p, lit, r.origin, &side);
     return 0u;
 }
 

@@ -70,30 +70,43 @@ inline float3 lv_subcell_point(const lv_grid *grid, float3 cell, float3 sub, flo
 }
 
 /* Visibility rays (paper 4.1): where a particle that came from `from` hit a
- * surface, with q the point just off the hit on its side (the lit point it
- * offers), one ray from a random point of q's subcell, within q's region,
- * back to `from`; whether it got through estimates how much of that part of
- * the subcell the light reaches (a wall through the subcell blocks the
- * points behind it). Counted in q's region slot. Returns the rays cast. */
-inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc, float3 q, float3 from, lv_rng *rng)
+ * surface at p, with q the point just off the hit on its side (the lit
+ * point it offers), one ray from a random point of the subcell holding p,
+ * within q's cell and region, back to `from`; whether it got through
+ * estimates how much of that part of the subcell the light reaches (a wall
+ * through the subcell blocks the points behind it). The subcell is p's,
+ * not q's: where a surface lies within q's offset of a subcell's face, q
+ * falls in the next subcell, and the one the surface crosses got no rays
+ * and counted as lit throughout, a thin wall's inside too (the dim room
+ * read 5-11% dark). The point is uniform in the subcell's part of the
+ * region, by rejection: after eight draws outside it no ray is cast (q in
+ * their place counted its open view for what lies behind the wall).
+ * Counted in q's region slot. Returns the rays cast. */
+inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc, float3 p, float3 q, float3 from,
+                                         lv_rng *rng)
 {
     uint slot = lv_grid_slot_at(grid, q);
     if (slot == LV_EMPTY_CELL) return 0u;
     float3 cell, sub;
+    uint k = grid->g.subcells;
     uint entry = lv_subcell_entry(grid, slot, lv_subcell_at(grid, q, &cell, &sub));
+    /* p's subcell, counted in q's cell (p may lie on its face), where the
+     * region has a part of it. */
+    float3 at = clamp(floor(((p - lv_grid_origin(grid)) / grid->g.cell_size - cell) * (float)k), 0.0f, (float)(k - 1u));
+    uint hit_entry = lv_subcell_entry(grid, slot, (uint)at.x + k * ((uint)at.y + k * (uint)at.z));
+    if (hit_entry != LV_NO_ENTRY) {
+        entry = hit_entry;
+        sub = at;
+    }
     float3 x = lv_subcell_point(grid, cell, sub, lv_rng_next3(rng));
     if (entry == LV_NO_ENTRY) return 0u;
-    /* In a cut cell the point must lie in q's region: a few tries, then q. */
     __global const lv_slot_region *r = grid->regions + slot;
     if (r->plane_count) {
         float3 corner = lv_grid_origin(grid) + cell * grid->g.cell_size;
-        int tries = 0;
         uint planes = r->plane_count, own = LV_REGION_OFFSET(r, r->region);
-        while (LV_REGION_OFFSET(r, lv_region_of(r, planes, (x - corner) / grid->g.cell_size)) != own) {
-            if (++tries == 4) {
-                x = q;
-                break;
-            }
+        for (int tries = 1; LV_REGION_OFFSET(r, lv_region_of(r, planes, (x - corner) / grid->g.cell_size)) != own;
+             tries++) {
+            if (tries == 8) return 0u;
             x = lv_subcell_point(grid, cell, sub, lv_rng_next3(rng));
         }
     }
