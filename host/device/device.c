@@ -1,9 +1,13 @@
+/* madvise and MADV_HUGEPAGE (huge_page_buffer) are beyond POSIX. */
+#define _DEFAULT_SOURCE
+
 #include "device.h"
 
 #include <errno.h>
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -267,8 +271,61 @@ lvcl_error lvcl_cl_check(cl_int err, const char *what, lvcl_status *st)
     return lvcl_fail(st, code, "%s failed: %s", what, lvcl_cl_error_name(err));
 }
 
+/* Buffers from this size up live, on a CPU device, in memory lvcl
+ * allocates on 2 MiB boundaries and asks the kernel to back with huge
+ * pages: the light volume's tallies and a large scene's BVH are read and
+ * added to at random, and with 4 KiB pages nearly every such access also
+ * missed the TLB (the particle trace 6% faster on the kitchen's 89 MB
+ * volume; docs/performance.md, "Huge pages"). */
+#define HUGE_PAGE_BYTES ((size_t)2 << 20)
+#define HUGE_BUFFER_BYTES ((size_t)4 << 20)
+
+#ifdef MADV_HUGEPAGE
+static void CL_CALLBACK free_host_memory(cl_mem buffer, void *memory)
+{
+    (void)buffer;
+    free(memory);
+}
+#endif
+
+/* The buffer over host memory of its own, or NULL with *err CL_SUCCESS
+ * where huge pages do not apply (then the caller creates it as usual). */
+static cl_mem huge_page_buffer(const lvcl_device *dev, cl_mem_flags flags, size_t bytes, void *host, cl_int *err)
+{
+    *err = CL_SUCCESS;
+#ifdef MADV_HUGEPAGE
+    if (!(dev->type & CL_DEVICE_TYPE_CPU) || lvcl_device_is_simulator(dev) || bytes < HUGE_BUFFER_BYTES ||
+        (flags & (CL_MEM_USE_HOST_PTR | CL_MEM_ALLOC_HOST_PTR)))
+        return NULL;
+    size_t rounded = (bytes + HUGE_PAGE_BYTES - 1) / HUGE_PAGE_BYTES * HUGE_PAGE_BYTES;
+    void *memory = NULL;
+    if (posix_memalign(&memory, HUGE_PAGE_BYTES, rounded)) {
+        *err = CL_OUT_OF_HOST_MEMORY;
+        return NULL;
+    }
+    madvise(memory, rounded, MADV_HUGEPAGE); /* a hint: without it the buffer works as well */
+    if (flags & CL_MEM_COPY_HOST_PTR) memcpy(memory, host, bytes);
+    cl_mem buffer = clCreateBuffer(dev->context, (flags & ~(cl_mem_flags)CL_MEM_COPY_HOST_PTR) | CL_MEM_USE_HOST_PTR,
+                                   bytes, memory, err);
+    if (buffer && clSetMemObjectDestructorCallback(buffer, free_host_memory, memory) != CL_SUCCESS) {
+        clReleaseMemObject(buffer);
+        buffer = NULL;
+    }
+    if (!buffer) {
+        free(memory);
+        *err = CL_SUCCESS; /* as usual, then */
+    }
+    return buffer;
+#else
+    (void)dev, (void)flags, (void)bytes, (void)host;
+    return NULL;
+#endif
+}
+
 cl_mem lvcl_buffer_create(const lvcl_device *dev, cl_mem_flags flags, size_t bytes, void *host, cl_int *err)
 {
+    cl_mem buffer = huge_page_buffer(dev, flags, bytes, host, err);
+    if (buffer || *err != CL_SUCCESS) return buffer;
     if (dev->type & CL_DEVICE_TYPE_CPU) {
         void *probe = malloc(bytes ? bytes : 1);
         if (!probe) {

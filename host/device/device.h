@@ -64,7 +64,10 @@ const char *lvcl_cl_error_name(cl_int err);
 /* clCreateBuffer on dev. A CPU device's memory is the host's, and PoCL
  * aborts (an assertion) when it cannot allocate a buffer's memory on
  * first use, so there a host allocation of the same size is tried first:
- * if it fails, *err is CL_OUT_OF_HOST_MEMORY and no buffer is made. */
+ * if it fails, *err is CL_OUT_OF_HOST_MEMORY and no buffer is made. There
+ * a buffer of 4 MiB or more lives in host memory lvcl allocates for it, in
+ * huge pages where the system allows (CL_MEM_USE_HOST_PTR; freed when the
+ * buffer is released). */
 cl_mem lvcl_buffer_create(const lvcl_device *dev, cl_mem_flags flags, size_t bytes, void *host, cl_int *err);
 
 /* The one check of OpenCL results: LVCL_OK if err is CL_SUCCESS; else
