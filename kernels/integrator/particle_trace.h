@@ -53,9 +53,7 @@ inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray 
                                 float3 weight, float3 sigma, const lv_bin_tables *concentrated, int lobe, lv_rng *rng)
 {
     uint fine = lv_direction_bin(r.dir, 2u * grid->g.dirs);
-    lv_tally_segment(grid, r.origin, r.dir, 0.0f, h.t, (uint2)(lv_coarse_bin(fine, grid->g.dirs), fine), weight, sigma,
-                     concentrated, lobe);
-    if (!grid->g.subcells || h.tri == LV_NO_HIT || grid->restarted_only) return 0u;
+    int offers = grid->g.subcells && h.tri != LV_NO_HIT && !grid->restarted_only;
     /* The lit point and the visibility ray draw from a stream of their
      * own: how many numbers a visibility ray takes depends on the cell's
      * regions, which refining changes, and a retrace must walk each
@@ -65,9 +63,17 @@ inline uint lv_particle_deposit(const lv_scene *sc, const lv_grid *grid, lv_ray 
      * reached: off along the normal, by more than a lit point's rounding
      * (1/512 subcell per axis), so even a grazing hit's point stays on
      * that side. */
-    float3 toward = dot(r.dir, s->ng) < 0.0f ? s->ng : -s->ng;
-    float3 lit = s->p + toward * (0.02f * grid->g.cell_size / (float)grid->g.subcells);
-    lv_offer_lit_point(grid, lit, &side);
+    float3 lit = (float3)(0.0f);
+    lv_lit_offer offer = {LV_NO_ENTRY, 0u};
+    if (offers) {
+        float3 toward = dot(r.dir, s->ng) < 0.0f ? s->ng : -s->ng;
+        lit = s->p + toward * (0.02f * grid->g.cell_size / (float)grid->g.subcells);
+        offer = lv_lit_point_offer(grid, lit, &side);
+    }
+    lv_tally_segment(grid, r.origin, r.dir, 0.0f, h.t, (uint2)(lv_coarse_bin(fine, grid->g.dirs), fine), weight, sigma,
+                     concentrated, lobe);
+    if (!offers) return 0u;
+    lv_lit_point_keep(grid, offer);
     /* Both go to the region of the lit point, the hit's side of the surface. */
     if (lv_rng_next(&side) < grid->g.visibility_rate)
         return lv_sample_subcell_visibility(grid, sc, s->p, lit, r.origin, &side);

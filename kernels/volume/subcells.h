@@ -116,21 +116,38 @@ inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
     return 1u;
 }
 
+/* A lit point offered: where its subcell keeps it (LV_NO_ENTRY: nowhere)
+ * and the word (lv_lit_point_offer). */
+typedef struct {
+    uint entry, word;
+} lv_lit_offer;
+
 /* Offers q, a point light reached, as its subcell's lit point (in q's
- * region slot). The word
- * kept is the largest offered (a random priority, then the position), so
- * it does not depend on the order particles ran in. */
-inline void lv_offer_lit_point(const lv_grid *grid, float3 q, lv_rng *rng)
+ * region slot); lv_lit_point_keep stores it. The word kept is the largest
+ * offered (a random priority, then the position), so it does not depend
+ * on the order particles ran in. Apart, so that the word's line, a random
+ * one of the subcell records, is fetched while the particle's segment is
+ * tallied (on CPU devices, LV_PRELOAD_TALLIES). */
+inline lv_lit_offer lv_lit_point_offer(const lv_grid *grid, float3 q, lv_rng *rng)
 {
+    lv_lit_offer o = {LV_NO_ENTRY, 0u};
     uint slot = lv_grid_slot_at(grid, q);
-    if (slot == LV_EMPTY_CELL) return;
+    if (slot == LV_EMPTY_CELL) return o;
     float3 cell, sub;
-    uint entry = lv_subcell_entry(grid, slot, lv_subcell_at(grid, q, &cell, &sub));
+    o.entry = lv_subcell_entry(grid, slot, lv_subcell_at(grid, q, &cell, &sub));
     float3 u = (q - lv_grid_origin(grid)) / grid->g.cell_size - cell;
     uint3 at = min(convert_uint3(clamp(u * (float)grid->g.subcells - sub, 0.0f, 1.0f) * 256.0f), (uint3)(255u));
     uint priority = 1u + min((uint)(lv_rng_next(rng) * 255.0f), 254u);
-    if (entry == LV_NO_ENTRY) return;
-    atomic_max(&grid->lit_points[entry], priority << 24 | at.x << 16 | at.y << 8 | at.z);
+    o.word = priority << 24 | at.x << 16 | at.y << 8 | at.z;
+#ifdef LV_PRELOAD_TALLIES
+    if (o.entry != LV_NO_ENTRY) __builtin_prefetch((const void *)(size_t)(grid->lit_points + o.entry), 1, 3);
+#endif
+    return o;
+}
+
+inline void lv_lit_point_keep(const lv_grid *grid, lv_lit_offer o)
+{
+    if (o.entry != LV_NO_ENTRY) atomic_max(&grid->lit_points[o.entry], o.word);
 }
 
 /* Whether the light the volume holds reached q (with subcells). A tallied
