@@ -969,6 +969,9 @@ static uint64_t present_subcells(const float *share, uint32_t k)
     return present;
 }
 
+/* Cells whose shares lvcl_volume_lay_out_regions works out at a time. */
+#define SHARE_CHUNK 4096
+
 lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl_cell_planes *planes,
                                        const lvcl_cell_solids *solids, lvcl_known_shares known, void *ctx,
                                        uint32_t *slot, lv_slot_region **regions, float **shares, size_t *share_count,
@@ -990,21 +993,46 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
     uint32_t *first = malloc((stored ? stored : 1) * sizeof *first);
     uint64_t *kept = malloc((stored ? stored : 1) * sizeof *kept), *present = NULL;
     float *sh = NULL, *tmp = malloc(MAX_PATTERNS * (1u + LV_SUBCELL_MAX) * sizeof *tmp);
-    int failed = !base || !offsets || !first || !kept || !tmp;
+    /* Without known shares, a chunk of cells' shares at a time are worked
+     * out on threads first (at: where each cell's start in `batch`). */
+    size_t *at = known ? NULL : malloc(SHARE_CHUNK * sizeof *at), batch_cap = 0;
+    float *batch = NULL;
+    int failed = !base || !offsets || !first || !kept || !tmp || (!known && !at);
     for (size_t s = 0; s < stored && !failed; s++) {
         uint32_t count = planes[s].count, patterns = 1u << count, index[MAX_PATTERNS], n = 0;
+        if (!known && s % SHARE_CHUNK == 0) {
+            size_t chunk = stored - s < SHARE_CHUNK ? stored - s : SHARE_CHUNK, floats = 0;
+            for (size_t i = 0; i < chunk; i++) {
+                at[i] = floats;
+                floats += planes[s + i].count ? ((size_t)1 << planes[s + i].count) * per : 0;
+            }
+            if (floats > batch_cap) {
+                float *grown = realloc(batch, floats * sizeof *batch);
+                if (!grown) {
+                    failed = 1;
+                    break;
+                }
+                batch = grown, batch_cap = floats;
+            }
+            lvcl_region_shares_batch(planes + s, chunk, k, at, batch);
+        }
         base[s] = (uint32_t)total;
         first[s] = LV_NO_SHARES;
         kept[s] = 1;
         int computed = 0; /* its shares, not the known ones */
+        const float *shares_of = tmp;
         if (count) {
             /* The exact shares (volume_shares.c); a pattern whose region
              * has under a millionth of the cell gets no slot. */
-            computed = !known || !known(ctx, (uint32_t)s, tmp);
-            if (computed) lvcl_region_shares((const float(*)[4])planes[s].planes, (int)count, k, tmp);
+            if (!known) {
+                computed = 1;
+                shares_of = batch + at[s % SHARE_CHUNK];
+            } else if ((computed = !known(ctx, (uint32_t)s, tmp))) {
+                lvcl_region_shares((const float(*)[4])planes[s].planes, (int)count, k, tmp);
+            }
             kept[s] = 0;
             for (uint32_t m = 0; m < patterns; m++)
-                if (tmp[m * per] > 1e-6f) kept[s] |= (uint64_t)1 << m, index[m] = n++;
+                if (shares_of[m * per] > 1e-6f) kept[s] |= (uint64_t)1 << m, index[m] = n++;
             if (!n) kept[s] = 1, index[0] = n++; /* rounding only: keep one */
             for (uint32_t m = 0; m < patterns; m++) {
                 /* An empty pattern reads the kept one fewest planes away. */
@@ -1039,7 +1067,7 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
         first[s] = (uint32_t)share_total;
         for (uint32_t m = 0; m < patterns; m++)
             if (kept[s] >> m & 1u) {
-                const float *from = tmp + m * per;
+                const float *from = shares_of + m * per;
                 uint64_t mask = present_subcells(from, k);
                 present[total++] = mask;
                 /* Without subcells the region's volume is its lit volume:
@@ -1102,5 +1130,7 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
     free(kept);
     free(present);
     free(tmp);
+    free(at);
+    free(batch);
     return e;
 }

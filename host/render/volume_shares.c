@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "light_volume_internal.h"
+#include "../util/parallel.h"
 
 #define MAX_VERTS 24
 #define MAX_FACES 12
@@ -212,4 +213,37 @@ double lvcl_region_open_volume(const float planes[][4], int count, uint32_t patt
         open -= volume(&inside);
     }
     return fmax(open, 0.5 * whole);
+}
+
+/* One thread's part of lvcl_region_shares_batch: every `stride`-th cell
+ * from `first`. */
+typedef struct {
+    const lvcl_cell_planes *planes;
+    const size_t *at;
+    float *out;
+    size_t first, count, stride;
+    uint32_t k;
+    int done;
+} share_job;
+
+static void *share_cells(void *arg)
+{
+    share_job *j = arg;
+    for (size_t i = j->first; i < j->count; i += j->stride)
+        if (j->planes[i].count)
+            lvcl_region_shares((const float(*)[4])j->planes[i].planes, j->planes[i].count, j->k, j->out + j->at[i]);
+    j->done = 1;
+    return NULL;
+}
+
+void lvcl_region_shares_batch(const lvcl_cell_planes *planes, size_t count, uint32_t k, const size_t *at, float *out)
+{
+    enum { JOBS = 4 };
+    share_job jobs[JOBS];
+    for (int i = 0; i < JOBS; i++) jobs[i] = (share_job){planes, at, out, (size_t)i, count, JOBS, k, 0};
+    lvcl_status ignored = {0};
+    /* A part whose thread could not start runs here. */
+    if (lvcl_run_parallel(share_cells, jobs, sizeof jobs[0], JOBS, &ignored))
+        for (int i = 0; i < JOBS; i++)
+            if (!jobs[i].done) share_cells(&jobs[i]);
 }
