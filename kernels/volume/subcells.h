@@ -13,8 +13,7 @@
  * paper 4.1 within the region: the subcells that tallied segments passed
  * in it, each weighted by the fraction of its visibility rays that reached
  * their particle's origin (1 if none was cast) and by the exact share of
- * the subcell inside the region (region_shares, computed on the host). At
- * least one subcell's worth, or the region's volume if that is smaller.
+ * the subcell inside the region (region_shares, computed on the host).
  * Without subcells: the region's volume (the whole cell for a cell without
  * planes). A region of no volume holds no point, so nothing reads it. */
 inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
@@ -27,17 +26,25 @@ inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
     if (k == 0u) return region;
     __global const uint *marks = grid->subcell_marks + (size_t)slot * LV_MARK_WORDS;
     float lit = 0.0f, n = (float)(k * k * k);
+    int unmarked = 0; /* a subcell of the region no segment passed */
     for (uint i = 0, e = 0; i < k * k * k; i++) {
         if (!(r->present[i >> 5] & (1u << (i & 31u)))) continue;
         uint entry = e++;
-        if (!(marks[i >> 5] & (1u << (i & 31u)))) continue;
+        if (!(marks[i >> 5] & (1u << (i & 31u)))) {
+            unmarked = 1;
+            continue;
+        }
         __global const uint *rays = grid->subcell_rays + (size_t)(r->entries + entry) * LV_RAY_WORDS;
         float open = rays[0] ? (float)rays[1] / (float)rays[0] : 1.0f;
         lit += (r->shares == LV_NO_SHARES ? 1.0f : share[1u + entry]) * open;
     }
-    /* Never below one subcell (some light passed, or the tallies are 0),
-     * or the region's volume where that is smaller. */
-    return fmax(lit / n, fmin(1.0f / n, region));
+    /* Where segments passed every subcell of the region, the sum is the
+     * whole estimate; else never below one subcell (some light passed, or
+     * the tallies are 0), or the region's volume where that is smaller: few
+     * particles leave subcells unmarked. (Everywhere, that floor counted a
+     * wall's air side narrower than a subcell as a whole one: 2% dark at
+     * --subcells 2.) */
+    return unmarked || !(lit > 0.0f) ? fmax(lit / n, fmin(1.0f / n, region)) : lit / n;
 }
 
 /* Where subcell i of slot's region keeps its rays and lit point, or
