@@ -13,7 +13,7 @@ bright lamp is red and the dim one blue, so any red in the dim room is the
 bright room's light read through the wall (its true value, and the path
 tracer's, is 0).
 
-    python3 bench/leak_sweep.py [--seed S] [--count N] [--corridors] [--wide] [--curved] [--tees] [--edges] [--build build]
+    python3 bench/leak_sweep.py [--seed S] [--count N] [--corridors] [--wide] [--curved] [--tees] [--edges] [--bias] [--build build]
 
 One JSON object per set-up (its parameters, the dim room's mean red and
 blue, leak = red / (ratio x blue) and red / blue, the share of the dim
@@ -25,7 +25,14 @@ samples): its red, pt_red, tells light that really passes (a crack where
 walls meet, a ray started beyond a surface) from the volume's mixing of
 the two sides; the summary counts those as leaked_in_pt_too.
 Set-ups draw 10^5 particles and 4 samples of a 32 x 32 image: a leak is
-there or not, and shows at that count. Takes about a second a set-up."""
+there or not, and shows at that count. Takes about a second a set-up.
+
+With --bias each set-up is also rendered at 10^6 particles and 16
+samples, and by the path tracer at 256: the dim room's blue, its own
+light, must agree (lv_over_pt; the summary counts set-ups more than 2%
+apart). That found a thin wall's face just inside a subcell reading its
+room 5-11% dark (docs/light-volume.md, "A face by a subcell's face").
+About six seconds a set-up."""
 import argparse
 import json
 import math
@@ -39,6 +46,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from make_two_rooms import WALL_X, Y, Z, two_rooms  # noqa: E402
 
 LEAK = 1e-4
+BIAS = 0.02
 
 
 def draw(r, corridors):
@@ -136,6 +144,9 @@ def main():
     ap.add_argument("--tees", action="store_true",
                     help="in half the set-ups without a cupboard, corridor or bow add a wall across the dim room's side "
                          "that ends against the shared one, a room lit as brightly as the bright one beyond it")
+    ap.add_argument("--bias", action="store_true",
+                    help="also compare the dim room's own light, lv (10^6 particles, 16 samples) against the path "
+                         "tracer (256 samples)")
     ap.add_argument("--edges", action="store_true",
                     help="in half the set-ups zoom the camera onto a line where the wall meets the floor, the "
                          "ceiling, a side wall, the cupboard or the --tees wall")
@@ -143,6 +154,7 @@ def main():
     r, r_wide, r_curved = random.Random(a.seed), random.Random(a.seed + 1000003), random.Random(a.seed + 2000003)
     r_edges, r_tees = random.Random(a.seed + 3000017), random.Random(a.seed + 4000037)
     leaks, pt_leaks, worst, worst_share = 0, 0, 0.0, 0.0
+    biased, worst_bias = 0, 0.0
     with tempfile.TemporaryDirectory() as tmp:
         scene, image = os.path.join(tmp, "rooms.gltf"), os.path.join(tmp, "rooms.exr")
         for _ in range(a.count):
@@ -171,9 +183,9 @@ def main():
                               split=u.get("split_z"))
                 finally:
                     sys.stdout = saved
-            subprocess.run([os.path.join(a.build, "lvcl"), "-q", "--mode", "lv", "--cells", str(u["cells"]),
-                            "--grid-offset", str(u["grid_offset"]), "--subcells", str(u["subcells"]),
-                            "--particles", "1e5", "--spp", "4", "--width", "32", "--height", "32", "--seed", "5",
+            grid = ["--cells", str(u["cells"]), "--grid-offset", str(u["grid_offset"]), "--subcells", str(u["subcells"])]
+            subprocess.run([os.path.join(a.build, "lvcl"), "-q", "--mode", "lv"] + grid +
+                           ["--particles", "1e5", "--spp", "4", "--width", "32", "--height", "32", "--seed", "5",
                             "-o", image, scene], check=True)
             red, _, blue = dim_room_mean(a.build, image)
             u["red"], u["blue"] = red, blue
@@ -188,12 +200,22 @@ def main():
                                 "--height", "32", "--seed", "5", "-o", image, scene], check=True)
                 u["pt_red"] = dim_room_mean(a.build, image)[0]
                 pt_leaks += u["pt_red"] > 0
+            if a.bias:
+                own = []  # the dim room's blue, lv then pt
+                for mode, extra in (("lv", grid + ["--particles", "1e6", "--spp", "16"]), ("pt", ["--spp", "256"])):
+                    subprocess.run([os.path.join(a.build, "lvcl"), "-q", "--mode", mode] + extra +
+                                   ["--width", "32", "--height", "32", "--seed", "5", "-o", image, scene], check=True)
+                    own.append(dim_room_mean(a.build, image)[2])
+                u["lv_over_pt"] = own[0] / own[1] if own[1] > 0 else float("nan")
+                biased += not abs(u["lv_over_pt"] - 1) <= BIAS
+                worst_bias = max(worst_bias, abs(u["lv_over_pt"] - 1))
             worst = max(worst, u["leak"])
             worst_share = max(worst_share, u["red_over_blue"])
             print(json.dumps(dict({"bench": "leak_sweep"}, **u)), flush=True)
-    print(json.dumps({"bench": "leak_sweep", "summary": True, "setups": a.count, "leaked": leaks,
+    print(json.dumps(dict({"bench": "leak_sweep", "summary": True, "setups": a.count, "leaked": leaks,
                       "leaked_in_pt_too": pt_leaks,
-                      "worst_leak": worst, "bound": LEAK, "worst_red_over_blue": worst_share}))
+                      "worst_leak": worst, "bound": LEAK, "worst_red_over_blue": worst_share},
+                     **({"biased": biased, "bias_bound": BIAS, "worst_bias": worst_bias} if a.bias else {}))))
 
 
 if __name__ == "__main__":
