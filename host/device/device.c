@@ -275,7 +275,7 @@ lvcl_error lvcl_cl_check(cl_int err, const char *what, lvcl_status *st)
  * allocates on 2 MiB boundaries and asks the kernel to back with huge
  * pages: the light volume's tallies and a large scene's BVH are read and
  * added to at random, and with 4 KiB pages nearly every such access also
- * missed the TLB (the particle trace 6% faster on the kitchen's 89 MB
+ * missed the TLB (the particle trace 4-6% faster on the kitchen's 89 MB
  * volume; docs/performance.md, "Huge pages"). */
 #define HUGE_PAGE_BYTES ((size_t)2 << 20)
 #define HUGE_BUFFER_BYTES ((size_t)4 << 20)
