@@ -58,15 +58,22 @@ inline uint lv_subcell_entry(const lv_grid *grid, uint slot, uint i)
     return r->entries + LV_ENTRIES_BELOW(lo, hi, i);
 }
 
+/* The index of the subcell of cell `cell` (integer coordinates, as floats)
+ * that holds p, or the nearest where p lies outside the cell (on its
+ * face, by rounding); also the subcell's integer coordinates. */
+inline uint lv_subcell_in(const lv_grid *grid, float3 p, float3 cell, float3 *sub)
+{
+    uint k = grid->g.subcells;
+    *sub = clamp(floor(((p - lv_grid_origin(grid)) / grid->g.cell_size - cell) * (float)k), 0.0f, (float)(k - 1u));
+    return (uint)sub->x + k * ((uint)sub->y + k * (uint)sub->z);
+}
+
 /* The index of the subcell holding p within its cell; also the cell's and
  * the subcell's integer coordinates (as floats). */
 inline uint lv_subcell_at(const lv_grid *grid, float3 p, float3 *cell, float3 *sub)
 {
-    uint k = grid->g.subcells;
-    float3 c = (p - lv_grid_origin(grid)) / grid->g.cell_size;
-    *cell = floor(c);
-    *sub = clamp(floor((c - *cell) * (float)k), 0.0f, (float)(k - 1u));
-    return (uint)sub->x + k * ((uint)sub->y + k * (uint)sub->z);
+    *cell = floor((p - lv_grid_origin(grid)) / grid->g.cell_size);
+    return lv_subcell_in(grid, p, *cell, sub);
 }
 
 /* The world-space point at u (each in [0, 1]) within subcell sub of cell
@@ -94,13 +101,11 @@ inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
 {
     uint slot = lv_grid_slot_at(grid, q);
     if (slot == LV_EMPTY_CELL) return 0u;
-    float3 cell, sub;
-    uint k = grid->g.subcells;
+    float3 cell, sub, at;
     uint entry = lv_subcell_entry(grid, slot, lv_subcell_at(grid, q, &cell, &sub));
     /* p's subcell, counted in q's cell (p may lie on its face), where the
      * region has a part of it. */
-    float3 at = clamp(floor(((p - lv_grid_origin(grid)) / grid->g.cell_size - cell) * (float)k), 0.0f, (float)(k - 1u));
-    uint hit_entry = lv_subcell_entry(grid, slot, (uint)at.x + k * ((uint)at.y + k * (uint)at.z));
+    uint hit_entry = lv_subcell_entry(grid, slot, lv_subcell_in(grid, p, cell, &at));
     if (hit_entry != LV_NO_ENTRY) {
         entry = hit_entry;
         sub = at;
