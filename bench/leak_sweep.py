@@ -47,6 +47,12 @@ from make_two_rooms import WALL_X, Y, Z, two_rooms  # noqa: E402
 
 LEAK = 1e-4
 BIAS = 0.02
+# A view zoomed onto the line where two surfaces meet (--edges) reads the
+# light volume at that line itself, where the true light dips within a few
+# centimetres of the corner and a cell's average cannot follow it
+# (docs/light-volume.md, "Corner lines"); such views are counted apart, to
+# a bound that measures that limit rather than hides it.
+EDGE_BIAS = 0.1
 
 
 def draw(r, corridors):
@@ -146,7 +152,8 @@ def main():
                          "that ends against the shared one, a room lit as brightly as the bright one beyond it")
     ap.add_argument("--bias", action="store_true",
                     help="also compare the dim room's own light, lv (10^6 particles, 16 samples) against the path "
-                         "tracer (256 samples)")
+                         "tracer (256 samples); with --edges, views of a corner line count apart (edge_biased, "
+                         "against a wider bound: the volume cannot follow the light's dip at the line itself)")
     ap.add_argument("--edges", action="store_true",
                     help="in half the set-ups zoom the camera onto a line where the wall meets the floor, the "
                          "ceiling, a side wall, the cupboard or the --tees wall")
@@ -154,7 +161,7 @@ def main():
     r, r_wide, r_curved = random.Random(a.seed), random.Random(a.seed + 1000003), random.Random(a.seed + 2000003)
     r_edges, r_tees = random.Random(a.seed + 3000017), random.Random(a.seed + 4000037)
     leaks, pt_leaks, worst, worst_share = 0, 0, 0.0, 0.0
-    biased, worst_bias = 0, 0.0
+    biased, worst_bias, edge_biased, worst_edge_bias = 0, 0.0, 0, 0.0
     with tempfile.TemporaryDirectory() as tmp:
         scene, image = os.path.join(tmp, "rooms.gltf"), os.path.join(tmp, "rooms.exr")
         for _ in range(a.count):
@@ -207,15 +214,22 @@ def main():
                                    ["--width", "32", "--height", "32", "--seed", "5", "-o", image, scene], check=True)
                     own.append(dim_room_mean(a.build, image)[2])
                 u["lv_over_pt"] = own[0] / own[1] if own[1] > 0 else float("nan")
-                biased += not abs(u["lv_over_pt"] - 1) <= BIAS
-                worst_bias = max(worst_bias, abs(u["lv_over_pt"] - 1))
+                off = abs(u["lv_over_pt"] - 1)
+                if u.get("look_at"):
+                    edge_biased += not off <= EDGE_BIAS
+                    worst_edge_bias = max(worst_edge_bias, off)
+                else:
+                    biased += not off <= BIAS
+                    worst_bias = max(worst_bias, off)
             worst = max(worst, u["leak"])
             worst_share = max(worst_share, u["red_over_blue"])
             print(json.dumps(dict({"bench": "leak_sweep"}, **u)), flush=True)
     print(json.dumps(dict({"bench": "leak_sweep", "summary": True, "setups": a.count, "leaked": leaks,
                       "leaked_in_pt_too": pt_leaks,
                       "worst_leak": worst, "bound": LEAK, "worst_red_over_blue": worst_share},
-                     **({"biased": biased, "bias_bound": BIAS, "worst_bias": worst_bias} if a.bias else {}))))
+                     **({"biased": biased, "bias_bound": BIAS, "worst_bias": worst_bias,
+                         "edge_biased": edge_biased, "edge_bias_bound": EDGE_BIAS,
+                         "worst_edge_bias": worst_edge_bias} if a.bias else {}))))
 
 
 if __name__ == "__main__":

@@ -108,11 +108,17 @@ inline int lv_bsdf_has_lobe(const lv_bsdf *b)
     return (t & LV_TRAIT_LOBE) || ((t & LV_TRAIT_LOBE_IF_ROUGH) && b->alpha >= LV_SMOOTH_ALPHA);
 }
 
-/* True if the BSDF has a delta lobe, which a sample may pick. */
+/* True if a BSDF of this family and roughness has a delta lobe, which a
+ * sample may pick. */
+inline int lv_bsdf_delta_at(uint type, float alpha)
+{
+    uint t = lv_bsdf_traits_of(type);
+    return (t & LV_TRAIT_DELTA) || ((t & LV_TRAIT_DELTA_IF_SMOOTH) && alpha < LV_SMOOTH_ALPHA);
+}
+
 inline int lv_bsdf_has_delta(const lv_bsdf *b)
 {
-    uint t = lv_bsdf_traits_of(b->type);
-    return (t & LV_TRAIT_DELTA) || ((t & LV_TRAIT_DELTA_IF_SMOOTH) && b->alpha < LV_SMOOTH_ALPHA);
+    return lv_bsdf_delta_at(b->type, b->alpha);
 }
 
 inline int lv_bsdf_transmits(uint type)

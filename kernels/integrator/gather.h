@@ -3,8 +3,8 @@
  * rough surface. There shadow rays give direct light (unless the volume
  * holds all light), lamps seen through glass included (see_through.h),
  * and the volume, read at a jittered point around the surface, the rest.
- * The paper's way (sampled) follows one BSDF ray: if it meets a rough
- * surface closer than the threshold the path goes on,
+ * The paper's way (sampled) follows one BSDF ray: if it meets a surface
+ * without a delta lobe closer than the threshold the path goes on,
  * otherwise the volume's bin in its direction answers. The integrating way
  * sums the BSDF over every bin and still follows one BSDF ray: where that
  * ray hits close, the path's radiance replaces the volume's for its
@@ -139,10 +139,14 @@ inline float3 lv_gather_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint
         if (h.tri != LV_NO_HIT) {
             s = lv_surface_at(sc, r, h);
             m = &sc->materials[s.material];
-            /* A near hit continues the path only on a rough surface: a
-             * specular one would lead on to caustics, which the volume
-             * holds already. */
-            far = lookup != LV_LOOKUP_NONE && (h.t > g->threshold || !lv_bsdf_gathers(m->bsdf, m->alpha));
+            /* A near hit continues the path unless its surface has a
+             * delta lobe: a mirror or smooth glass would lead on to
+             * caustics, which the volume holds already. A glossy surface
+             * too smooth to gather at goes on as a rough one does: read
+             * from the volume, its light would be a cell's average, and
+             * where it meets the gather point's surface (a glossy wall at
+             * a ceiling) that average is brighter than the corner. */
+            far = lookup != LV_LOOKUP_NONE && (h.t > g->threshold || lv_bsdf_delta_at(m->bsdf, m->alpha));
             /* With all light in the volume a gather point ends the path,
              * and no vertex sends light samples: emission that a path
              * meets (past mirrors, glass, smooth or untrusted surfaces) is
