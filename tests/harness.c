@@ -357,7 +357,7 @@ int harness_build_regions(const char *who, const float *tris, size_t n, int cell
     lvcl_status st = {0};
     lvcl_volume_settings vs = {.cells = cells, .offset = offset, .dirs = 4, .subcells = subcells, .particles = 1};
     size_t count = 0, share_count;
-    lvcl_thin_solids solids = {0};
+    lvcl_solid_slabs solids = {0};
     memset(out, 0, sizeof *out);
     int ok = !lvcl_accel_build(&scene, &accel, &st);
     if (ok) ok = !lvcl_pack_scene(&scene, &accel, 0, 8, &packed, &st);
@@ -367,7 +367,7 @@ int harness_build_regions(const char *who, const float *tris, size_t n, int cell
     if (ok)
         ok = !lvcl_volume_build_regions(&packed, &out->g, count, out->slot, &out->regions, &out->shares, &share_count,
                                         &solids, &st);
-    lvcl_thin_solids_free(&solids); /* already in the shares */
+    lvcl_solid_slabs_free(&solids); /* already in the shares */
     if (!ok) fprintf(stderr, "%s: making the regions failed: %s\n", who, st.message);
     lvcl_packed_scene_free(&packed);
     lvcl_accel_free(&accel);

@@ -28,7 +28,7 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     }
     if ((e = lvcl_volume_assign_slots(p, g, vol->cell_count, vol->cell_slot, st)) ||
         (e = lvcl_volume_build_regions(p, g, vol->cell_count, vol->cell_slot, &vol->regions, &vol->region_shares,
-                                       &vol->region_share_count, &vol->thin_solids, st))) {
+                                       &vol->region_share_count, &vol->solid_slabs, st))) {
         lvcl_volume_release(vol);
         return e;
     }
@@ -263,6 +263,6 @@ void lvcl_volume_release(lvcl_light_volume *vol)
     if (vol->axis_sums_buf) clReleaseMemObject(vol->axis_sums_buf);
     lvcl_volume_view_probe(vol, NULL, 0, 0, NULL);
     free(vol->region_shares);
-    lvcl_thin_solids_free(&vol->thin_solids);
+    lvcl_solid_slabs_free(&vol->solid_slabs);
     free(vol);
 }

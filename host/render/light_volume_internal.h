@@ -10,32 +10,36 @@
 #include "../util/vec3.h"
 #include "light_volume.h"
 
-/* An opaque solid thinner than a quarter cell whose two faces one plane of
- * a cell stands for (a wall; volume_planes.c): in cell units, the slab
+/* The slab of an opaque solid whose faces a cell's planes do not keep out
+ * of its regions (volume_planes.c): one thinner than a quarter cell whose
+ * two faces one plane stands for (a wall: the plane gives half of its
+ * inside to each side's region), or a thicker one whose one face took a
+ * plane while the other was spare (a slab of a room's shell: all of its
+ * inside lies in the region on that face's side). In cell units, the slab
  * lo[0] <= axis[0] . u <= hi[0] between its faces (axis[0] its normal),
- * bounded by its faces' extent along the two axes in their plane. The
- * plane gives half of it to each side's region; without subcells a
+ * bounded by its face's extent along the two axes in its plane, or by the
+ * cell where the face reaches the cell's side. Without subcells a
  * region's volume is its lit volume, and light never enters the solid, so
  * its part there is left out (lvcl_region_open_volume). */
 typedef struct {
     float axis[3][3];
     float lo[3], hi[3];
-} lvcl_thin_solid;
+} lvcl_solid_slab;
 
-/* A stored cell's thin solids (one per plane at most). */
+/* A stored cell's solids' slabs (one per plane at most). */
 typedef struct {
     uint8_t count;
-    lvcl_thin_solid solid[LV_GEOMETRY_PLANES];
+    lvcl_solid_slab solid[LV_GEOMETRY_PLANES];
 } lvcl_cell_solids;
 
-/* The thin solids of the cells that have any, kept without subcells
+/* The solids' slabs of the cells that have any, kept without subcells
  * only (with subcells the lit volume leaves a solid's inside out by
  * itself): per stored cell its entry in `list`, or LVCL_NO_SOLIDS. */
 #define LVCL_NO_SOLIDS 0xffffffffu
-typedef struct lvcl_thin_solids {
+typedef struct lvcl_solid_slabs {
     uint32_t *of_cell;
     lvcl_cell_solids *list;
-} lvcl_thin_solids;
+} lvcl_solid_slabs;
 
 struct lvcl_light_volume {
     const lvcl_device *dev;    /* borrowed */
@@ -64,7 +68,7 @@ struct lvcl_light_volume {
     int axis_sums_current; /* they sum the volume lvcl_volume_finish last finished */
     float *region_shares;  /* host copy of the cut cells' region shares */
     size_t region_share_count;
-    lvcl_thin_solids thin_solids; /* without subcells, the cells' thin solids (none: NULLs) */
+    lvcl_solid_slabs solid_slabs; /* without subcells, the cells' solids' slabs (none: NULLs) */
     size_t cell_count; /* dims[0] * dims[1] * dims[2] */
     int tally_parts;
     cl_mem bin_table_buf; /* LV_BIN_TABLE_FLOATS(bins) floats, filled by lvcl_volume_trace */
@@ -117,13 +121,13 @@ lvcl_error lvcl_volume_assign_slots(const lvcl_packed_scene *p, lv_grid_info *g,
  * *share_count floats, at least one allocated) the exact region shares
  * that lv_slot_region.shares points into, and *solids (its arrays
  * malloc'ed, or NULL with subcells or where no cell has any) the cells'
- * thin solids, which their regions' volumes leave out. */
+ * solids' slabs, which their regions' volumes leave out. */
 lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
                                      lv_slot_region **regions, float **shares, size_t *share_count,
-                                     lvcl_thin_solids *solids, lvcl_status *st);
+                                     lvcl_solid_slabs *solids, lvcl_status *st);
 
 /* Frees what lvcl_volume_build_regions put in *solids and empties it. */
-void lvcl_thin_solids_free(lvcl_thin_solids *solids);
+void lvcl_solid_slabs_free(lvcl_solid_slabs *solids);
 
 /* The slot of the region holding world point p in a grid whose cells'
  * entries are cell_slot and whose slots' regions are `regions` (what
@@ -137,7 +141,7 @@ typedef struct {
     float planes[LV_REGION_PLANES][4];
     uint8_t count;
     uint64_t mixed; /* bit m: region pattern m is LV_REGION_MIXED */
-    uint32_t solids; /* its entry in the thin solids' list, or LVCL_NO_SOLIDS */
+    uint32_t solids; /* its entry in the solids' slabs' list, or LVCL_NO_SOLIDS */
 } lvcl_cell_planes;
 
 /* Fills out[] with stored cell s's region shares as lvcl_region_shares
@@ -152,7 +156,7 @@ typedef int (*lvcl_known_shares)(void *ctx, uint32_t s, float *out);
  * g->slot_count the slots, and *regions, *shares and *share_count are as
  * lvcl_volume_build_regions gives them. `known` (may be NULL) saves
  * computing the shares of cells whose planes did not change. Without
- * subcells a region's volume leaves out its cell's thin solids (solids:
+ * subcells a region's volume leaves out its cell's solids' slabs (solids:
  * the list that planes[].solids index, or NULL). */
 lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl_cell_planes *planes,
                                        const lvcl_cell_solids *solids, lvcl_known_shares known, void *ctx,
@@ -172,9 +176,9 @@ void lvcl_region_shares(const float planes[][4], int count, uint32_t k, float *o
 void lvcl_region_shares_batch(const lvcl_cell_planes *planes, size_t count, uint32_t k, const size_t *at, float *out);
 
 /* The volume (over the cell's) of region `pattern` of a cell with these
- * planes, less its parts inside the cell's thin solids; never under half
- * the region's own volume (two solids that cross in one cell, a wall's
- * corner, would take their overlap twice) (volume_shares.c). */
+ * planes, less its part inside the union of the cell's solids' slabs (two
+ * that cross in one cell, at a wall's corner, share a part), exactly; a
+ * region all inside keeps 10^-3 of its volume (volume_shares.c). */
 double lvcl_region_open_volume(const float planes[][4], int count, uint32_t pattern, const lvcl_cell_solids *solids);
 
 /* Finds the blocks of 2 x 2 x 2 cells with no geometry inside whose

@@ -576,20 +576,49 @@ static int is_chosen(const int *chosen, int count, int cluster)
     return 0;
 }
 
-/* Adds cluster k to *solids where it is an opaque solid's two faces, back
- * to back (a face against its normal below one along it) and apart by
- * more than a facet's tolerance, whose extent in the cell is known: the
- * slab between them, in cell units from the corner lo. */
-static void keep_thin_solid(const cluster *k, const double lo[3], double h, lvcl_cell_solids *solids)
+/* The range of axis . u over the unit cell's section by the plane n . u
+ * = d (cell units): over the points where the plane crosses the cell's
+ * twelve edges. */
+#define SECTION_TOLERANCE 1e-3
+#define SECTION_OPEN 2.0f /* beyond any unit axis's range over the cell (at most sqrt 3) */
+static void section_along(const double n[3], double d, const double axis[3], double *lo, double *hi)
 {
-    if (k->clear || k->sheet || !k->along_extent || k->top_against == -HUGE_VAL || k->top_along == -HUGE_VAL ||
-        !(k->top_along - k->top_against > FACET_OFFSET * h) || !(lvcl_dot3(k->along_n, k->against_n) > LAYER_NORMAL) ||
-        solids->count >= LV_GEOMETRY_PLANES)
+    *lo = HUGE_VAL, *hi = -HUGE_VAL;
+    for (int e = 0; e < 12; e++) {
+        /* Edge e runs along coordinate e / 4 at the corner given by the two
+         * other coordinates' bits e % 4. */
+        int along = e / 4, b = e % 4;
+        double u0[3], u1[3];
+        for (int j = 0, bit = 0; j < 3; j++) {
+            if (j == along) u0[j] = 0, u1[j] = 1;
+            else u0[j] = u1[j] = (double)(b >> bit++ & 1);
+        }
+        double f0 = lvcl_dot3(n, u0) - d, f1 = lvcl_dot3(n, u1) - d;
+        if ((f0 < 0) == (f1 < 0) && f0 != 0) continue;
+        double t = f0 == f1 ? 0 : f0 / (f0 - f1), x[3];
+        for (int j = 0; j < 3; j++) x[j] = u0[j] + t * (u1[j] - u0[j]);
+        double v = lvcl_dot3(axis, x);
+        *lo = fmin(*lo, v), *hi = fmax(*hi, v);
+    }
+}
+
+/* Adds to *solids the slab of an opaque solid between a face against the
+ * group's normal (lower, its top one at offset `from`) and one along it
+ * above (upper's top one, at `to`), apart by more than a facet's tolerance
+ * and bounded by upper's extent in the cell, which must be known: in cell
+ * units from the corner lo. */
+static void keep_solid(const cluster *lower, const cluster *upper, double from_d, double to_d, const double lo[3],
+                       double h, lvcl_cell_solids *solids)
+{
+    if (lower->clear || upper->clear || lower->sheet || upper->sheet || !upper->along_extent || from_d == -HUGE_VAL ||
+        to_d == -HUGE_VAL || !(to_d - from_d > FACET_OFFSET * h) ||
+        !(lvcl_dot3(upper->along_n, lower->against_n) > LAYER_NORMAL) || solids->count >= LV_GEOMETRY_PLANES)
         return;
-    lvcl_thin_solid *t = &solids->solid[solids->count++];
+    const cluster *k = upper;
+    lvcl_solid_slab *t = &solids->solid[solids->count++];
     const double *axis[3] = {k->along_n, k->along_axes[0], k->along_axes[1]};
-    const double from[3] = {k->top_against, k->along_lo[0], k->along_lo[1]};
-    const double to[3] = {k->top_along, k->along_hi[0], k->along_hi[1]};
+    const double from[3] = {from_d, k->along_lo[0], k->along_lo[1]};
+    const double to[3] = {to_d, k->along_hi[0], k->along_hi[1]};
     for (int a = 0; a < 3; a++) {
         /* a . x = c  <=>  a . u = (c - a . lo) / h */
         double at = lvcl_dot3(axis[a], lo);
@@ -597,6 +626,24 @@ static void keep_thin_solid(const cluster *k, const double lo[3], double h, lvcl
         t->lo[a] = (float)((from[a] - at) / h);
         t->hi[a] = (float)((to[a] - at) / h);
     }
+    /* Where the face reaches the cell's side, the solid goes on past it:
+     * its inside there is bounded by the cell alone (a thick slab crossing
+     * a cell at a slant holds corners of the cell that its face's own
+     * extent does not reach). */
+    for (int a = 1; a < 3; a++) {
+        double section_lo, section_hi;
+        section_along(axis[0], t->hi[0], axis[a], &section_lo, &section_hi);
+        if (t->lo[a] <= section_lo + SECTION_TOLERANCE) t->lo[a] = -SECTION_OPEN;
+        if (t->hi[a] >= section_hi - SECTION_TOLERANCE) t->hi[a] = SECTION_OPEN;
+    }
+}
+
+/* A cluster of an opaque solid's two faces, back to back (a wall thinner
+ * than a quarter cell, whose one plane gives half its inside to each
+ * side's region): the slab between them. */
+static void keep_thin_solid(const cluster *k, const double lo[3], double h, lvcl_cell_solids *solids)
+{
+    keep_solid(k, k, k->top_against, k->top_along, lo, h, solids);
 }
 
 /* The planes of one stored cell (corner lo) from its clusters (count of
@@ -609,11 +656,11 @@ static void keep_thin_solid(const cluster *k, const double lo[3], double h, lvcl
  * inside or with what lies beyond the top. Gaps come first for
  * GAP_PLANES planes, so that a crowded cell's heaviest other surface (a
  * wall between rooms, say) still finds room. Returns their count; the
- * thin solids their planes stand for are added to *solids. */
+ * solids their planes stand for are added to *solids. */
 static int choose_planes(const cell_scratch *w, int clusters, const double lo[3], double h, float planes[][4],
                          lvcl_cell_solids *solids)
 {
-    int chosen[LV_GEOMETRY_PLANES + LAYER_PLANES], count = 0, gaps = 0;
+    int chosen[LV_GEOMETRY_PLANES + LAYER_PLANES], count = 0, gaps = 0, rounds = 0;
     for (int round = 0; round < LV_GEOMETRY_PLANES + LAYER_PLANES; round++) {
         int best = -1, best_spare = 0;
         for (int i = 0; i < clusters; i++) {
@@ -629,6 +676,7 @@ static int choose_planes(const cell_scratch *w, int clusters, const double lo[3]
         }
         if (best < 0) break;
         chosen[round] = best;
+        rounds = round + 1;
         const cluster *k = &w->clusters[best];
         gaps += k->gap;
         double n[3], len = sqrt(lvcl_dot3(k->sum_n, k->sum_n));
@@ -643,6 +691,15 @@ static int choose_planes(const cell_scratch *w, int clusters, const double lo[3]
         count++;
         keep_thin_solid(k, lo, h, solids);
     }
+    /* A solid thicker than a quarter cell whose one face took a plane and
+     * whose other is spare: the plane keeps its two sides apart, but the
+     * region on the spare face's side holds the solid's inside too (a
+     * slab of the rooms' shell, 0.7 cell thick, whose outer face took the
+     * plane: the room's corner region read 20-40% dark without subcells). */
+    for (int i = 1; i < clusters; i++)
+        if (w->clusters[i].backs_onto_previous && is_chosen(chosen, rounds, i) != is_chosen(chosen, rounds, i - 1))
+            keep_solid(&w->clusters[i - 1], &w->clusters[i], w->clusters[i - 1].top_against, w->clusters[i].top_along,
+                       lo, h, solids);
     return count;
 }
 
@@ -877,7 +934,7 @@ static uint8_t *sheet_triangles(const lvcl_packed_scene *p)
     return sheet;
 }
 
-void lvcl_thin_solids_free(lvcl_thin_solids *solids)
+void lvcl_solid_slabs_free(lvcl_solid_slabs *solids)
 {
     free(solids->of_cell);
     free(solids->list);
@@ -885,10 +942,10 @@ void lvcl_thin_solids_free(lvcl_thin_solids *solids)
     solids->list = NULL;
 }
 
-/* Keeps stored cell s's thin solids (without subcells): its entry in
+/* Keeps stored cell s's solids' slabs (without subcells): its entry in
  * solids->list, grown as needed (*capacity entries). Returns 0 out of
  * memory. */
-static int keep_cell_solids(lvcl_thin_solids *solids, size_t stored, size_t s, const lvcl_cell_solids *found,
+static int keep_cell_solids(lvcl_solid_slabs *solids, size_t stored, size_t s, const lvcl_cell_solids *found,
                             size_t *count, size_t *capacity)
 {
     if (!solids->of_cell) {
@@ -910,12 +967,12 @@ static int keep_cell_solids(lvcl_thin_solids *solids, size_t stored, size_t s, c
 
 lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
                                      lv_slot_region **regions, float **shares, size_t *share_count,
-                                     lvcl_thin_solids *solids, lvcl_status *st)
+                                     lvcl_solid_slabs *solids, lvcl_status *st)
 {
     *regions = NULL;
     *shares = NULL;
     *share_count = 0;
-    *solids = (lvcl_thin_solids){0};
+    *solids = (lvcl_solid_slabs){0};
     size_t solid_cells = 0, solid_capacity = 0;
     size_t stored = g->slot_count;
     facets c = {0};
@@ -990,7 +1047,7 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
     lvcl_error e = failed ? lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' planes")
                           : lvcl_volume_lay_out_regions(g, cells, planes, solids->list, NULL, NULL, slot, regions,
                                                         shares, share_count, st);
-    if (e) lvcl_thin_solids_free(solids);
+    if (e) lvcl_solid_slabs_free(solids);
     free(planes);
     return e;
 }
@@ -1108,7 +1165,7 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
                 uint64_t mask = present_subcells(from, k);
                 present[total++] = mask;
                 /* Without subcells the region's volume is its lit volume:
-                 * less its thin solids', where light never goes. */
+                 * less its solids' slabs, where light never goes. */
                 sh[share_total++] = computed && !k && solids && planes[s].solids != LVCL_NO_SOLIDS
                     ? (float)lvcl_region_open_volume((const float(*)[4])planes[s].planes, (int)count, m,
                                                      &solids[planes[s].solids])

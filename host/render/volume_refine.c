@@ -151,7 +151,7 @@ static size_t collect(const lvcl_light_volume *vol, const int64_t *tallies, doub
         memcpy(planes[s].planes, vol->regions[base].planes, sizeof planes[s].planes);
         planes[s].count = (uint8_t)(entry & LV_CUT_CELL ? vol->regions[base].plane_count : 0);
         planes[s].mixed = 0; /* the new slots take their old slot's flag (lvcl_volume_refine) */
-        planes[s].solids = vol->thin_solids.of_cell ? vol->thin_solids.of_cell[s] : LVCL_NO_SOLIDS;
+        planes[s].solids = vol->solid_slabs.of_cell ? vol->solid_slabs.of_cell[s] : LVCL_NO_SOLIDS;
         first_slot[s] = base;
         lvcl_cell_planes trial = planes[s];
         int added = add_middle_planes(&trial);
@@ -356,7 +356,7 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
             new_cell_slot[i] = vol->cell_slot[i] == LV_EMPTY_CELL ? LV_EMPTY_CELL : (uint32_t)s++;
         ng.slot_count = (lv_u32)stored;
         old_layout old = {.vol = vol, .first_slot = first_slot, .split_cell = split_cell, .planes = planes};
-        e = lvcl_volume_lay_out_regions(&ng, vol->cell_count, planes, vol->thin_solids.list, old_shares, &old,
+        e = lvcl_volume_lay_out_regions(&ng, vol->cell_count, planes, vol->solid_slabs.list, old_shares, &old,
                                         new_cell_slot, &new_regions, &new_shares, &new_share_count, st);
         if (!e) {
             size_t n = (size_t)ng.slot_count + 1;

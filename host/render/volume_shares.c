@@ -177,8 +177,9 @@ void lvcl_region_shares(const float planes[][4], int count, uint32_t k, float *o
     for (uint32_t m = 0; m < regions; m++) out[m * per] = (float)whole[m];
 }
 
-/* Solids' parts smaller than this (of the cell) are left in: a region that
- * is all rounding keeps its volume. */
+/* A region smaller than this (of the cell) keeps its volume: it is all
+ * rounding. One inside solids keeps this share of it, so that its light,
+ * which is none, is not divided by 0. */
 #define OPEN_VOLUME_MIN 1e-3
 
 /* Keeps the part of t where s (n . u - c) >= 0, as clip does, but leaves
@@ -201,18 +202,26 @@ double lvcl_region_open_volume(const float planes[][4], int count, uint32_t patt
     for (int j = 0; j < count && region.n; j++) clip_if_cut(&region, planes[j], pattern >> j & 1u ? 1.0 : -1.0);
     double whole = volume(&region), open = whole;
     if (!(whole >= OPEN_VOLUME_MIN)) return whole;
-    for (int i = 0; i < solids->count; i++) {
-        const lvcl_thin_solid *s = &solids->solid[i];
+    /* The union of the solids' parts, by inclusion and exclusion over
+     * every set of them (two slabs crossing in a cell share a part). */
+    for (uint32_t set = 1; set < 1u << solids->count; set++) {
         polytope inside = region;
-        for (int a = 0; a < 3 && inside.n; a++) {
-            const float lo[4] = {s->axis[a][0], s->axis[a][1], s->axis[a][2], s->lo[a]};
-            const float hi[4] = {s->axis[a][0], s->axis[a][1], s->axis[a][2], s->hi[a]};
-            clip_if_cut(&inside, lo, 1.0);
-            if (inside.n) clip_if_cut(&inside, hi, -1.0);
+        int members = 0;
+        for (int i = 0; i < solids->count && inside.n; i++) {
+            if (!(set >> i & 1u)) continue;
+            const lvcl_solid_slab *s = &solids->solid[i];
+            members++;
+            for (int a = 0; a < 3 && inside.n; a++) {
+                const float lo[4] = {s->axis[a][0], s->axis[a][1], s->axis[a][2], s->lo[a]};
+                const float hi[4] = {s->axis[a][0], s->axis[a][1], s->axis[a][2], s->hi[a]};
+                clip_if_cut(&inside, lo, 1.0);
+                if (inside.n) clip_if_cut(&inside, hi, -1.0);
+            }
         }
-        open -= volume(&inside);
+        if (inside.n) open += (members & 1 ? -1.0 : 1.0) * volume(&inside);
     }
-    return fmax(open, 0.5 * whole);
+    /* A region all inside solids holds no light; its volume stays above 0. */
+    return fmax(open, OPEN_VOLUME_MIN * whole);
 }
 
 /* One thread's part of lvcl_region_shares_batch: every `stride`-th cell

@@ -43,7 +43,13 @@
  *     crosses must still get visibility rays, or its part inside the wall
  *     counts as lit (the dim room read 4-11% dark). Also faces 0.9 across
  *     a subcell of half a cell, where the room's air in the cell is less
- *     than a subcell: a floor of one subcell read 2-2.5% dark. */
+ *     than a subcell: a floor of one subcell read 2-2.5% dark.
+ * (e) Slab corners without subcells: the camera zoomed onto the corner
+ *     where a second wall (a dark corridor behind it) meets the shell's
+ *     side-wall and ceiling slabs, thicker than a quarter cell and turned;
+ *     lv with --subcells 0 against the path tracer, means within 6%. Where
+ *     a slab's outer face took the cell's plane, its inside counted in the
+ *     room's region (0.64 and 0.93 of the path tracer). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -96,6 +102,8 @@ typedef struct {
                        * middle, metres (0: flat) */
     int rows;         /* and made of this many rows of quads (0: one) */
     int path_trace;   /* render with the path tracer instead */
+    float fov;        /* the camera's view, degrees, about `look` (0: 70 degrees about the wall's middle) */
+    float look[3];    /* where it looks, in the rooms' own frame */
 } setup;
 
 /* The bowed wall's columns of quads across the rooms' depth. */
@@ -179,12 +187,13 @@ static void two_rooms(const setup *u, const float bright[3], const float dim[3],
         s->punctuals = l;
         s->punctual_count = 1;
     }
-    /* The camera in the dim room, looking at the wall. */
+    /* The camera in the dim room, looking at the wall (or where the set-up says). */
     float eye[3] = {1.9f, 1.2f, 0.0f}, target[3] = {HARNESS_WALL_X, 1.1f, 0.0f};
+    if (u->fov > 0) memcpy(target, u->look, sizeof target);
     harness_turn(eye, u->yaw, u->pitch);
     harness_turn(target, u->yaw, u->pitch);
     for (int k = 0; k < 3; k++) eye[k] *= scale, target[k] *= scale;
-    harness_look_at(s, eye, target, 70.0f);
+    harness_look_at(s, eye, target, u->fov > 0 ? u->fov : 70.0f);
 }
 
 static int render(const float bright[3], const float dim[3], const setup *u, uint64_t particles, int size, int spp,
@@ -452,6 +461,26 @@ static void test_face_by_subcell_face(void)
     check_against_path_tracer(setups, sizeof setups / sizeof *setups, "face by a subcell's face", 0.02);
 }
 
+/* A slab of the rooms' shell at a slant across a cell, whose outer face
+ * took the cell's plane while its inner one, the solid's other face, was
+ * spare: without subcells the room's region there counted the slab's
+ * inside (most of the cell) as lit. The camera looks at a corner where a
+ * second wall (`twin`, 40 cm into the dim room: a dark corridor between)
+ * meets the side wall's and the ceiling's slabs, 30 cm thick. */
+static void test_slab_corners(void)
+{
+    const float corner[3] = {HARNESS_WALL_X + 0.43f, 2.358f, -1.0f};
+    setup setups[] = {
+        {0.06f, 0.5f, 12, 0, .yaw = 58.6f, .shell = 0.3f, .twin = 0.4f, .fov = 20},
+        {0.06f, 0.5f, 12, 0, .yaw = 58.6f, .shell = 0.3f, .twin = 0.4f, .fov = 1e-4f},
+        {0.06f, 0.0f, 12, 0, .yaw = 58.6f, .shell = 0.3f, .twin = 0.4f, .fov = 1e-4f},
+        {0.06f, 0.5f, 20, 0, .yaw = 58.6f, .shell = 0.3f, .twin = 0.4f, .fov = 1e-4f},
+        {0.02f, 0.3f, 14, 0, .yaw = 33.0f, .shell = 0.25f, .twin = 0.4f, .fov = 1e-4f},
+    };
+    for (size_t i = 0; i < sizeof setups / sizeof *setups; i++) memcpy(setups[i].look, corner, sizeof corner);
+    check_against_path_tracer(setups, sizeof setups / sizeof *setups, "slab corners", 0.06);
+}
+
 int main(int argc, char **argv)
 {
     (void)argc;
@@ -462,5 +491,6 @@ int main(int argc, char **argv)
     test_on_off();
     test_whole_cell();
     test_face_by_subcell_face();
+    test_slab_corners();
     CHECK_EXIT();
 }
