@@ -18,9 +18,10 @@
  * inside lies in the region on that face's side). In cell units, the slab
  * lo[0] <= axis[0] . u <= hi[0] between its faces (axis[0] its normal),
  * bounded by its face's extent along the two axes in its plane, or by the
- * cell where the face reaches the cell's side. Without subcells a
- * region's volume is its lit volume, and light never enters the solid, so
- * its part there is left out (lvcl_region_open_volume). */
+ * cell where the face reaches the cell's side. Light never enters the
+ * solid, so a region's volume leaves its part there out
+ * (lvcl_region_open_volume): without subcells that volume is the region's
+ * lit volume, with them it caps the lit volume's floor of one subcell. */
 typedef struct {
     float axis[3][3];
     float lo[3], hi[3];
@@ -32,9 +33,8 @@ typedef struct {
     lvcl_solid_slab solid[LV_GEOMETRY_PLANES];
 } lvcl_cell_solids;
 
-/* The solids' slabs of the cells that have any, kept without subcells
- * only (with subcells the lit volume leaves a solid's inside out by
- * itself): per stored cell its entry in `list`, or LVCL_NO_SOLIDS. */
+/* The solids' slabs of the cells that have any: per stored cell its entry
+ * in `list`, or LVCL_NO_SOLIDS. */
 #define LVCL_NO_SOLIDS 0xffffffffu
 typedef struct lvcl_solid_slabs {
     uint32_t *of_cell;
@@ -68,7 +68,7 @@ struct lvcl_light_volume {
     int axis_sums_current; /* they sum the volume lvcl_volume_finish last finished */
     float *region_shares;  /* host copy of the cut cells' region shares */
     size_t region_share_count;
-    lvcl_solid_slabs solid_slabs; /* without subcells, the cells' solids' slabs (none: NULLs) */
+    lvcl_solid_slabs solid_slabs; /* the cells' solids' slabs (none: NULLs) */
     size_t cell_count; /* dims[0] * dims[1] * dims[2] */
     int tally_parts;
     cl_mem bin_table_buf; /* LV_BIN_TABLE_FLOATS(bins) floats, filled by lvcl_volume_trace */
@@ -120,8 +120,8 @@ lvcl_error lvcl_volume_assign_slots(const lvcl_packed_scene *p, lv_grid_info *g,
  * slot_count + 1 entries) every slot's planes, *shares (malloc'ed,
  * *share_count floats, at least one allocated) the exact region shares
  * that lv_slot_region.shares points into, and *solids (its arrays
- * malloc'ed, or NULL with subcells or where no cell has any) the cells'
- * solids' slabs, which their regions' volumes leave out. */
+ * malloc'ed, or NULL where no cell has any) the cells' solids' slabs,
+ * which their regions' volumes leave out. */
 lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
                                      lv_slot_region **regions, float **shares, size_t *share_count,
                                      lvcl_solid_slabs *solids, lvcl_status *st);

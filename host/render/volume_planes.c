@@ -942,7 +942,7 @@ void lvcl_solid_slabs_free(lvcl_solid_slabs *solids)
     solids->list = NULL;
 }
 
-/* Keeps stored cell s's solids' slabs (without subcells): its entry in
+/* Keeps stored cell s's solids' slabs: its entry in
  * solids->list, grown as needed (*capacity entries). Returns 0 out of
  * memory. */
 static int keep_cell_solids(lvcl_solid_slabs *solids, size_t stored, size_t s, const lvcl_cell_solids *found,
@@ -1029,7 +1029,7 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
                         : 0;
                     planes[s].solids = LVCL_NO_SOLIDS;
                     /* Kept for the regions' volumes, and for a later refinement's new regions. */
-                    if (found.count && !g->subcells && !c.failed)
+                    if (found.count && !c.failed)
                         c.failed = !keep_cell_solids(solids, stored, s, &found, &solid_cells, &solid_capacity);
                     if (solids->of_cell) planes[s].solids = solids->of_cell[s];
                     planes[s].mixed = clusters > 0
@@ -1164,9 +1164,11 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
                 const float *from = shares_of + m * per;
                 uint64_t mask = present_subcells(from, k);
                 present[total++] = mask;
-                /* Without subcells the region's volume is its lit volume:
-                 * less its solids' slabs, where light never goes. */
-                sh[share_total++] = computed && !k && solids && planes[s].solids != LVCL_NO_SOLIDS
+                /* The region's volume less its solids' slabs, where light
+                 * never goes: without subcells its lit volume, with them
+                 * the most its floor of one subcell may take
+                 * (lv_cell_lit_volume). */
+                sh[share_total++] = computed && solids && planes[s].solids != LVCL_NO_SOLIDS
                     ? (float)lvcl_region_open_volume((const float(*)[4])planes[s].planes, (int)count, m,
                                                      &solids[planes[s].solids])
                     : from[0];

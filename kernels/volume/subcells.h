@@ -43,7 +43,9 @@ inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
      * the tallies are 0), or the region's volume where that is smaller: few
      * particles leave subcells unmarked. (Everywhere, that floor counted a
      * wall's air side narrower than a subcell as a whole one: 2% dark at
-     * --subcells 2.) */
+     * --subcells 2.) The region's volume leaves out the solids in it (a
+     * thin wall's half whose plane the region shares): a corner's sliver of
+     * air beside such a wall read 6-9% dark. */
     return unmarked || !(lit > 0.0f) ? fmax(lit / n, fmin(1.0f / n, region)) : lit / n;
 }
 

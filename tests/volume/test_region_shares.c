@@ -10,6 +10,7 @@
 
 #include "../../host/render/light_volume_internal.h"
 #include "../check.h"
+#include "../harness.h"
 
 #define PER(k) (1u + ((k) ? (k) * (k) * (k) : 1u))
 
@@ -103,6 +104,68 @@ static void test_open_volume(void)
           lattice_worst);
 }
 
+/* The regions' volumes in the cells a wall thinner than a quarter cell
+ * cuts (tests/harness.c's two rooms, the wall across x): its one plane, in
+ * the wall's middle, gives half its inside to each side's region, and each
+ * region's volume must be the air it holds, the cell's part beyond the
+ * wall's face (in closed form: the wall faces no axis but x), without
+ * subcells (where it is the lit volume) and with them (where it caps the
+ * lit volume's floor of one subcell; until 2026-12-07 it kept the wall's
+ * half there: a corner's sliver of air read 10% dark). Cells away from the
+ * rooms' other surfaces, whose one plane is the wall's. */
+static void test_region_air(void)
+{
+    const float walls[] = {0.02f, 0.05f};
+    const int cells[] = {12, 20};
+    const double offsets[] = {0.3, 0.5, 0.77};
+    const int subcells[] = {0, 2, 4};
+    for (size_t wi = 0; wi < 2; wi++)
+        for (size_t si = 0; si < 3; si++) {
+            double worst = 0;
+            int checked = 0, built = 1;
+            for (size_t ci = 0; ci < 2; ci++)
+                for (size_t oi = 0; oi < 3; oi++) {
+                    float tris[HARNESS_TWO_ROOMS_TRIANGLES * 9];
+                    size_t walls_end, n = harness_two_rooms(tris, walls[wi], 0, 0, 0, 0, 0, &walls_end);
+                    harness_regions r;
+                    if (!harness_build_regions("region air", tris, n, cells[ci], offsets[oi], subcells[si], &r)) {
+                        built = 0;
+                        continue;
+                    }
+                    const double h = r.g.cell_size, lo_face = HARNESS_WALL_X - walls[wi] / 2,
+                                 hi_face = HARNESS_WALL_X + walls[wi] / 2;
+                    for (uint32_t z = 0; z < r.g.dims[2]; z++)
+                        for (uint32_t y = 0; y < r.g.dims[1]; y++)
+                            for (uint32_t x = 0; x < r.g.dims[0]; x++) {
+                                const double c0[3] = {r.g.origin[0] + h * x, r.g.origin[1] + h * y,
+                                                      r.g.origin[2] + h * z};
+                                /* The wall's middle in the cell, the cell clear of the rooms' other surfaces. */
+                                if (!(c0[0] < HARNESS_WALL_X && c0[0] + h > HARNESS_WALL_X) || c0[1] < h ||
+                                    c0[1] + 2 * h > HARNESS_ROOMS_Y || c0[2] < -HARNESS_ROOMS_Z + h ||
+                                    c0[2] + 2 * h > HARNESS_ROOMS_Z)
+                                    continue;
+                                size_t cell = x + (size_t)r.g.dims[0] * (y + (size_t)r.g.dims[1] * z);
+                                uint32_t first = r.slot[cell] & ~LV_CUT_CELL;
+                                const lv_slot_region *e = &r.regions[first];
+                                if (r.slot[cell] == LV_EMPTY_CELL || e->plane_count != 1 || e->shares == LV_NO_SHARES)
+                                    continue;
+                                for (uint32_t j = 0; j < 2; j++) {
+                                    const lv_slot_region *q = &r.regions[first + j];
+                                    int beyond = (q->region & 1u) == (e->planes[0][0] > 0 ? 1u : 0u);
+                                    double air = beyond ? (c0[0] + h - hi_face) / h : (lo_face - c0[0]) / h;
+                                    worst = fmax(worst, fabs(r.shares[q->shares] - fmax(air, 0.0)));
+                                    checked++;
+                                }
+                            }
+                    harness_free_regions(&r);
+                }
+            char name[160];
+            snprintf(name, sizeof name, "region air: a %g cm wall, %d subcells: each side's volume is its air",
+                     1e2 * walls[wi], subcells[si]);
+            CHECK(name, built && checked > 0 && worst < 1e-4, "worst %.2e over %d regions", worst, checked);
+        }
+}
+
 int main(void)
 {
     /* A wall at x = 0.37 cells, 4^3 subcells: the subcells of x index 1
@@ -172,5 +235,6 @@ int main(void)
           sum_worst < 1e-5 && whole_worst < 1e-6, "sum off by %.2e, the cell's volume by %.2e", sum_worst, whole_worst);
     free(lattice);
     test_open_volume();
+    test_region_air();
     CHECK_EXIT();
 }
