@@ -155,9 +155,9 @@ typedef int (*lvcl_known_shares)(void *ctx, uint32_t s, float *out);
  * holds each cell's first slot (| LV_CUT_CELL where it has planes),
  * g->slot_count the slots, and *regions, *shares and *share_count are as
  * lvcl_volume_build_regions gives them. `known` (may be NULL) saves
- * computing the shares of cells whose planes did not change. Without
- * subcells a region's volume leaves out its cell's solids' slabs (solids:
- * the list that planes[].solids index, or NULL). */
+ * computing the shares of cells whose planes did not change. A region's
+ * volume leaves out its cell's solids' slabs (solids: the list that
+ * planes[].solids index, or NULL). */
 lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl_cell_planes *planes,
                                        const lvcl_cell_solids *solids, lvcl_known_shares known, void *ctx,
                                        uint32_t *slot, lv_slot_region **regions, float **shares, size_t *share_count,
