@@ -33,7 +33,10 @@ clean() {
 # image matches device 0's within relMSE TOLERANCE: 1e-6 on the Cornell
 # box (measured up to 3e-12), 1e-5 on the kitchen (measured 1e-7 to 2e-6:
 # float rounding differs between the two compilers), against noise of
-# about 1e-1 at 1 spp.
+# about 1e-1 at 1 spp. The kitchen's light volume 3e-5: its particles'
+# rounding moves the volume's bins by a percent here and there (6.8e-6
+# on a 2-core Intel Xeon, AVX-512), and since 2026-12-07 its glossy tiles'
+# near hits go on as paths that read the volume at more points (1.1e-5).
 render() {
     name=$1 tolerance=$2
     shift 2
@@ -58,7 +61,7 @@ render "light volume (trace, visibility rays, gather)" 1e-6 $lv cornell
 render "light volume, lights' own segments (lv-all)" 1e-6 --mode lv-all --cells 6 --particles 1500 cornell
 render "light volume, sampled gather" 1e-6 $lv --gather sample cornell
 render "light volume, refined cells and directions" 1e-6 $lv --refine 1 --refine-dirs 2 cornell
-render "light volume, adaptive cells" 1e-5 $lv --merge-tolerance 0.25 --subcells 2 kitchen
+render "light volume, adaptive cells" 3e-5 $lv --merge-tolerance 0.25 --subcells 2 kitchen
 render "light volume, lamps seen through glass" 1e-5 $lv "$scenes/glass-table.gltf"
 render "guided path tracer" 1e-6 --mode guided --cells 6 --particles 1500 cornell
 render "scene tables split over buffers" 1e-5 --mode pt --device-memory 0.3 kitchen
