@@ -17,9 +17,8 @@
  * plane while the other was spare (a slab of a room's shell: all of its
  * inside lies in the region on that face's side). In cell units, the slab
  * lo[0] <= axis[0] . u <= hi[0] between its faces (axis[0] its normal),
- * bounded by its face's extent along the two axes in its plane, or by the
- * cell where the face reaches the cell's side. Light never enters the
- * solid, so a region's volume leaves its part there out
+ * bounded by its face's extent along the two axes in its plane. Light
+ * never enters the solid, so a region's volume leaves its part there out
  * (lvcl_region_open_volume): without subcells that volume is the region's
  * lit volume, with them it caps the lit volume's floor of one subcell. */
 typedef struct {
@@ -177,8 +176,8 @@ void lvcl_region_shares_batch(const lvcl_cell_planes *planes, size_t count, uint
 
 /* The volume (over the cell's) of region `pattern` of a cell with these
  * planes, less its part inside the union of the cell's solids' slabs (two
- * that cross in one cell, at a wall's corner, share a part), exactly; a
- * region all inside keeps 10^-3 of its volume (volume_shares.c). */
+ * that cross in one cell, at a wall's corner, share a part), exactly, but
+ * never under a quarter of the region's volume (volume_shares.c). */
 double lvcl_region_open_volume(const float planes[][4], int count, uint32_t pattern, const lvcl_cell_solids *solids);
 
 /* Finds the blocks of 2 x 2 x 2 cells with no geometry inside whose

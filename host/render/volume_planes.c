@@ -576,32 +576,6 @@ static int is_chosen(const int *chosen, int count, int cluster)
     return 0;
 }
 
-/* The range of axis . u over the unit cell's section by the plane n . u
- * = d (cell units): over the points where the plane crosses the cell's
- * twelve edges. */
-#define SECTION_TOLERANCE 1e-3
-#define SECTION_OPEN 2.0f /* beyond any unit axis's range over the cell (at most sqrt 3) */
-static void section_along(const double n[3], double d, const double axis[3], double *lo, double *hi)
-{
-    *lo = HUGE_VAL, *hi = -HUGE_VAL;
-    for (int e = 0; e < 12; e++) {
-        /* Edge e runs along coordinate e / 4 at the corner given by the two
-         * other coordinates' bits e % 4. */
-        int along = e / 4, b = e % 4;
-        double u0[3], u1[3];
-        for (int j = 0, bit = 0; j < 3; j++) {
-            if (j == along) u0[j] = 0, u1[j] = 1;
-            else u0[j] = u1[j] = (double)(b >> bit++ & 1);
-        }
-        double f0 = lvcl_dot3(n, u0) - d, f1 = lvcl_dot3(n, u1) - d;
-        if ((f0 < 0) == (f1 < 0) && f0 != 0) continue;
-        double t = f0 == f1 ? 0 : f0 / (f0 - f1), x[3];
-        for (int j = 0; j < 3; j++) x[j] = u0[j] + t * (u1[j] - u0[j]);
-        double v = lvcl_dot3(axis, x);
-        *lo = fmin(*lo, v), *hi = fmax(*hi, v);
-    }
-}
-
 /* Adds to *solids the slab of an opaque solid between a face against the
  * group's normal (lower, its top one at offset `from`) and one along it
  * above (upper's top one, at `to`), apart by more than a facet's tolerance
@@ -625,16 +599,6 @@ static void keep_solid(const cluster *lower, const cluster *upper, double from_d
         for (int j = 0; j < 3; j++) t->axis[a][j] = (float)axis[a][j];
         t->lo[a] = (float)((from[a] - at) / h);
         t->hi[a] = (float)((to[a] - at) / h);
-    }
-    /* Where the face reaches the cell's side, the solid goes on past it:
-     * its inside there is bounded by the cell alone (a thick slab crossing
-     * a cell at a slant holds corners of the cell that its face's own
-     * extent does not reach). */
-    for (int a = 1; a < 3; a++) {
-        double section_lo, section_hi;
-        section_along(axis[0], t->hi[0], axis[a], &section_lo, &section_hi);
-        if (t->lo[a] <= section_lo + SECTION_TOLERANCE) t->lo[a] = -SECTION_OPEN;
-        if (t->hi[a] >= section_hi - SECTION_TOLERANCE) t->hi[a] = SECTION_OPEN;
     }
 }
 

@@ -178,9 +178,10 @@ void lvcl_region_shares(const float planes[][4], int count, uint32_t k, float *o
 }
 
 /* A region smaller than this (of the cell) keeps its volume: it is all
- * rounding. One inside solids keeps this share of it, so that its light,
- * which is none, is not divided by 0. */
+ * rounding. */
 #define OPEN_VOLUME_MIN 1e-3
+/* The least share of its volume a region keeps, whatever its solids. */
+#define OPEN_VOLUME_FLOOR 0.25
 
 /* Keeps the part of t where s (n . u - c) >= 0, as clip does, but leaves
  * t whole where all of it is there already: clip would add the face a
@@ -220,8 +221,10 @@ double lvcl_region_open_volume(const float planes[][4], int count, uint32_t patt
         }
         if (inside.n) open += (members & 1 ? -1.0 : 1.0) * volume(&inside);
     }
-    /* A region all inside solids holds no light; its volume stays above 0. */
-    return fmax(open, OPEN_VOLUME_MIN * whole);
+    /* Never under a quarter of the region: the slabs' extents are their
+     * faces' in the cell, and a slab whose faces were paired wrongly must
+     * not leave a lit region next to no volume (its light divided by it). */
+    return fmax(open, OPEN_VOLUME_FLOOR * whole);
 }
 
 /* One thread's part of lvcl_region_shares_batch: every `stride`-th cell
