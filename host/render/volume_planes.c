@@ -576,23 +576,23 @@ static int is_chosen(const int *chosen, int count, int cluster)
     return 0;
 }
 
-/* Adds to *solids the slab of an opaque solid between a face against the
- * group's normal (lower, its top one at offset `from`) and one along it
- * above (upper's top one, at `to`), apart by more than a facet's tolerance
- * and bounded by upper's extent in the cell, which must be known: in cell
+/* Adds to *solids the slab of an opaque solid between lower's top face
+ * against the group's normal and upper's top face along it above (one
+ * cluster for both, or two), apart by more than a facet's tolerance and
+ * bounded by upper's extent in the cell, which must be known: in cell
  * units from the corner lo. */
-static void keep_solid(const cluster *lower, const cluster *upper, double from_d, double to_d, const double lo[3],
-                       double h, lvcl_cell_solids *solids)
+static void keep_solid(const cluster *lower, const cluster *upper, const double lo[3], double h,
+                       lvcl_cell_solids *solids)
 {
-    if (lower->clear || upper->clear || lower->sheet || upper->sheet || !upper->along_extent || from_d == -HUGE_VAL ||
-        to_d == -HUGE_VAL || !(to_d - from_d > FACET_OFFSET * h) ||
-        !(lvcl_dot3(upper->along_n, lower->against_n) > LAYER_NORMAL) || solids->count >= LV_GEOMETRY_PLANES)
-        return;
     const cluster *k = upper;
+    if (lower->clear || k->clear || lower->sheet || k->sheet || !k->along_extent || lower->top_against == -HUGE_VAL ||
+        k->top_along == -HUGE_VAL || !(k->top_along - lower->top_against > FACET_OFFSET * h) ||
+        !(lvcl_dot3(k->along_n, lower->against_n) > LAYER_NORMAL) || solids->count >= LV_GEOMETRY_PLANES)
+        return;
     lvcl_solid_slab *t = &solids->solid[solids->count++];
     const double *axis[3] = {k->along_n, k->along_axes[0], k->along_axes[1]};
-    const double from[3] = {from_d, k->along_lo[0], k->along_lo[1]};
-    const double to[3] = {to_d, k->along_hi[0], k->along_hi[1]};
+    const double from[3] = {lower->top_against, k->along_lo[0], k->along_lo[1]};
+    const double to[3] = {k->top_along, k->along_hi[0], k->along_hi[1]};
     for (int a = 0; a < 3; a++) {
         /* a . x = c  <=>  a . u = (c - a . lo) / h */
         double at = lvcl_dot3(axis[a], lo);
@@ -607,7 +607,7 @@ static void keep_solid(const cluster *lower, const cluster *upper, double from_d
  * side's region): the slab between them. */
 static void keep_thin_solid(const cluster *k, const double lo[3], double h, lvcl_cell_solids *solids)
 {
-    keep_solid(k, k, k->top_against, k->top_along, lo, h, solids);
+    keep_solid(k, k, lo, h, solids);
 }
 
 /* The planes of one stored cell (corner lo) from its clusters (count of
@@ -662,8 +662,7 @@ static int choose_planes(const cell_scratch *w, int clusters, const double lo[3]
      * plane: the room's corner region read 20-40% dark without subcells). */
     for (int i = 1; i < clusters; i++)
         if (w->clusters[i].backs_onto_previous && is_chosen(chosen, rounds, i) != is_chosen(chosen, rounds, i - 1))
-            keep_solid(&w->clusters[i - 1], &w->clusters[i], w->clusters[i - 1].top_against, w->clusters[i].top_along,
-                       lo, h, solids);
+            keep_solid(&w->clusters[i - 1], &w->clusters[i], lo, h, solids);
     return count;
 }
 
