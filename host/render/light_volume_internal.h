@@ -17,7 +17,7 @@
  * plane while the other was spare (a slab of a room's shell: all of its
  * inside lies in the region on that face's side). In cell units, the slab
  * lo[0] <= axis[0] . u <= hi[0] between its faces (axis[0] its normal),
- * bounded by its face's extent along the two axes in its plane. Light
+ * bounded by a face's extent along the two axes in its plane. Light
  * never enters the solid, so a region's volume leaves its part there out
  * (lvcl_region_open_volume): without subcells that volume is the region's
  * lit volume, with them it caps the lit volume's floor of one subcell. */
@@ -26,10 +26,12 @@ typedef struct {
     float lo[3], hi[3];
 } lvcl_solid_slab;
 
-/* A stored cell's solids' slabs (one per plane at most). */
+/* A stored cell's solids' slabs: at most two per plane (volume_planes.c,
+ * keep_solid). */
+#define LVCL_CELL_SOLIDS (2 * LV_GEOMETRY_PLANES)
 typedef struct {
     uint8_t count;
-    lvcl_solid_slab solid[LV_GEOMETRY_PLANES];
+    lvcl_solid_slab solid[LVCL_CELL_SOLIDS];
 } lvcl_cell_solids;
 
 /* The solids' slabs of the cells that have any: per stored cell its entry

@@ -464,21 +464,26 @@ static void test_face_by_subcell_face(void)
 /* A slab of the rooms' shell at a slant across a cell, whose outer face
  * took the cell's plane while its inner one, the solid's other face, was
  * spare: without subcells the room's region there counted the slab's
- * inside (most of the cell) as lit. The camera looks at a corner where a
- * second wall (`twin`, 40 cm into the dim room: a dark corridor between)
- * meets the side wall's and the ceiling's slabs, 30 cm thick. */
+ * inside (most of the cell) as lit. The first five look at a corner where
+ * a second wall (`twin`, 40 cm into the dim room: a dark corridor between)
+ * meets the side wall's and the ceiling's slabs, 30 cm thick; the fifth
+ * read 0.755 while a slab was bounded by its inner face's extent, which
+ * misses the corners of a slanted cell that the slab holds between its
+ * faces. The last two look at corners where 20 cm slabs meet (found by a
+ * sweep of slab shells without subcells; they read 0.63 and 1.00 before). */
 static void test_slab_corners(void)
 {
     const float corner[3] = {HARNESS_WALL_X + 0.43f, 2.358f, -1.0f};
-    /* Not here: the same corner at 12 cells and offset 0.5 seen point-wise
-     * (0.755; docs/light-volume.md, "Thick solids without subcells"). */
     setup setups[] = {
         {0.06f, 0.5f, 12, 0, .yaw = 58.6f, .shell = 0.3f, .twin = 0.4f, .fov = 20},
         {0.06f, 0.0f, 12, 0, .yaw = 58.6f, .shell = 0.3f, .twin = 0.4f, .fov = 1e-4f},
         {0.06f, 0.5f, 20, 0, .yaw = 58.6f, .shell = 0.3f, .twin = 0.4f, .fov = 1e-4f},
         {0.02f, 0.3f, 14, 0, .yaw = 33.0f, .shell = 0.25f, .twin = 0.4f, .fov = 1e-4f},
+        {0.06f, 0.5f, 12, 0, .yaw = 58.6f, .shell = 0.3f, .twin = 0.4f, .fov = 1e-4f},
+        {0.02f, 0.37f, 14, 0, .yaw = 81.1f, .shell = 0.2f, .panel = 0.3f, .fov = 1e-4f, .look = {1.734f, 2.5f, -1.0f}},
+        {0.02f, 0.37f, 12, 0, .yaw = 23.0f, .pitch = 14.9f, .shell = 0.2f, .fov = 6, .look = {0.794f, 2.5f, 1.0f}},
     };
-    for (size_t i = 0; i < sizeof setups / sizeof *setups; i++) memcpy(setups[i].look, corner, sizeof corner);
+    for (size_t i = 0; i < 5; i++) memcpy(setups[i].look, corner, sizeof corner);
     check_against_path_tracer(setups, sizeof setups / sizeof *setups, "slab corners", 0.06);
 }
 
