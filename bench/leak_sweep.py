@@ -13,7 +13,8 @@ bright lamp is red and the dim one blue, so any red in the dim room is the
 bright room's light read through the wall (its true value, and the path
 tracer's, is 0).
 
-    python3 bench/leak_sweep.py [--seed S] [--count N] [--corridors] [--wide] [--curved] [--tees] [--edges] [--bias] [--build build]
+    python3 bench/leak_sweep.py [--seed S] [--count N] [--corridors] [--wide] [--curved] [--tees] [--edges] [--bias]
+        [--subcells K] [--build build]
 
 One JSON object per set-up (its parameters, the dim room's mean red and
 blue, leak = red / (ratio x blue) and red / blue, the share of the dim
@@ -30,9 +31,12 @@ there or not, and shows at that count. Takes about a second a set-up.
 With --bias each set-up is also rendered at 10^6 particles and 16
 samples, and by the path tracer at 256: the dim room's blue, its own
 light, must agree (lv_over_pt; the summary counts set-ups more than 2%
-apart). That found a thin wall's face just inside a subcell reading its
-room 5-11% dark (docs/light-volume.md, "A face by a subcell's face").
-About six seconds a set-up."""
+apart), and in the room views so must each 8 x 8-pixel block, within 10%
+(lv_over_pt_blocks: the least and largest block ratio; blocks_biased).
+That found a thin wall's face just inside a subcell reading its room
+5-11% dark (docs/light-volume.md, "A face by a subcell's face"). About
+six seconds a set-up. --subcells K renders every set-up with K subcells
+(the draws stay as they were)."""
 import argparse
 import json
 import math
@@ -53,6 +57,14 @@ BIAS = 0.02
 # (docs/light-volume.md, "Corner lines"); such views are counted apart, to
 # a bound that measures that limit rather than hides it.
 EDGE_BIAS = 0.1
+# The room views' 8 x 8-pixel blocks (16 of a 32 x 32 image), lv's over the
+# path tracer's: a corner a cell's region reads too dark hides in the
+# image's mean (a slab corner's block 0.88 in an image 0.994). Where lv is
+# right, noise and the lookups' blur keep blocks within about 5% (0.951-1.046
+# over the 12 set-ups of --wide --corridors --curved --tees --seed 70), and
+# the path tracer's noise off a mirror wall once within 8% (1.079, seed 71
+# with --subcells 0; 1.024 at 2048 samples).
+BLOCK_BIAS = 0.1
 
 
 def draw(r, corridors):
@@ -92,11 +104,16 @@ def draw_curved(r):
     return {"bend_m": round(r.uniform(0.1, 0.6), 2) if bowed else 0.0, "bend_rows": r.choice([1, 5])}
 
 
+def compare(build, exr, reference):
+    """build/lvcl-compare's report of exr against reference."""
+    text = subprocess.run([os.path.join(build, "lvcl-compare"), exr, reference], check=True, capture_output=True,
+                          text=True).stdout
+    return json.loads(text)
+
+
 def dim_room_mean(build, exr):
     """The image's mean (r, g, b), as build/lvcl-compare reports it."""
-    text = subprocess.run([os.path.join(build, "lvcl-compare"), exr, exr], check=True, capture_output=True,
-                          text=True).stdout
-    return json.loads(text)["mean"]
+    return compare(build, exr, exr)["mean"]
 
 
 def draw_tee(r, u):
@@ -154,6 +171,8 @@ def main():
                     help="also compare the dim room's own light, lv (10^6 particles, 16 samples) against the path "
                          "tracer (256 samples); with --edges, views of a corner line count apart (edge_biased, "
                          "against a wider bound: the volume cannot follow the light's dip at the line itself)")
+    ap.add_argument("--subcells", type=int, default=None,
+                    help="render every set-up with this many subcells a side (0-4) instead of the drawn count")
     ap.add_argument("--edges", action="store_true",
                     help="in half the set-ups zoom the camera onto a line where the wall meets the floor, the "
                          "ceiling, a side wall, the cupboard or the --tees wall")
@@ -162,10 +181,13 @@ def main():
     r_edges, r_tees = random.Random(a.seed + 3000017), random.Random(a.seed + 4000037)
     leaks, pt_leaks, worst, worst_share = 0, 0, 0.0, 0.0
     biased, worst_bias, edge_biased, worst_edge_bias = 0, 0.0, 0, 0.0
+    blocks_biased, worst_block_bias = 0, 0.0
     with tempfile.TemporaryDirectory() as tmp:
         scene, image = os.path.join(tmp, "rooms.gltf"), os.path.join(tmp, "rooms.exr")
         for _ in range(a.count):
             u = draw(r, a.corridors)
+            if a.subcells is not None:
+                u["subcells"] = a.subcells
             wide = draw_wide(r_wide) if a.wide else {"scale": 1.0, "wall_material": "lambert", "bright_light": "area"}
             if wide["bright_light"] == "spot" and (u["yaw_deg"] or u["pitch_deg"]):
                 wide["bright_light"] = "point"
@@ -208,11 +230,13 @@ def main():
                 u["pt_red"] = dim_room_mean(a.build, image)[0]
                 pt_leaks += u["pt_red"] > 0
             if a.bias:
-                own = []  # the dim room's blue, lv then pt
+                own, images = [], []  # the dim room's blue, lv then pt
                 for mode, extra in (("lv", grid + ["--particles", "1e6", "--spp", "16"]), ("pt", ["--spp", "256"])):
+                    images.append(os.path.join(tmp, mode + ".exr"))
                     subprocess.run([os.path.join(a.build, "lvcl"), "-q", "--mode", mode] + extra +
-                                   ["--width", "32", "--height", "32", "--seed", "5", "-o", image, scene], check=True)
-                    own.append(dim_room_mean(a.build, image)[2])
+                                   ["--width", "32", "--height", "32", "--seed", "5", "-o", images[-1], scene],
+                                   check=True)
+                    own.append(dim_room_mean(a.build, images[-1])[2])
                 u["lv_over_pt"] = own[0] / own[1] if own[1] > 0 else float("nan")
                 off = abs(u["lv_over_pt"] - 1)
                 if u.get("look_at"):
@@ -221,6 +245,10 @@ def main():
                 else:
                     biased += not off <= BIAS
                     worst_bias = max(worst_bias, off)
+                    u["lv_over_pt_blocks"] = compare(a.build, *images)["block_ratios"]
+                    block_off = max(abs(x - 1) for x in u["lv_over_pt_blocks"])
+                    blocks_biased += not block_off <= BLOCK_BIAS
+                    worst_block_bias = max(worst_block_bias, block_off)
             worst = max(worst, u["leak"])
             worst_share = max(worst_share, u["red_over_blue"])
             print(json.dumps(dict({"bench": "leak_sweep"}, **u)), flush=True)
@@ -228,6 +256,8 @@ def main():
                       "leaked_in_pt_too": pt_leaks,
                       "worst_leak": worst, "bound": LEAK, "worst_red_over_blue": worst_share},
                      **({"biased": biased, "bias_bound": BIAS, "worst_bias": worst_bias,
+                         "blocks_biased": blocks_biased, "block_bias_bound": BLOCK_BIAS,
+                         "worst_block_bias": worst_block_bias,
                          "edge_biased": edge_biased, "edge_bias_bound": EDGE_BIAS,
                          "worst_edge_bias": worst_edge_bias} if a.bias else {}))))
 

@@ -1,10 +1,14 @@
 /* lvcl-compare IMAGE REFERENCE: prints the error of IMAGE against REFERENCE
- * as one JSON object (relMSE, RMSE and both images' mean RGB). */
+ * as one JSON object (relMSE, RMSE, both images' mean RGB, and the least
+ * and largest ratio of IMAGE's 8 x 8-pixel block sums over REFERENCE's). */
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "../io/image_io.h"
 #include "../io/metrics.h"
+
+/* The side of the blocks whose ratios are reported, pixels. */
+#define COMPARE_BLOCK 8
 
 int main(int argc, char **argv)
 {
@@ -30,8 +34,11 @@ int main(int argc, char **argv)
     double ma[3], mb[3];
     lvcl_mean_rgb(a, n, ma);
     lvcl_mean_rgb(b, n, mb);
-    printf("{\"relmse\": %.6g, \"rmse\": %.6g, \"mean\": [%.5f, %.5f, %.5f], \"reference_mean\": [%.5f, %.5f, %.5f]}\n",
-           lvcl_relmse(a, b, 3 * n), lvcl_rmse(a, b, 3 * n), ma[0], ma[1], ma[2], mb[0], mb[1], mb[2]);
+    double lo, hi;
+    lvcl_block_ratios(a, b, wa, ha, COMPARE_BLOCK, &lo, &hi);
+    printf("{\"relmse\": %.6g, \"rmse\": %.6g, \"mean\": [%.5f, %.5f, %.5f], \"reference_mean\": [%.5f, %.5f, %.5f], "
+           "\"block_ratios\": [%.4f, %.4f]}\n",
+           lvcl_relmse(a, b, 3 * n), lvcl_rmse(a, b, 3 * n), ma[0], ma[1], ma[2], mb[0], mb[1], mb[2], lo, hi);
     free(a);
     free(b);
     return 0;
