@@ -9,13 +9,24 @@
 #include "../util/rng.h"
 #include "grid.h"
 
+/* How far a region's lit volume may pass its volume by the rounding of its
+ * subcells' shares against the region's, computed apart. */
+#define LV_LIT_ROUNDING 1.0001f
+
 /* The lit volume of a region slot, in cell units (1 = the whole cell), by
  * paper 4.1 within the region: the subcells that tallied segments passed
  * in it, each weighted by the fraction of its visibility rays that reached
  * their particle's origin (1 if none was cast) and by the exact share of
  * the subcell inside the region (region_shares, computed on the host).
  * Without subcells: the region's volume (the whole cell for a cell without
- * planes). A region of no volume holds no point, so nothing reads it. */
+ * planes). Either way never more than the region's volume less the solids
+ * in it: light fills only its air. (A thin ceiling's plane left a cell a
+ * region of the ceiling's lower half and 0.3 mm of air below it; segments
+ * to the ceiling marked its subcells, but their lit points fell in the
+ * cell below, so no visibility ray weighed them, and the region counted
+ * their whole shares, twenty times its air: a corridor's corner read 6%
+ * dark.) A region of no volume holds no point, so nothing reads it. */
+
 inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
 {
     uint k = grid->g.subcells;
@@ -46,7 +57,8 @@ inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
      * --subcells 2.) The region's volume leaves out the solids in it (a
      * thin wall's half whose plane the region shares): a corner's sliver of
      * air beside such a wall read 6-9% dark. */
-    return unmarked || !(lit > 0.0f) ? fmax(lit / n, fmin(1.0f / n, region)) : lit / n;
+    float sum = unmarked || !(lit > 0.0f) ? fmax(lit / n, fmin(1.0f / n, region)) : lit / n;
+    return sum > region * LV_LIT_ROUNDING ? region : sum;
 }
 
 /* Where subcell i of slot's region keeps its rays and lit point, or
