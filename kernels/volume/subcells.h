@@ -26,7 +26,6 @@
  * cell below, so no visibility ray weighed them, and the region counted
  * their whole shares, twenty times its air: a corridor's corner read 6%
  * dark.) A region of no volume holds no point, so nothing reads it. */
-
 inline float lv_cell_lit_volume(const lv_grid *grid, uint slot)
 {
     uint k = grid->g.subcells;
