@@ -17,7 +17,8 @@
  * plane while the other was spare (a slab of a room's shell: all of its
  * inside lies in the region on that face's side). In cell units, the slab
  * lo[0] <= axis[0] . u <= hi[0] between its faces (axis[0] its normal),
- * bounded by a face's extent along the two axes in its plane. Light
+ * bounded by a face's extent along the two axes in its plane (open on a
+ * side where both faces reach the cell's side: keep_solid). Light
  * never enters the solid, so a region's volume leaves its part there out
  * (lvcl_region_open_volume): without subcells that volume is the region's
  * lit volume, with them it caps the lit volume's floor of one subcell. */
@@ -179,7 +180,7 @@ void lvcl_region_shares_batch(const lvcl_cell_planes *planes, size_t count, uint
 /* The volume (over the cell's) of region `pattern` of a cell with these
  * planes, less its part inside the union of the cell's solids' slabs (two
  * that cross in one cell, at a wall's corner, share a part), exactly, but
- * never under a quarter of the region's volume (volume_shares.c). */
+ * never under a twentieth of the region's volume (volume_shares.c). */
 double lvcl_region_open_volume(const float planes[][4], int count, uint32_t pattern, const lvcl_cell_solids *solids);
 
 /* Finds the blocks of 2 x 2 x 2 cells with no geometry inside whose
