@@ -21,7 +21,7 @@
  * side where both faces reach the cell's side: keep_solid). Light
  * never enters the solid, so a region's volume leaves its part there out
  * (lvcl_region_open_volume): without subcells that volume is the region's
- * lit volume, with them it caps the lit volume's floor of one subcell. */
+ * lit volume, with them it bounds the lit volume (lv_cell_lit_volume). */
 typedef struct {
     float axis[3][3];
     float lo[3], hi[3];

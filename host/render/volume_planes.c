@@ -1220,8 +1220,7 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
                 present[total++] = mask;
                 /* The region's volume less its solids' slabs, where light
                  * never goes: without subcells its lit volume, with them
-                 * the most its floor of one subcell may take
-                 * (lv_cell_lit_volume). */
+                 * the most its lit volume may be (lv_cell_lit_volume). */
                 sh[share_total++] = computed && solids && planes[s].solids != LVCL_NO_SOLIDS
                     ? (float)lvcl_region_open_volume((const float(*)[4])planes[s].planes, (int)count, m,
                                                      &solids[planes[s].solids])
