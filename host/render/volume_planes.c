@@ -637,17 +637,22 @@ static void add_slab(const double n[3], const double axes[2][3], double from, do
     }
 }
 
-/* Whether extent e (of a face at offset d along n, world units) reaches
- * the cell's side along axes[k] (below where side is 0, above where 1):
- * it comes to the edge of the cell's section by the face's plane. */
-static int reaches_side(const face_extent *e, const double n[3], double d, const double axes[2][3], int k, int side,
-                        const double lo[3], double h)
+/* Which sides of the cell extent e (of a face at offset d along n, world
+ * units) reaches along each of axes: reach[k][0] below along axes[k],
+ * reach[k][1] above, where it comes to the edge of the cell's section by
+ * the face's plane. */
+static void reached_sides(const face_extent *e, const double n[3], double d, const double axes[2][3],
+                          const double lo[3], double h, int reach[2][2])
 {
-    double l, u, s_lo, s_hi;
-    if (!e->known || !extent_along(e->axes, e->lo, e->hi, axes[k], &l, &u)) return 0;
-    double at = lvcl_dot3(axes[k], lo);
-    section_along(n, (d - lvcl_dot3(n, lo)) / h, axes[k], &s_lo, &s_hi);
-    return side ? (u - at) / h >= s_hi - SECTION_TOLERANCE : (l - at) / h <= s_lo + SECTION_TOLERANCE;
+    for (int k = 0; k < 2; k++) {
+        double l, u, s_lo, s_hi;
+        reach[k][0] = reach[k][1] = 0;
+        if (!e->known || !extent_along(e->axes, e->lo, e->hi, axes[k], &l, &u)) continue;
+        double at = lvcl_dot3(axes[k], lo);
+        section_along(n, (d - lvcl_dot3(n, lo)) / h, axes[k], &s_lo, &s_hi);
+        reach[k][0] = (l - at) / h <= s_lo + SECTION_TOLERANCE;
+        reach[k][1] = (u - at) / h >= s_hi - SECTION_TOLERANCE;
+    }
 }
 
 /* Whether extent e lies within extent f (up to FACET_OFFSET cell). */
@@ -681,11 +686,11 @@ static void keep_solid(const cluster *lower, const cluster *upper, const double 
         k->top_along == -HUGE_VAL || !(k->top_along - lower->top_against > FACET_OFFSET * h) ||
         !(lvcl_dot3(k->along_n, lower->against_n) > LAYER_NORMAL))
         return;
-    int open[2][2];
+    int open[2][2], other[2][2];
+    reached_sides(&k->along, k->along_n, k->top_along, k->along.axes, lo, h, open);
+    reached_sides(&lower->against, k->along_n, lower->top_against, k->along.axes, lo, h, other);
     for (int a = 0; a < 2; a++)
-        for (int side = 0; side < 2; side++)
-            open[a][side] = reaches_side(&k->along, k->along_n, k->top_along, k->along.axes, a, side, lo, h) &&
-                reaches_side(&lower->against, k->along_n, lower->top_against, k->along.axes, a, side, lo, h);
+        for (int side = 0; side < 2; side++) open[a][side] &= other[a][side];
     add_slab(k->along_n, k->along.axes, lower->top_against, k->top_along, k->along.lo, k->along.hi, open, lo, h,
              solids);
     if (lower->against.known && !extent_within(&lower->against, &k->along, h))
