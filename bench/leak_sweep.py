@@ -252,13 +252,14 @@ def main():
                 u["pt_red"] = dim_room_mean(a.build, image)[0]
                 pt_leaks += u["pt_red"] > 0
             if a.bias:
-                own, images = [], []  # the dim room's blue, lv then pt
+                images = []  # lv then pt
                 for mode, extra in (("lv", grid + ["--particles", "1e6", "--spp", "16"]), ("pt", ["--spp", "256"])):
                     images.append(os.path.join(tmp, mode + ".exr"))
                     subprocess.run([os.path.join(a.build, "lvcl"), "-q", "--mode", mode] + extra +
                                    ["--width", "32", "--height", "32", "--seed", "5", "-o", images[-1], scene],
                                    check=True)
-                    own.append(dim_room_mean(a.build, images[-1])[2])
+                report = compare(a.build, *images)
+                own = report["mean"][2], report["reference_mean"][2]  # the dim room's blue, its own light
                 u["lv_over_pt"] = own[0] / own[1] if own[1] > 0 else float("nan")
                 off = abs(u["lv_over_pt"] - 1)
                 if u.get("look_at"):
@@ -267,7 +268,7 @@ def main():
                 else:
                     biased += not off <= BIAS
                     worst_bias = max(worst_bias, off)
-                    u["lv_over_pt_blocks"] = compare(a.build, *images)["block_ratios"]
+                    u["lv_over_pt_blocks"] = report["block_ratios"]
                     block_off = max(abs(x - 1) for x in u["lv_over_pt_blocks"])
                     blocks_biased += not block_off <= BLOCK_BIAS
                     worst_block_bias = max(worst_block_bias, block_off)
