@@ -102,8 +102,10 @@ typedef struct {
     float pad;
 } lv_material;
 
-/* A texture: width x height RGBA8 texels (sRGB-encoded colour) at `offset`
- * texels into the shared texel buffer. */
+/* A texture: width x height RGBA16 texels at `offset` texels into the
+ * shared texel buffer: linear colour, decoded from glTF's sRGB by the host
+ * (host/device/packed_scene.c), so that bilinear filtering blends light,
+ * not encoded values, as a GPU's sRGB textures do. */
 typedef struct {
     lv_u32 offset;
     lv_u32 width;
@@ -387,17 +389,17 @@ static inline lv_u32 lv_hash(lv_u32 x)
  * (host/device/kernel_args.h) into its buffer structs, the scene upload and
  * the argument binders; the enums here give every argument's index. */
 
-/* The storage of OpenCL vector types, as both sides see it (16 and 4 bytes). */
+/* The storage of OpenCL vector types, as both sides see it (16 and 8 bytes). */
 #ifdef __OPENCL_C_VERSION__
 typedef float4 lv_float4;
-typedef uchar4 lv_uchar4;
+typedef ushort4 lv_ushort4;
 #else
 typedef struct {
     float s[4];
 } lv_float4;
 typedef struct {
-    uint8_t s[4];
-} lv_uchar4;
+    uint16_t s[4];
+} lv_ushort4;
 #endif
 
 /* The scene's buffers, read-only, in argument order (then lv_scene_info):
@@ -415,7 +417,7 @@ typedef struct {
     SPLIT(float, uvs, 2, vertices_per_part, "texture coordinates")                                                \
     ONE(lv_material, materials, "materials")                                                                      \
     ONE(lv_texture, textures, "textures")                                                                         \
-    ONE(lv_uchar4, texels, "texels")                                                                              \
+    ONE(lv_ushort4, texels, "texels")                                                                             \
     ONE(lv_light, lights, "lights")                                                                               \
     ONE(lv_punctual_light, punctuals, "punctual lights")
 

@@ -14,7 +14,7 @@ _Static_assert(sizeof(lv_camera) == 64, "lv_camera");
 _Static_assert(sizeof(lv_scene_info) == 48, "lv_scene_info");
 _Static_assert(sizeof(lv_grid_info) == 64, "lv_grid_info");
 _Static_assert(sizeof(lv_slot_region) == 192, "lv_slot_region");
-_Static_assert(sizeof(lv_float4) == 16 && sizeof(lv_uchar4) == 4, "vector storage");
+_Static_assert(sizeof(lv_float4) == 16 && sizeof(lv_ushort4) == 8, "vector storage");
 
 /* An otherwise empty translation unit is not ISO C. */
 typedef int lvcl_layout_checks_unit;

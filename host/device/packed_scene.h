@@ -28,7 +28,7 @@ typedef struct {
     size_t material_count;
     lv_texture *textures;
     size_t texture_count;
-    uint32_t *texels; /* RGBA8 */
+    lv_ushort4 *texels; /* linear RGBA16 (lv_texture) */
     size_t texel_count;
     lv_light *lights;
     size_t light_count;

@@ -1,8 +1,9 @@
 /* Solid glass: a dielectric interface, GGX-rough (Walter et al. 2007) or,
  * below LV_SMOOTH_ALPHA, smooth; +z is the outside (front) face and b->ior
  * the inside index over the outside one. Refraction scales radiance by
- * 1/eta'^2, importance not (`mode`). Beer-Lambert absorption inside is the
- * integrators' business. Included by closure/bsdf.h, after lv_bsdf. */
+ * 1/eta'^2, importance not (`mode`), and the base colour tints it at each
+ * crossing (glTF's KHR_materials_transmission; reflection keeps its
+ * colour). Beer-Lambert absorption inside is the integrators' business. Included by closure/bsdf.h, after lv_bsdf. */
 #ifndef LV_CLOSURE_DIELECTRIC_H
 #define LV_CLOSURE_DIELECTRIC_H
 
@@ -39,7 +40,7 @@ inline float3 lv_dielectric_value(const lv_bsdf *b, float3 wo, float3 wi, int mo
     float denom = dot(wi, m) + dot(wo, m) / etap;
     float f = (1.0f - fr) * d * g * fabs(dot(wi, m) * dot(wo, m) / (wo.z * denom * denom));
     if (mode == LV_RADIANCE) f /= etap * etap;
-    return (float3)(f);
+    return f * b->base;
 }
 
 inline float lv_dielectric_pdf(const lv_bsdf *b, float3 wo, float3 wi)
@@ -73,7 +74,7 @@ inline int lv_dielectric_sample(const lv_bsdf *b, float3 wo, float3 u, int mode,
         if (u.z < fr) return lv_bsdf_sample_delta(lv_mirror(wo), (float3)(1.0f), s);
         if (!lv_refract(wo, (float3)(0.0f, 0.0f, 1.0f), b->ior, &wi, &etap)) return 0;
         float scale = mode == LV_RADIANCE ? 1.0f / (etap * etap) : 1.0f;
-        lv_bsdf_sample_delta(wi, (float3)(scale), s);
+        lv_bsdf_sample_delta(wi, scale * b->base, s);
         s->eta_scale = scale;
         return 1;
     }

@@ -15,21 +15,16 @@ typedef struct {
 } lv_surface;
 
 #ifdef LV_FEATURE_TEXTURES
-inline float3 lv_srgb_to_linear(float3 c)
-{
-    return select(pow((c + 0.055f) * (1.0f / 1.055f), (float3)(2.4f)), c * (1.0f / 12.92f), c <= 0.04045f);
-}
-
 inline float4 lv_texel(const lv_scene *sc, lv_texture t, int x, int y)
 {
     x = x % (int)t.width;
     y = y % (int)t.height;
     if (x < 0) x += (int)t.width;
     if (y < 0) y += (int)t.height;
-    return convert_float4(sc->texels[t.offset + (uint)y * t.width + (uint)x]) * (1.0f / 255.0f);
+    return convert_float4(sc->texels[t.offset + (uint)y * t.width + (uint)x]) * (1.0f / 65535.0f);
 }
 
-/* Bilinear lookup with repeat wrapping; colour decoded from sRGB. */
+/* Bilinear lookup with repeat wrapping, of linear texels. */
 inline float3 lv_texture_rgb(const lv_scene *sc, int index, float2 uv)
 {
     lv_texture t = sc->textures[index];
@@ -39,7 +34,7 @@ inline float3 lv_texture_rgb(const lv_scene *sc, int index, float2 uv)
     float ax = x - fx, ay = y - fy;
     float4 c = mix(mix(lv_texel(sc, t, x0, y0), lv_texel(sc, t, x0 + 1, y0), ax),
                    mix(lv_texel(sc, t, x0, y0 + 1), lv_texel(sc, t, x0 + 1, y0 + 1), ax), ay);
-    return lv_srgb_to_linear(c.xyz);
+    return c.xyz;
 }
 #endif
 

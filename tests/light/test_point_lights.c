@@ -4,7 +4,8 @@
  *   point light   L = (a / pi) I cos(theta) / d^2, and inverse-square;
  *   spot light    the same times the glTF cone falloff, squared;
  *   texture       under a point light, albedo per texel block =
- *                 factor x srgb_to_linear(texel).
+ *                 factor x srgb_to_linear(texel), and where texels of
+ *                 different colours blend, their linear values blended.
  * The closed forms and the scenes are in closed_forms.h. */
 #include <math.h>
 #include <stdio.h>
@@ -241,6 +242,85 @@ static void test_texture(void)
     free(rgb);
 }
 
+/* 4. Texture filtering blends light: an 8 x 8 texture whose red is a
+ * checker of texels 0 and 255, green stripes of 0 and 255 and blue 128,
+ * under a point light. Every lookup blends texels of different colours, so
+ * each pixel converges to factor x the bilinear blend of the texels' linear
+ * values, averaged over what it sees, times the closed form. Blending the
+ * sRGB-encoded values and decoding the blend (as lvcl did until 2026-12-07)
+ * gave 0.50 of that for the red checker and 0.63 for the green stripes: a
+ * 50:50 mix of 0 and 255 reads 0.21, not 0.5. */
+typedef struct {
+    punctual_ground g;
+    const float *linear; /* TEX x TEX x 3 */
+    int channel;
+} textured_ground;
+
+/* The bilinear blend, with repeat wrapping, of channel c of the linear
+ * texels at (u, v), as kernels/scene/surface.h filters. */
+static double bilinear(const float *linear, int c, double u, double v)
+{
+    double x = u * TEX - 0.5, y = v * TEX - 0.5, fx = floor(x), fy = floor(y), ax = x - fx, ay = y - fy;
+    double t[2][2];
+    for (int j = 0; j < 2; j++)
+        for (int i = 0; i < 2; i++) {
+            int xi = (((int)fx + i) % TEX + TEX) % TEX, yj = (((int)fy + j) % TEX + TEX) % TEX;
+            t[j][i] = linear[3 * (yj * TEX + xi) + c];
+        }
+    return (1 - ay) * ((1 - ax) * t[0][0] + ax * t[0][1]) + ay * ((1 - ax) * t[1][0] + ax * t[1][1]);
+}
+
+static double textured_radiance(const void *ctx, const double p[3])
+{
+    const textured_ground *t = ctx;
+    return punctual_radiance(&t->g, p) * bilinear(t->linear, t->channel, 0.5 * (p[0] + 1.0), 0.5 * (1.0 - p[1]));
+}
+
+static void test_texture_blend(void)
+{
+    const double factor = 0.8, intensity[3] = {9.0, 9.0, 9.0};
+    const int spp = 256;
+    lvcl_texture_data tex = {TEX, TEX, must_alloc(TEX * TEX * 4)};
+    float linear[TEX * TEX * 3];
+    for (int y = 0; y < TEX; y++)
+        for (int x = 0; x < TEX; x++) {
+            uint8_t *t = &tex.rgba[4 * (y * TEX + x)];
+            t[0] = (x + y) % 2 ? 255 : 0;
+            t[1] = x % 2 ? 255 : 0;
+            t[2] = 128;
+            t[3] = 255;
+            for (int c = 0; c < 3; c++) linear[3 * (y * TEX + x) + c] = (float)srgb_to_linear(t[c] / 255.0);
+        }
+    quad q = horizontal_quad(0, 0, 0, 1, 1, 0);
+    lvcl_material_desc m = lambertian((float)factor);
+    m.base_color_texture = 0;
+    lv_punctual_light light = point_light(0.1, 0.2, 3.0, intensity);
+    lvcl_scene scene;
+    quad_scene(&q, 1, &m, 1, &light, 1, &scene);
+    scene.textures = copy_of(&tex, sizeof tex);
+    scene.texture_count = 1;
+    view v = vertical_view(0, 0, 2.5, 1, 40, 32); /* sees +-0.91 m of the 2 m square */
+    float *rgb = render("texture blend", &scene, 7, 2, &v, spp);
+    double got[3] = {0}, want[3] = {0};
+    for (int c = 0; c < 3; c++) {
+        textured_ground t = {{&light, factor}, linear, c};
+        for (int y = 0; y < v.height; y++)
+            for (int x = 0; x < v.width; x++) {
+                double mean, sd;
+                pixel_stats(&v, x, y, textured_radiance, &t, &mean, &sd);
+                got[c] += pixel(rgb, &v, x, y, c);
+                want[c] += mean * intensity[c];
+            }
+    }
+    printf("  texture blend: image sums over the closed form's %.4f %.4f %.4f\n", got[0] / want[0], got[1] / want[1],
+           got[2] / want[2]);
+    int ok = 1;
+    for (int c = 0; c < 3; c++) ok &= fabs(got[c] / want[c] - 1.0) < 0.01;
+    CHECK("texture: bilinear filtering blends the texels' linear colours (image sum per channel within 1%)", ok,
+          "image sums over the closed form: %.4f %.4f %.4f", got[0] / want[0], got[1] / want[1], got[2] / want[2]);
+    free(rgb);
+}
+
 int main(void)
 {
     lvcl_device_prepare_environment();
@@ -248,5 +328,6 @@ int main(void)
     test_inverse_square();
     test_spot_light();
     test_texture();
+    test_texture_blend();
     CHECK_EXIT();
 }

@@ -368,9 +368,12 @@ class Converter:
             return None
         sig = [-math.log(max(c, 1e-12)) / m["att_dist"] for c in m["att_color"]]
         # Mitsuba bounds an rgb volume value to [0, 1]: normalise and scale.
+        # A channel that does not absorb (attenuation colour 1) keeps a
+        # millionth of the largest: with sigma_t 0 in a channel, volpath
+        # returns NaN for most pixels of the image (Mitsuba 3.9).
         top = max(sig)
         return {"type": "homogeneous", "albedo": 0.0,
-                "sigma_t": _rgb([c / top for c in sig]), "scale": top}
+                "sigma_t": _rgb([max(c / top, 1e-6) for c in sig]), "scale": top}
 
 
 # --------------------------------------------------------------------- geometry
