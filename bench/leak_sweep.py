@@ -19,9 +19,10 @@ tracer's, is 0).
 One JSON object per set-up (its parameters, the dim room's mean red and
 blue, leak = red / (ratio x blue) and red / blue, the share of the dim
 room's light that came through the wall), then a summary: how many leaked
-(leak >= 1e-4, the bound of tests/volume/test_two_rooms.c; at 1000:1 that
-allows red / blue up to 0.1, so the worst red / blue is given too) and
-the worst. A set-up that leaked is rendered by the path tracer too (64
+(leak >= 1e-4 or red / blue >= 0.03, the bounds of
+tests/volume/test_two_rooms.c: the first alone would allow red / blue up
+to 0.1 at 1000:1, and issue 12 asks for the dim room's mean within 3%)
+and the worst. A set-up that leaked is rendered by the path tracer too (64
 samples): its red, pt_red, tells light that really passes (a crack where
 walls meet, a ray started beyond a surface) from the volume's mixing of
 the two sides; the summary counts those as leaked_in_pt_too.
@@ -53,6 +54,10 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from make_two_rooms import WALL_X, Y, Z, two_rooms  # noqa: E402
 
 LEAK = 1e-4
+# And at most this share of the dim room's own light, whatever the ratio:
+# issue 12 asks the dim room's mean to stay within 3% with the bright light
+# on and off, which LEAK alone allows up to 10% at 1000:1.
+SHARE = 0.03
 BIAS = 0.02
 # A view zoomed onto the line where two surfaces meet (--edges) reads the
 # light volume at that line itself, where the true light dips within a few
@@ -242,8 +247,9 @@ def main():
             u["red"], u["blue"] = red, blue
             u["leak"] = red / (u["ratio"] * blue) if blue > 0 else float("inf")
             u["red_over_blue"] = red / blue if blue > 0 else float("inf")
-            leaks += u["leak"] >= LEAK
-            if u["leak"] >= LEAK:
+            leaked = u["leak"] >= LEAK or u["red_over_blue"] >= SHARE
+            leaks += leaked
+            if leaked:
                 # The path tracer on the same scene: red there too means the
                 # light really passes (a crack in the geometry, or rays that
                 # start beyond a surface), not that the volume mixes sides.
@@ -277,7 +283,8 @@ def main():
             print(json.dumps(dict({"bench": "leak_sweep"}, **u)), flush=True)
     print(json.dumps(dict({"bench": "leak_sweep", "summary": True, "setups": a.count, "leaked": leaks,
                       "leaked_in_pt_too": pt_leaks,
-                      "worst_leak": worst, "bound": LEAK, "worst_red_over_blue": worst_share},
+                      "worst_leak": worst, "bound": LEAK, "worst_red_over_blue": worst_share,
+                      "share_bound": SHARE},
                      **({"biased": biased, "bias_bound": BIAS, "worst_bias": worst_bias,
                          "blocks_biased": blocks_biased, "block_bias_bound": BLOCK_BIAS,
                          "worst_block_bias": worst_block_bias,

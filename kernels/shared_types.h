@@ -130,13 +130,14 @@ typedef struct {
 
 #define LV_PUNCTUAL_POINT 0
 #define LV_PUNCTUAL_SPOT 1
+#define LV_PUNCTUAL_DIRECTIONAL 2 /* a sun: parallel light from beyond the scene */
 
 typedef struct {
-    float position[3];
+    float position[3]; /* (directional: unused) */
     lv_u32 type;
-    float direction[3]; /* spot axis, unit */
+    float direction[3]; /* spot axis, or the way a directional light's light travels; unit */
     float cos_outer;
-    float intensity[3]; /* radiant intensity, W/sr */
+    float intensity[3]; /* radiant intensity, W/sr; directional: irradiance on a surface facing it, W/m^2 */
     float cos_inner;
 } lv_punctual_light;
 
@@ -176,6 +177,10 @@ typedef struct {
     lv_u32 triangles_per_part; /* triangles */
     lv_u32 vertices_per_part;  /* normals and uvs */
     lv_u32 groups_per_part;    /* tri_groups */
+    /* The sphere round the scene bounds: a directional light's particles
+     * set out from a disc of this radius in front of it. */
+    float bounds_centre[3];
+    float bounds_radius;
 } lv_scene_info;
 
 /* The light volume (paper section 4): a regular grid of cubic cells

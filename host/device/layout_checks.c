@@ -11,7 +11,7 @@ _Static_assert(sizeof(lv_texture) == 16, "lv_texture");
 _Static_assert(sizeof(lv_light) == 24, "lv_light");
 _Static_assert(sizeof(lv_punctual_light) == 48, "lv_punctual_light");
 _Static_assert(sizeof(lv_camera) == 64, "lv_camera");
-_Static_assert(sizeof(lv_scene_info) == 48, "lv_scene_info");
+_Static_assert(sizeof(lv_scene_info) == 64, "lv_scene_info");
 _Static_assert(sizeof(lv_grid_info) == 64, "lv_grid_info");
 _Static_assert(sizeof(lv_slot_region) == 192, "lv_slot_region");
 _Static_assert(sizeof(lv_float4) == 16 && sizeof(lv_ushort4) == 8, "vector storage");

@@ -41,11 +41,14 @@ void lvcl_packed_triangle_world(const lvcl_packed_scene *p, size_t instance, siz
 }
 
 /* Power (luminance watts) of a punctual light: 4 pi I for a point light,
- * the solid angle of its cone (to the middle of the falloff) times I for a spot. */
-static float punctual_power(const lv_punctual_light *l)
+ * the solid angle of its cone (to the middle of the falloff) times I for a
+ * spot, and for a directional light its irradiance over the disc its
+ * particles leave from (radius: the sphere round the scene bounds). */
+static float punctual_power(const lv_punctual_light *l, float radius)
 {
     float i = luminance(l->intensity);
     if (l->type == LV_PUNCTUAL_SPOT) return 2.0f * 3.14159265f * (1.0f - 0.5f * (l->cos_inner + l->cos_outer)) * i;
+    if (l->type == LV_PUNCTUAL_DIRECTIONAL) return 3.14159265f * radius * radius * i;
     return 4.0f * 3.14159265f * i;
 }
 
@@ -111,7 +114,7 @@ static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lv
         p->lights[i].kind = LV_LIGHT_PUNCTUAL;
         p->lights[i].index = (lv_u32)k;
         group[i] = p->material_count + k;
-        power[i++] = punctual_power(&scene->punctuals[k]);
+        power[i++] = punctual_power(&scene->punctuals[k], p->info.bounds_radius);
     }
     double total = 0;
     for (i = 0; i < n; i++) {
@@ -381,8 +384,14 @@ lvcl_error lvcl_pack_scene(const lvcl_scene *scene, const lvcl_accel *a, uint32_
 
     memcpy(p->bounds_min, a->bounds_min, sizeof p->bounds_min);
     memcpy(p->bounds_max, a->bounds_max, sizeof p->bounds_max);
-    float extent = 0.0f;
-    for (int k = 0; k < 3; k++) extent = fmaxf(extent, p->bounds_max[k] - p->bounds_min[k]);
+    float extent = 0.0f, diagonal = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        float side = p->bounds_max[k] - p->bounds_min[k];
+        extent = fmaxf(extent, side);
+        diagonal += side * side;
+        p->info.bounds_centre[k] = 0.5f * (p->bounds_min[k] + p->bounds_max[k]);
+    }
+    p->info.bounds_radius = 0.5f * sqrtf(diagonal);
     p->info.triangle_count = (lv_u32)n;
     p->info.max_depth = max_depth;
     p->info.seed = seed;

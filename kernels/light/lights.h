@@ -63,6 +63,15 @@ inline int lv_sample_light(const lv_scene *sc, float3 p, float3 u, lv_light_samp
 #ifdef LV_FEATURE_PUNCTUAL
     if (light.kind == LV_LIGHT_PUNCTUAL) {
         lv_punctual_light l = sc->punctuals[light.index];
+        if (l.type == LV_PUNCTUAL_DIRECTIONAL) {
+            /* Toward the light, far enough to leave the scene's sphere. */
+            ls->wi = -LV_F3(l.direction);
+            ls->target = p + ls->wi * (4.0f * sc->info.bounds_radius + length(p - LV_F3(sc->info.bounds_centre)));
+            ls->li = LV_F3(l.intensity);
+            ls->pdf = light.pdf_select;
+            ls->delta = 1;
+            return 1;
+        }
         float3 d = LV_F3(l.position) - p;
         float dist2 = dot(d, d);
         if (!(dist2 > 0.0f)) return 0;
@@ -130,7 +139,16 @@ inline int lv_sample_emission(const lv_scene *sc, float2 u_light, float2 u_dir, 
         es->origin = LV_F3(l.position);
         es->triangle = es->instance = LV_NO_HIT;
         float3 intensity = LV_F3(l.intensity);
-        if (l.type == LV_PUNCTUAL_SPOT) {
+        if (l.type == LV_PUNCTUAL_DIRECTIONAL) {
+            /* Parallel light from a disc as wide as the scene's sphere, in
+             * front of it: weight = E pi R^2 / (probability x total power). */
+            float r = sc->info.bounds_radius;
+            es->dir = LV_F3(l.direction);
+            float2 disc = r * lv_square_to_disk(u_light);
+            lv_frame f = lv_frame_make(es->dir);
+            es->origin = LV_F3(sc->info.bounds_centre) + lv_to_world(f, (float3)(disc, -r));
+            es->weight = intensity * (LV_PI * r * r) / select_power;
+        } else if (l.type == LV_PUNCTUAL_SPOT) {
             /* Uniform over the outer cone, pdf 1 / (2 pi (1 - cos_outer)). */
             float z = 1.0f - u_dir.x * (1.0f - l.cos_outer);
             float r = sqrt(fmax(0.0f, 1.0f - z * z)), phi = 2.0f * LV_PI * u_dir.y;

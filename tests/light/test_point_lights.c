@@ -3,6 +3,8 @@
  * what the light gives on a Lambertian plane:
  *   point light   L = (a / pi) I cos(theta) / d^2, and inverse-square;
  *   spot light    the same times the glTF cone falloff, squared;
+ *   directional   (a / pi) E cos(theta), in pt and read from the light
+ *                 volume (lv-all);
  *   texture       under a point light, albedo per texel block =
  *                 factor x srgb_to_linear(texel), and where texels of
  *                 different colours blend, their linear values blended.
@@ -321,6 +323,75 @@ static void test_texture_blend(void)
     free(rgb);
 }
 
+/* 5. A directional light (a sun, glTF's "directional"): on a Lambertian
+ * plane every point gets the same irradiance, E cos(theta), so every pixel
+ * is (a / pi) E cos(theta), with no noise (the light sample is exact). And
+ * read back from the light volume (lv-all: the sun's own light from its
+ * particles, which leave a disc as wide as the scene's sphere): the same
+ * mean, within the volume's noise, whatever the disc's size, which the
+ * particles' weights must undo. */
+static double sun_cos;
+
+static double sun_radiance(const void *ctx, const double p[3])
+{
+    (void)p;
+    return *(const double *)ctx / PI * sun_cos;
+}
+
+static lvcl_scene sun_scene(double albedo, const double irradiance[3], const double travel[3], double half)
+{
+    lv_punctual_light light = point_light(0, 0, 0, irradiance);
+    light.type = LV_PUNCTUAL_DIRECTIONAL;
+    for (int k = 0; k < 3; k++) light.direction[k] = (float)travel[k];
+    quad q = horizontal_quad(0, 0, 0, half, 1, 0);
+    lvcl_material_desc m = lambertian((float)albedo);
+    lvcl_scene scene;
+    quad_scene(&q, 1, &m, 1, &light, 1, &scene);
+    return scene;
+}
+
+static void test_directional_light(void)
+{
+    double albedo = 0.6, irradiance[3] = {3.0, 2.0, 1.0}, travel[3] = {0.3, -0.2, -1.0};
+    normalize3(travel);
+    sun_cos = -travel[2];
+    view v = vertical_view(0, 0, 3, 1, 40, 32);
+    lvcl_scene scene = sun_scene(albedo, irradiance, travel, 5.0);
+    const char *name = "directional light: every pixel of a Lambertian plane is (a/pi) E cos(theta)";
+    float *rgb = render(name, &scene, 4, 2, &v, 16);
+    comparison r = compare_pixels(rgb, &v, 16, sun_radiance, &albedo, irradiance, 0.0, NULL, NULL);
+    print_comparison("directional light", &r);
+    CHECK(name, r.failed == 0 && r.compared == v.width * v.height,
+          "%d channel values off; worst at (%d,%d): %.6g rendered, %.6g analytic +- %.3g", r.failed, r.worst_x,
+          r.worst_y, r.worst_got, r.worst_ref, r.worst_tol);
+    free(rgb);
+
+    /* lv-all on planes of two sizes (the disc's area grows with them). */
+    for (int big = 0; big < 2; big++) {
+        lvcl_scene s = sun_scene(albedo, irradiance, travel, big ? 20.0 : 2.0);
+        s.camera = v.cam;
+        lvcl_render_request req = harness_request(LVCL_MODE_LV_ALL, v.width, 16, 16, 400000);
+        lvcl_session_config cfg = {.seed = 5, .max_depth = 2, .fast_math = 1};
+        lvcl_render_result out = {0};
+        lvcl_status st = {0};
+        char what[160];
+        snprintf(what, sizeof what, "directional light, lv-all, plane %g m wide: mean within 3%% of (a/pi) E cos",
+                 big ? 40.0 : 4.0);
+        if (harness_render_with(&s, &cfg, &req, &out, &st)) {
+            CHECK(what, 0, "render: %s", st.message);
+            continue;
+        }
+        double mean[3] = {0}, worst = 0;
+        for (int i = 0; i < v.width * v.height; i++)
+            for (int c = 0; c < 3; c++) mean[c] += out.rgb[3 * i + c] / (v.width * v.height);
+        for (int c = 0; c < 3; c++) worst = fmax(worst, fabs(mean[c] / (albedo / PI * sun_cos * irradiance[c]) - 1));
+        printf("  directional light, lv-all, plane %g m: mean over the closed form off by %.4f\n", big ? 40.0 : 4.0,
+               worst);
+        CHECK(what, worst < 0.03, "off by %.4f", worst);
+        free(out.rgb);
+    }
+}
+
 int main(void)
 {
     lvcl_device_prepare_environment();
@@ -329,5 +400,6 @@ int main(void)
     test_spot_light();
     test_texture();
     test_texture_blend();
+    test_directional_light();
     CHECK_EXIT();
 }

@@ -150,9 +150,9 @@ static void check_camera_and_lights(const lvcl_scene *s)
           c->position[1], c->position[2], c->right[0], c->right[1], c->right[2], c->back[0], c->back[1], c->back[2],
           c->yfov, c->aspect);
 
-    CHECK("two punctual lights (directional skipped)", s->punctual_count == 2, "got %zu", s->punctual_count);
-    if (s->punctual_count != 2) return;
-    const lv_punctual_light *pt = &s->punctuals[0], *sp = &s->punctuals[1];
+    CHECK("three punctual lights", s->punctual_count == 3, "got %zu", s->punctual_count);
+    if (s->punctual_count != 3) return;
+    const lv_punctual_light *pt = &s->punctuals[0], *sp = &s->punctuals[1], *sun = &s->punctuals[2];
     CHECK("point light in world space",
           pt->type == LV_PUNCTUAL_POINT && near3(pt->position, 1, 5, 0) && near3(pt->intensity, 100, 50, 25),
           "type %u pos (%g %g %g) intensity (%g %g %g)", pt->type, pt->position[0], pt->position[1], pt->position[2],
@@ -162,6 +162,10 @@ static void check_camera_and_lights(const lvcl_scene *s)
               near3(sp->intensity, 10, 10, 10) && near(sp->cos_outer, cosf(0.5f)) && near(sp->cos_inner, cosf(0.25f)),
           "type %u pos (%g %g %g) dir (%g %g %g) cos %g %g", sp->type, sp->position[0], sp->position[1],
           sp->position[2], sp->direction[0], sp->direction[1], sp->direction[2], sp->cos_outer, sp->cos_inner);
+    CHECK("directional light along its node's -z, irradiance = colour x intensity (default 1)",
+          sun->type == LV_PUNCTUAL_DIRECTIONAL && near3(sun->direction, 0, 0, -1) && near3(sun->intensity, 1, 1, 1),
+          "type %u dir (%g %g %g) intensity (%g %g %g)", sun->type, sun->direction[0], sun->direction[1],
+          sun->direction[2], sun->intensity[0], sun->intensity[1], sun->intensity[2]);
 }
 
 static void check_materials(const lvcl_scene *s)

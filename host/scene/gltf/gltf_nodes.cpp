@@ -52,7 +52,7 @@ void Importer::add_light(int node, const glm::dmat4 &world)
              m.lights.size());
     int index = (int)light;
     const tinygltf::Light &l = m.lights[(size_t)index];
-    if (l.type != "point" && l.type != "spot") {
+    if (l.type != "point" && l.type != "spot" && l.type != "directional") {
         warn_once("light:" + l.type, "light %d ('%s'): %s lights are not supported (skipped)", index, l.name.c_str(),
                   l.type.c_str());
         return;
@@ -67,6 +67,8 @@ void Importer::add_light(int node, const glm::dmat4 &world)
         pl.type = LV_PUNCTUAL_SPOT;
         pl.cos_outer = to_f(std::cos(l.spot.outerConeAngle));
         pl.cos_inner = to_f(std::cos(l.spot.innerConeAngle));
+    } else if (l.type == "directional") {
+        pl.type = LV_PUNCTUAL_DIRECTIONAL; /* intensity: irradiance (glTF's lux, as W/m^2) */
     } else {
         /* Points shine everywhere: a cone covering the whole sphere. */
         pl.type = LV_PUNCTUAL_POINT;
