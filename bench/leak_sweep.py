@@ -14,7 +14,7 @@ bright room's light read through the wall (its true value, and the path
 tracer's, is 0).
 
     python3 bench/leak_sweep.py [--seed S] [--count N] [--corridors] [--wide] [--curved] [--tees] [--edges] [--bias]
-        [--corners] [--subcells K] [--build build]
+        [--corners] [--sun] [--subcells K] [--build build]
 
 One JSON object per set-up (its parameters, the dim room's mean red and
 blue, leak = red / (ratio x blue) and red / blue, the share of the dim
@@ -196,13 +196,16 @@ def main():
                          "instead of the shared wall; counted as room views")
     ap.add_argument("--subcells", type=int, default=None,
                     help="render every set-up with this many subcells a side (0-4) instead of the drawn count")
+    ap.add_argument("--sun", action="store_true",
+                    help="in a third of the set-ups add a sun of the bright lamp's colour on the building's outside "
+                         "and on ground round it: the outside's light must stay out too")
     ap.add_argument("--edges", action="store_true",
                     help="in half the set-ups zoom the camera onto a line where the wall meets the floor, the "
                          "ceiling, a side wall, the cupboard or the --tees wall")
     a = ap.parse_args()
     r, r_wide, r_curved = random.Random(a.seed), random.Random(a.seed + 1000003), random.Random(a.seed + 2000003)
     r_edges, r_tees = random.Random(a.seed + 3000017), random.Random(a.seed + 4000037)
-    r_corners = random.Random(a.seed + 5000011)
+    r_corners, r_sun = random.Random(a.seed + 5000011), random.Random(a.seed + 6000029)
     leaks, pt_leaks, worst, worst_share = 0, 0, 0.0, 0.0
     biased, worst_bias, edge_biased, worst_edge_bias = 0, 0.0, 0, 0.0
     blocks_biased, worst_block_bias = 0, 0.0
@@ -226,6 +229,7 @@ def main():
                 u.update(draw_edges(r_edges, u))
             if a.corners:
                 u.update(draw_corner(r_corners, u))
+            u["sun"] = a.sun and r_sun.random() < 1 / 3
             with open(os.devnull, "w") as quiet:
                 saved, sys.stdout = sys.stdout, quiet
                 try:
@@ -236,7 +240,7 @@ def main():
                               bend=curved["bend_m"], bend_rows=curved["bend_rows"],
                               look_at_point=u.get("look_at") or u.get("corner"),
                               fov_deg=1e-5 if u.get("look_at") else 40.0 if u.get("corner") else 70.0,
-                              split=u.get("split_z"))
+                              split=u.get("split_z"), sun=u["sun"])
                 finally:
                     sys.stdout = saved
             grid = ["--cells", str(u["cells"]), "--grid-offset", str(u["grid_offset"]), "--subcells", str(u["subcells"])]

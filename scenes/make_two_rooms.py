@@ -73,7 +73,7 @@ def bowed_wall(mesh, bend, rows, columns=16):
 
 def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel=0.0, yaw=0.0, pitch=0.0,
               door=0.0, dim_on=True, corridor=0.0, back_to_back=False, scale=1.0, wall_material="lambert",
-              bright_light="area", bend=0.0, bend_rows=1, look_at_point=None, fov_deg=70.0, split=None):
+              bright_light="area", bend=0.0, bend_rows=1, look_at_point=None, fov_deg=70.0, split=None, sun=False):
     """colours: the bright lamp red and the dim one blue (grey walls keep
     the channels apart), so that any red in the dim room is a leak.
     scale: every length times this (radiance is the same, so the image
@@ -158,6 +158,14 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
         x0 = (walls[-1] if walls else WALL_X + bend) + thickness / 2
         box(room, (x0, 0.0, -0.5), (x0 + panel, 0.9, 0.5))
     meshes = [room, shared]
+    if sun:
+        # Ground round the building, 1.5 m wide, for the sun to light:
+        # outside the walls, in cells the walls cut.
+        ground, ex, ez, w = Mesh("ground", WHITE), X + shell, Z + shell, 1.5
+        for x0, x1, z0, z1 in ((-ex - w, ex + w, -ez - w, -ez), (-ex - w, ex + w, ez, ez + w),
+                               (-ex - w, -ex, -ez, ez), (ex, ex + w, -ez, ez)):
+            ground.quad([(x0, 0.0, z0), (x1, 0.0, z0), (x1, 0.0, z1), (x0, 0.0, z1)], (0.0, 1.0, 0.0))
+        meshes.append(ground)
     for name, mat, x0, x1 in (("dim lamp", DIM, 1.0, 1.6), ("bright lamp", BRIGHT, -1.4, -0.8)):
         if mat == BRIGHT and bright_light != "area":
             continue
@@ -184,24 +192,36 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
                               "%g (%s)" % (thickness * scale, WALL_X * scale,
                                            ", a doorway %g m wide" % (door * scale) if door > 0 else "", dim_le,
                                            bright_le, bright_light))
+    lights = []
+    rgb = (1.0, 0.0, 0.0) if colours else (1.0, 1.0, 1.0)
     if bright_light != "area":
         # The ceiling lamp's power (radiance x area x pi) from a point: intensity = power / (4 pi) W/sr.
-        rgb = (1.0, 0.0, 0.0) if colours else (1.0, 1.0, 1.0)
         light = {"name": "bright %s" % bright_light, "type": bright_light, "color": list(rgb),
                  "intensity": bright_le * 0.36 * scale * scale / 4.0}
         if bright_light == "spot":
             light["spot"] = {"innerConeAngle": 0.0, "outerConeAngle": math.radians(60.0)}
-        node = {"name": "bright light", "translation": [scale * c for c in turn((-1.1, Y - 0.05, 0.0), yaw, pitch)],
-                "extensions": {"KHR_lights_punctual": {"light": 0}}}
+        node = {"name": "bright light", "translation": [scale * c for c in turn((-1.1, Y - 0.05, 0.0), yaw, pitch)]}
         if bright_light == "spot":
             # A light shines down its node's -z: -90 degrees about x points it down, then the scene's turn.
             h = math.sqrt(0.5)
             node["rotation"] = quat_mul(quat_mul((math.sin(pitch / 2), 0.0, 0.0, math.cos(pitch / 2)),
                                                  (0.0, math.sin(yaw / 2), 0.0, math.cos(yaw / 2))), (-h, 0.0, 0.0, h))
+        lights.append((light, node))
+    if sun and bright_on:
+        # Sunlight on the building's outside and the ground round it
+        # (irradiance pi x the bright lamp's radiance), down and across at a
+        # slant; the rooms are closed.
+        d = turn((0.45, -0.75, 0.48), yaw, pitch)
+        n = math.sqrt(sum(c * c for c in d))
+        light = {"name": "sun", "type": "directional", "color": list(rgb), "intensity": math.pi * bright_le}
+        lights.append((light, {"name": "sun", "rotation": look_at((0.0, 0.0, 0.0), tuple(c / n for c in d))}))
+    for k, (light, node) in enumerate(lights):
+        node["extensions"] = {"KHR_lights_punctual": {"light": k}}
         doc["nodes"].append(node)
         doc["scenes"][0]["nodes"].append(len(doc["nodes"]) - 1)
+    if lights:
         doc["extensionsUsed"] = sorted(set(doc["extensionsUsed"]) | {"KHR_lights_punctual"})
-        doc["extensions"] = {"KHR_lights_punctual": {"lights": [light]}}
+        doc["extensions"] = {"KHR_lights_punctual": {"lights": [light for light, _ in lights]}}
     write_gltf_file(path, doc, blob)
 
 
@@ -235,6 +255,9 @@ def main():
     ap.add_argument("--bend", type=float, default=0.0,
                     help="the shared wall, of one polygon, bowed this far into the camera's room (metres)")
     ap.add_argument("--bend-rows", type=int, default=1, help="rows of quads of the bowed wall")
+    ap.add_argument("--sun", action="store_true",
+                    help="also a sun (a directional light, the bright lamp's colour, on with it) on the building's "
+                         "outside and on ground 1.5 m wide round it")
     ap.add_argument("--split", type=float, default=None, metavar="Z",
                     help="a wall like the shared one across the camera's side at z = Z (-0.45 to -0.1), a third lamp "
                          "as bright as the bright one beyond it: the walls meet in a T")
@@ -266,7 +289,7 @@ def main():
         ap.error("--bright-off and --dim-off together leave the scene dark")
     two_rooms(a.out, a.thickness, a.ratio, not a.bright_off, a.colours, a.shell, a.panel, a.yaw, a.pitch, a.door,
               not a.dim_off, a.corridor, a.back_to_back, a.scale, a.wall_material, a.bright_light, a.bend,
-              a.bend_rows, look, a.fov, a.split)
+              a.bend_rows, look, a.fov, a.split, a.sun)
 
 
 if __name__ == "__main__":

@@ -12,7 +12,8 @@
  * with a cupboard against the wall (its front a few centimetres from it);
  * and with walls of rough metal and of rough and smooth plastic; at scales
  * from 1 cm to 100 m rooms (radiance, and the images, stay the same); and
- * with the bright room lit by a point or spot light of its lamp's power;
+ * with the bright room lit by a point or spot light of its lamp's power,
+ * or dark and a sun lighting the building and the ground round it;
  * and with the wall modelled twice, the copies overlapping (one with a
  * doorway, which the other closes, beside a cupboard); and with the wall
  * of one polygon bowed 30 to 50 cm into the dim room (one or five rows of
@@ -75,8 +76,8 @@ typedef struct {
 
 /* The bright room's light: its ceiling lamp, or a point or spot light
  * (pointing down, 60 degrees) of the lamp's power at its centre. */
-enum { LAMP, POINT_LIGHT, SPOT_LIGHT };
-static const char *const light_names[] = {"lamp", "point light", "spot light"};
+enum { LAMP, POINT_LIGHT, SPOT_LIGHT, SUN };
+static const char *const light_names[] = {"lamp", "point light", "spot light", "sun outside"};
 
 /* A merge tolerance that merges every block free of geometry. */
 #define MERGE_ALL 1e12
@@ -102,7 +103,8 @@ typedef struct {
     finish walls;
     float ratio;      /* on/off: the bright lamp's radiance over the dim one's (0: equal, with particles doubled) */
     float scale;      /* every length times this (0: 1) */
-    int bright_light; /* LAMP, POINT_LIGHT or SPOT_LIGHT */
+    int bright_light; /* LAMP, POINT_LIGHT, SPOT_LIGHT, or SUN: no lamp in the bright room but a directional
+                       * light on the building and on ground round it, outside the walls' cells */
     float twin;       /* a second copy of the wall this far along x, overlapping it (a wall modelled twice), metres */
     float door;       /* a doorway this wide in the first copy (which the second closes), metres */
     float bend;       /* the wall (of one polygon, no doorway or cupboard) bowed this far into the dim room at its
@@ -139,7 +141,7 @@ static size_t add_bowed_wall(float *t, size_t n, float bend, int rows)
 static void two_rooms(const setup *u, const float bright[3], const float dim[3], lvcl_scene *s)
 {
     const float scale = u->scale > 0 ? u->scale : 1.0f;
-    float tris[(HARNESS_TWO_ROOMS_TRIANGLES + 12 + 2 * BEND_COLUMNS * MAX_BEND_ROWS) * 9];
+    float tris[(HARNESS_TWO_ROOMS_TRIANGLES + 12 + 8 + 2 * BEND_COLUMNS * MAX_BEND_ROWS) * 9];
     size_t walls, n = harness_two_rooms(tris, u->thickness, u->shell, u->panel, u->door, 0, 0, &walls);
     if (u->bend != 0) {
         /* The flat wall of one polygon (two triangles, just before the
@@ -156,6 +158,19 @@ static void two_rooms(const setup *u, const float bright[3], const float dim[3],
         const float lo[3] = {HARNESS_WALL_X - u->thickness / 2 + u->twin, 0, -HARNESS_ROOMS_Z},
                     hi[3] = {HARNESS_WALL_X + u->thickness / 2 + u->twin, HARNESS_ROOMS_Y, HARNESS_ROOMS_Z};
         n = harness_add_box(tris, n, lo, hi);
+    }
+    if (u->bright_light == SUN) {
+        /* Ground 1.5 m wide round the building, in four strips. */
+        const float ex = HARNESS_ROOMS_X + u->shell, ez = HARNESS_ROOMS_Z + u->shell, w = 1.5f;
+        const float strips[4][4] = {{-ex - w, ex + w, -ez - w, -ez},
+                                    {-ex - w, ex + w, ez, ez + w},
+                                    {-ex - w, -ex, -ez, ez},
+                                    {ex, ex + w, -ez, ez}};
+        for (int i = 0; i < 4; i++) {
+            const float corner[3] = {strips[i][0], 0, strips[i][2]}, along[3] = {strips[i][1] - strips[i][0], 0, 0},
+                        across[3] = {0, 0, strips[i][3] - strips[i][2]};
+            n = harness_add_quad(tris, n, corner, across, along);
+        }
     }
     for (size_t v = 0; v < 3 * n; v++) {
         harness_turn(&tris[3 * v], u->yaw, u->pitch);
@@ -174,21 +189,27 @@ static void two_rooms(const setup *u, const float bright[3], const float dim[3],
     m[0].specular = u->walls.specular;
     for (size_t i = walls; i < lamps_end; i++) s->tri_material[i] = i < walls + 2 ? 1 : 2;
     if (u->bright_light != LAMP) {
-        /* The lamp's power, radiance x 0.36 m^2 x pi, as an intensity: power / (4 pi). */
+        /* The lamp's power, radiance x 0.36 m^2 x pi, as an intensity: power / (4 pi);
+         * a sun's irradiance pi x its radiance, down and across at a slant. */
         lv_punctual_light *l = calloc(1, sizeof *l);
         if (!l) {
             fprintf(stderr, "two rooms: out of memory\n");
             exit(1);
         }
         float at[3] = {-1.1f, HARNESS_ROOMS_Y - 0.05f, 0.0f}, down[3] = {0.0f, -1.0f, 0.0f};
+        if (u->bright_light == SUN) down[0] = 0.45f, down[1] = -0.75f, down[2] = 0.48f;
+        float len = sqrtf(down[0] * down[0] + down[1] * down[1] + down[2] * down[2]);
         harness_turn(at, u->yaw, u->pitch);
         harness_turn(down, u->yaw, u->pitch);
         for (int k = 0; k < 3; k++) {
             l->position[k] = at[k] * scale;
-            l->direction[k] = down[k];
-            l->intensity[k] = bright[k] * 0.36f * scale * scale / 4.0f;
+            l->direction[k] = down[k] / len;
+            l->intensity[k] =
+                u->bright_light == SUN ? 3.14159265f * bright[k] : bright[k] * 0.36f * scale * scale / 4.0f;
         }
-        l->type = u->bright_light == SPOT_LIGHT ? LV_PUNCTUAL_SPOT : LV_PUNCTUAL_POINT;
+        l->type = u->bright_light == SPOT_LIGHT ? LV_PUNCTUAL_SPOT
+            : u->bright_light == SUN            ? LV_PUNCTUAL_DIRECTIONAL
+                                                : LV_PUNCTUAL_POINT;
         l->cos_outer = u->bright_light == SPOT_LIGHT ? 0.5f : -1.0f;
         l->cos_inner = u->bright_light == SPOT_LIGHT ? 1.0f : -1.0f;
         s->punctuals = l;
@@ -296,6 +317,8 @@ static void test_leak(void)
         {0.06f, 0.5f, 16, 2, .shell = 0.1f, .twin = -0.02f, .yaw = 20, .pitch = 8},
         {0.0f, 0.37f, 12, 4, .bend = 0.4f},
         {0.0f, 0.0f, 23, 4, .bend = 0.5f},
+        {0.02f, 0.37f, 16, 4, .shell = 0.1f, .bright_light = SUN},
+        {0.0f, 0.5f, 24, 0, .shell = 0.02f, .bright_light = SUN, .yaw = 30, .pitch = 8},
         {0.0f, 0.37f, 40, 0, .bend = 0.5f, .rows = 5},
         {0.0f, 0.5f, 24, 2, .bend = 0.3f, .rows = 5, .yaw = 20, .pitch = 8},
     };
