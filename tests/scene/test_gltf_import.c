@@ -270,22 +270,23 @@ static void test_sparse_strided(void)
     lvcl_scene_free(&s);
 }
 
-/* features.gltf with its texture's data URI replaced by `uri`: loads
- * either way; returns the decoded textures (-1 if it did not load) and
- * the warnings in *warnings (the caller frees them). */
-static long load_with_image(const char *uri, char **warnings)
+/* features.gltf with the text from `key` up to the next `until` (or `key`
+ * alone where until is 0) replaced by `with`: loads either way; returns
+ * the decoded textures (-1 if it did not load) and the warnings in
+ * *warnings (the caller frees them). Textures report as width x 10 +
+ * height where there is one. */
+static long load_edited(const char *key, char until, const char *with, char **warnings)
 {
     size_t size = 0;
     char *text = (char *)read_all(data_path("features.gltf"), &size);
-    const char *key = "\"uri\": \"data:image/png;base64,";
     char *at = text ? strstr(text, key) : NULL;
-    char *end = at ? strchr(at + strlen(key), '"') : NULL;
+    char *end = !at ? NULL : until ? strchr(at + strlen(key), until) : at + strlen(key);
     long textures = -1;
     *warnings = NULL;
     if (end) {
         size_t head = (size_t)(at - text), tail = size - (size_t)(end - text);
-        char *edited = malloc(head + strlen(uri) + tail + 16);
-        size_t n = (size_t)sprintf(edited, "%.*s\"uri\": \"%s", (int)head, text, uri);
+        char *edited = malloc(head + strlen(with) + tail + 16);
+        size_t n = (size_t)sprintf(edited, "%.*s%s", (int)head, text, with);
         memcpy(edited + n, end, tail);
         lvcl_scene s;
         lvcl_status st = {0};
@@ -302,6 +303,32 @@ static long load_with_image(const char *uri, char **warnings)
     }
     free(text);
     return textures;
+}
+
+/* features.gltf with its texture's data URI replaced by `uri`. */
+static long load_with_image(const char *uri, char **warnings)
+{
+    char with[512];
+    snprintf(with, sizeof with, "\"uri\": \"%s", uri);
+    return load_edited("\"uri\": \"data:image/png;base64,", '"', with, warnings);
+}
+
+/* A sampler asking for clamped wrapping and nearest filtering: lvcl
+ * repeats and filters bilinearly, and says so (one warning each). */
+static void test_sampler_warnings(void)
+{
+    char *warnings;
+    long textures = load_edited("\"textures\": [", 0,
+                                "\"samplers\": [{\"wrapS\": 33071, \"magFilter\": 9728}], \"textures\": [{\"source\": "
+                                "0, \"sampler\": 0}], \"unused\": [",
+                                &warnings);
+    CHECK("texture with a clamp / nearest sampler loads", textures == 22, "got %ld", textures);
+    if (!verbose())
+        CHECK("a clamp / nearest sampler: one warning for each",
+              warnings && strstr(warnings, "only repeat wrapping is supported") &&
+                  strstr(warnings, "nearest filtering is not supported"),
+              "stderr: %s", warnings ? warnings : "(null)");
+    free(warnings);
 }
 
 /* Only PNG and JPEG, as glTF 2.0 allows, and at most 16384 pixels a side:
@@ -457,6 +484,7 @@ int main(int argc, char **argv)
     test_nan_vertex();
     test_sparse_strided();
     test_image_formats();
+    test_sampler_warnings();
     test_errors();
     test_corruptions();
     CHECK_EXIT();

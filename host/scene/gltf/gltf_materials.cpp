@@ -102,7 +102,17 @@ int Importer::base_color_texture(int material, const tinygltf::TextureInfo &info
     if (info.texCoord < 0) fail(LVCL_ERR_PARSE, "material %d: texCoord %d is negative", material, info.texCoord);
     if (find_ext(info.extensions, "KHR_texture_transform"))
         warn_once("ext:KHR_texture_transform", "extension KHR_texture_transform is not supported (ignored)");
-    int source = m.textures[(size_t)info.index].source;
+    int source = m.textures[(size_t)info.index].source, sampler = m.textures[(size_t)info.index].sampler;
+    if (sampler >= 0 && (size_t)sampler < m.samplers.size()) {
+        /* lvcl filters bilinearly and repeats (glTF's defaults). */
+        const tinygltf::Sampler &smp = m.samplers[(size_t)sampler];
+        if (smp.wrapS != TINYGLTF_TEXTURE_WRAP_REPEAT || smp.wrapT != TINYGLTF_TEXTURE_WRAP_REPEAT)
+            warn_once("wrap", "texture %d: only repeat wrapping is supported (its sampler's clamp or mirrored "
+                              "repeat rendered as repeat)",
+                      info.index);
+        if (smp.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST)
+            warn_once("nearest", "texture %d: nearest filtering is not supported (rendered bilinear)", info.index);
+    }
     if (source == -1) {
         warn_once("nosource", "texture %d has no supported image source (ignored)", info.index);
         return -1;
