@@ -313,9 +313,10 @@ static long load_with_image(const char *uri, char **warnings)
     return load_edited("\"uri\": \"data:image/png;base64,", '"', with, warnings);
 }
 
-/* A sampler asking for clamped wrapping and nearest filtering: lvcl
- * repeats and filters bilinearly, and says so (one warning each). */
-static void test_sampler_warnings(void)
+/* What lvcl does not read, it names: a sampler asking for clamped
+ * wrapping and nearest filtering (lvcl repeats and filters bilinearly),
+ * vertex colours (COLOR_0, which glTF multiplies into the base colour). */
+static void test_unread_warnings(void)
 {
     char *warnings;
     long textures = load_edited("\"textures\": [", 0,
@@ -327,6 +328,12 @@ static void test_sampler_warnings(void)
         CHECK("a clamp / nearest sampler: one warning for each",
               warnings && strstr(warnings, "only repeat wrapping is supported") &&
                   strstr(warnings, "nearest filtering is not supported"),
+              "stderr: %s", warnings ? warnings : "(null)");
+    free(warnings);
+    textures = load_edited("\"attributes\": {", 0, "\"attributes\": {\"COLOR_0\": 0, ", &warnings);
+    CHECK("a primitive with vertex colours loads", textures == 22, "got %ld", textures);
+    if (!verbose())
+        CHECK("vertex colours: one warning", warnings && strstr(warnings, "vertex colours (COLOR_0) are not supported"),
               "stderr: %s", warnings ? warnings : "(null)");
     free(warnings);
 }
@@ -484,7 +491,7 @@ int main(int argc, char **argv)
     test_nan_vertex();
     test_sparse_strided();
     test_image_formats();
-    test_sampler_warnings();
+    test_unread_warnings();
     test_errors();
     test_corruptions();
     CHECK_EXIT();

@@ -155,6 +155,8 @@ void Importer::add_primitive(int mesh, int prim, const glm::dmat4 &world)
         return;
     }
     if (!p.targets.empty()) warn_once("morph", "morph targets are not supported (ignored)");
+    if (p.attributes.count("COLOR_0"))
+        warn_once("color0", "%s: vertex colours (COLOR_0) are not supported (base colour used alone)", what);
     if (find_ext(p.extensions, "KHR_draco_mesh_compression"))
         warn_once("ext:KHR_draco_mesh_compression", "extension KHR_draco_mesh_compression is not supported (ignored)");
 
