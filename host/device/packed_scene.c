@@ -191,8 +191,6 @@ int lvcl_packed_set_light_odds(lvcl_packed_scene *p, const double *group_weight,
     return changed;
 }
 
-/* Copies a binary tree after the nodes already packed, with its indices
- * made absolute. */
 /* A texel of the scene's RGBA8 (sRGB colour, linear alpha) as the kernels
  * read it: linear RGBA16. Decoding before the kernels filter makes a
  * bilinear lookup blend light; blending the encoded values and decoding the
@@ -210,6 +208,8 @@ static lv_ushort4 linear_texel(const uint8_t rgba[4])
     return t;
 }
 
+/* Copies a binary tree after the nodes already packed, with its indices
+ * made absolute. */
 static void pack_tree(const lvcl_bvh *b, size_t node_base, size_t leaf_base, lvcl_bvh_node *out)
 {
     for (size_t i = 0; i < b->node_count; i++) {
