@@ -184,6 +184,20 @@ static int pixel_block(const view *v, int x, int y)
     return block;
 }
 
+/* The 2 m square Lambertian plane of albedo factor x texture tex (its
+ * texels taken over), under light. */
+static lvcl_scene textured_plane(const lvcl_texture_data *tex, double factor, const lv_punctual_light *light)
+{
+    quad q = horizontal_quad(0, 0, 0, 1, 1, 0);
+    lvcl_material_desc m = lambertian((float)factor);
+    m.base_color_texture = 0;
+    lvcl_scene scene;
+    quad_scene(&q, 1, &m, 1, light, 1, &scene);
+    scene.textures = copy_of(tex, sizeof *tex);
+    scene.texture_count = 1;
+    return scene;
+}
+
 static double srgb_to_linear(double c)
 {
     return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
@@ -199,14 +213,8 @@ static void test_texture(void)
             memcpy(t, block_rgb[y / BLOCK][x / BLOCK], 3);
             t[3] = 255;
         }
-    quad q = horizontal_quad(0, 0, 0, 1, 1, 0);
-    lvcl_material_desc m = lambertian((float)factor);
-    m.base_color_texture = 0;
     lv_punctual_light light = point_light(0.1, 0.2, 3.0, intensity);
-    lvcl_scene scene;
-    quad_scene(&q, 1, &m, 1, &light, 1, &scene);
-    scene.textures = copy_of(&tex, sizeof tex);
-    scene.texture_count = 1;
+    lvcl_scene scene = textured_plane(&tex, factor, &light);
     view v = vertical_view(0, 0, 2.5, 1, 40, 32); /* sees +-0.91 m of the 2 m square */
     float *rgb = render("texture", &scene, 6, 2, &v, 64);
 
@@ -293,15 +301,9 @@ static void test_texture_blend(void)
             t[3] = 255;
             for (int c = 0; c < 3; c++) linear[3 * (y * TEX + x) + c] = (float)srgb_to_linear(t[c] / 255.0);
         }
-    quad q = horizontal_quad(0, 0, 0, 1, 1, 0);
-    lvcl_material_desc m = lambertian((float)factor);
-    m.base_color_texture = 0;
     lv_punctual_light light = point_light(0.1, 0.2, 3.0, intensity);
-    lvcl_scene scene;
-    quad_scene(&q, 1, &m, 1, &light, 1, &scene);
-    scene.textures = copy_of(&tex, sizeof tex);
-    scene.texture_count = 1;
-    view v = vertical_view(0, 0, 2.5, 1, 40, 32); /* sees +-0.91 m of the 2 m square */
+    lvcl_scene scene = textured_plane(&tex, factor, &light);
+    view v = vertical_view(0, 0, 2.5, 1, 40, 32);
     float *rgb = render("texture blend", &scene, 7, 2, &v, spp);
     double got[3] = {0}, want[3] = {0};
     for (int c = 0; c < 3; c++) {

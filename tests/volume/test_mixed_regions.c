@@ -325,10 +325,28 @@ static long flags_where_nothing_mixes(int kind, int cells, double offset)
     return mixed;
 }
 
+static const int cell_counts[] = {12, 23, 40};
+static const double offsets[] = {0.0, 0.37};
+
+/* Runs a bowed partition's check (partition_sides, layer_sides) at every
+ * cell count and offset above; sums *shared and *flagged; returns 0 where
+ * making the regions failed. */
+static int over_grids(int (*check)(double bend, int rows, int cells, double offset, int *shared, int *flagged),
+                      double bend, int rows, int *shared, int *flagged)
+{
+    int built = 1;
+    *shared = *flagged = 0;
+    for (size_t ci = 0; ci < sizeof cell_counts / sizeof *cell_counts; ci++)
+        for (size_t oi = 0; oi < sizeof offsets / sizeof *offsets; oi++) {
+            int s = 0, f = 0;
+            built &= check(bend, rows, cell_counts[ci], offsets[oi], &s, &f);
+            *shared += s, *flagged += f;
+        }
+    return built;
+}
+
 int main(void)
 {
-    const int cell_counts[] = {12, 23, 40};
-    const double offsets[] = {0.0, 0.37};
     const double thicknesses[] = {0.005, 0.03, 0.15};
     for (int shape = 0; shape < 2; shape++)
         for (size_t ti = 0; ti < sizeof thicknesses / sizeof *thicknesses; ti++) {
@@ -348,13 +366,7 @@ int main(void)
     const double bends[] = {0.3, 0.5};
     for (size_t bi = 0; bi < sizeof bends / sizeof *bends; bi++)
         for (int rows = 1; rows <= 5; rows += 4) {
-            int shared = 0, flagged = 0, built = 1;
-            for (size_t ci = 0; ci < sizeof cell_counts / sizeof *cell_counts; ci++)
-                for (size_t oi = 0; oi < sizeof offsets / sizeof *offsets; oi++) {
-                    int s = 0, f = 0;
-                    built &= partition_sides(bends[bi], rows, cell_counts[ci], offsets[oi], &s, &f);
-                    shared += s, flagged += f;
-                }
+            int shared, flagged, built = over_grids(partition_sides, bends[bi], rows, &shared, &flagged);
             char name[200];
             snprintf(name, sizeof name,
                      "mixed regions: a curved partition of one polygon (bend %g m, %d row%s of quads): no region that "
@@ -390,13 +402,7 @@ int main(void)
         }
     for (size_t bi = 0; bi < sizeof bends / sizeof *bends; bi++)
         for (int rows = 1; rows <= 5; rows += 4) {
-            int shared = 0, flagged = 0, built = 1;
-            for (size_t ci = 0; ci < sizeof cell_counts / sizeof *cell_counts; ci++)
-                for (size_t oi = 0; oi < sizeof offsets / sizeof *offsets; oi++) {
-                    int s = 0, f = 0;
-                    built &= layer_sides(bends[bi], rows, cell_counts[ci], offsets[oi], &s, &f);
-                    shared += s, flagged += f;
-                }
+            int shared, flagged, built = over_grids(layer_sides, bends[bi], rows, &shared, &flagged);
             char name[200];
             snprintf(name, sizeof name,
                      "mixed regions: a curved partition (bend %g m, %d row%s) under a ceiling with a lamp 1 mm below "
