@@ -100,6 +100,10 @@ typedef struct {
     lv_u32 double_sided;
     float attenuation[3]; /* absorption coefficient per metre inside glass */
     float pad;
+    /* The base colour texture is read at (u', v') = (t0 u + t1 v + t2,
+     * t3 u + t4 v + t5): KHR_texture_transform, or the identity. */
+    float uv_transform[6];
+    float pad2[2];
 } lv_material;
 
 /* A texture: width x height RGBA16 texels at `offset` texels into the

@@ -20,6 +20,10 @@ extern "C" {
 typedef struct {
     float base_color[4];
     int base_color_texture; /* index into scene textures, -1 if none */
+    /* KHR_texture_transform on that texture, where has_uv_transform: the
+     * texture is read at (u', v') = (m0 u + m1 v + m2, m3 u + m4 v + m5). */
+    int has_uv_transform;
+    float uv_transform[6];
     float metallic;
     float roughness;
     float emissive[3];          /* emissiveFactor x KHR_materials_emissive_strength */

@@ -97,7 +97,11 @@ inline lv_bsdf lv_surface_bsdf(const lv_scene *sc, const lv_surface *s)
     b.type = m->bsdf;
     b.base = LV_F3(m->base_color);
 #ifdef LV_FEATURE_TEXTURES
-    if (m->base_color_texture >= 0) b.base *= lv_texture_rgb(sc, m->base_color_texture, s->uv);
+    if (m->base_color_texture >= 0) {
+        float2 uv = (float2)(m->uv_transform[0] * s->uv.x + m->uv_transform[1] * s->uv.y + m->uv_transform[2],
+                             m->uv_transform[3] * s->uv.x + m->uv_transform[4] * s->uv.y + m->uv_transform[5]);
+        b.base *= lv_texture_rgb(sc, m->base_color_texture, uv);
+    }
 #endif
     b.alpha = m->alpha;
     b.ior = m->ior;

@@ -264,6 +264,7 @@ typedef struct {
     punctual_ground g;
     const float *linear; /* TEX x TEX x 3 */
     int channel;
+    int quadrant; /* read as KHR_texture_transform's example: the lower left quadrant turned */
 } textured_ground;
 
 /* The bilinear blend, with repeat wrapping, of channel c of the linear
@@ -283,7 +284,13 @@ static double bilinear(const float *linear, int c, double u, double v)
 static double textured_radiance(const void *ctx, const double p[3])
 {
     const textured_ground *t = ctx;
-    return punctual_radiance(&t->g, p) * bilinear(t->linear, t->channel, 0.5 * (p[0] + 1.0), 0.5 * (1.0 - p[1]));
+    double u = 0.5 * (p[0] + 1.0), v = 0.5 * (1.0 - p[1]);
+    if (t->quadrant) { /* the plane shows texels [0, 1/2] x [1/2, 1], turned a quarter clockwise */
+        double w = u;
+        u = 0.5 * v;
+        v = 1.0 - 0.5 * w;
+    }
+    return punctual_radiance(&t->g, p) * bilinear(t->linear, t->channel, u, v);
 }
 
 static void test_texture_blend(void)
@@ -307,7 +314,7 @@ static void test_texture_blend(void)
     float *rgb = render("texture blend", &scene, 7, 2, &v, spp);
     double got[3] = {0}, want[3] = {0};
     for (int c = 0; c < 3; c++) {
-        textured_ground t = {{&light, factor}, linear, c};
+        textured_ground t = {{&light, factor}, linear, c, 0};
         for (int y = 0; y < v.height; y++)
             for (int x = 0; x < v.width; x++) {
                 double mean, sd;
@@ -322,6 +329,52 @@ static void test_texture_blend(void)
     for (int c = 0; c < 3; c++) ok &= fabs(got[c] / want[c] - 1.0) < 0.01;
     CHECK("texture: bilinear filtering blends the texels' linear colours (image sum per channel within 1%)", ok,
           "image sums over the closed form: %.4f %.4f %.4f", got[0] / want[0], got[1] / want[1], got[2] / want[2]);
+    free(rgb);
+}
+
+/* 6. KHR_texture_transform, its specification's example (offset (0, 1),
+ * a quarter turn, scale 1/2: "the lower left quadrant of the source image,
+ * rotated clockwise 90 degrees"), on a texture whose red grows along x and
+ * green along y: every pixel, per channel, against the closed form read at
+ * the example's texels. */
+static void test_texture_transform(void)
+{
+    const double factor = 0.8, intensity[3] = {9.0, 9.0, 9.0};
+    const int spp = 256;
+    lvcl_texture_data tex = {TEX, TEX, must_alloc(TEX * TEX * 4)};
+    float linear[TEX * TEX * 3];
+    for (int y = 0; y < TEX; y++)
+        for (int x = 0; x < TEX; x++) {
+            uint8_t *t = &tex.rgba[4 * (y * TEX + x)];
+            t[0] = (uint8_t)(20 + 33 * x), t[1] = (uint8_t)(20 + 33 * y), t[2] = 128, t[3] = 255;
+            for (int c = 0; c < 3; c++) linear[3 * (y * TEX + x) + c] = (float)srgb_to_linear(t[c] / 255.0);
+        }
+    lv_punctual_light light = point_light(0.1, 0.2, 3.0, intensity);
+    lvcl_scene scene = textured_plane(&tex, factor, &light);
+    const float r = 1.5707963267948966f, m[6] = {0.5f * cosf(r), 0.5f * sinf(r), 0, -0.5f * sinf(r), 0.5f * cosf(r), 1};
+    scene.materials[0].has_uv_transform = 1;
+    memcpy(scene.materials[0].uv_transform, m, sizeof m);
+    view v = vertical_view(0, 0, 2.5, 1, 40, 32);
+    float *rgb = render("texture transform", &scene, 8, 2, &v, spp);
+    int off = 0, worst_x = 0, worst_y = 0;
+    double worst = 0;
+    for (int c = 0; c < 3; c++) {
+        textured_ground t = {{&light, factor}, linear, c, 1};
+        for (int y = 0; y < v.height; y++)
+            for (int x = 0; x < v.width; x++) {
+                double mean, sd;
+                pixel_stats(&v, x, y, textured_radiance, &t, &mean, &sd);
+                double want = mean * intensity[c], got = pixel(rgb, &v, x, y, c);
+                double tol = 0.01 * want + 4.0 * sd * intensity[c] / sqrt(spp) + 1e-6;
+                if (fabs(got - want) > tol) off++;
+                if (fabs(got - want) / tol > worst) worst = fabs(got - want) / tol, worst_x = x, worst_y = y;
+            }
+    }
+    printf("  texture transform: %d channel values off; the worst at (%d,%d), %.2f of its tolerance\n", off, worst_x,
+           worst_y, worst);
+    CHECK("texture: KHR_texture_transform's example reads the lower left quadrant turned, every pixel within 1% + "
+          "noise",
+          off == 0, "%d channel values off; the worst at (%d,%d), %.2f of its tolerance", off, worst_x, worst_y, worst);
     free(rgb);
 }
 
@@ -402,6 +455,7 @@ int main(void)
     test_spot_light();
     test_texture();
     test_texture_blend();
+    test_texture_transform();
     test_directional_light();
     CHECK_EXIT();
 }

@@ -156,7 +156,7 @@ class Gltf:
 SUPPORTED_EXTENSIONS = {
     "KHR_materials_specular", "KHR_materials_emissive_strength",
     "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior",
-    "KHR_lights_punctual", "KHR_mesh_quantization",
+    "KHR_lights_punctual", "KHR_mesh_quantization", "KHR_texture_transform",
 }
 
 
@@ -282,7 +282,18 @@ class Converter:
         key = (ti, tuple(m["base"]))
         if key not in self.textures:
             self.textures[key] = self._load_texture(ti, m["base"])
-        return self.textures[key]
+        transform = m["base_tex"].get("extensions", {}).get("KHR_texture_transform")
+        if not transform:
+            return self.textures[key]
+        # KHR_texture_transform: UVs scaled, turned, then offset (the
+        # ratified matrix); Mitsuba's bitmap reads glTF's UVs unchanged.
+        import mitsuba as mi
+        sx, sy = transform.get("scale", [1.0, 1.0])
+        ox, oy = transform.get("offset", [0.0, 0.0])
+        r = transform.get("rotation", 0.0)
+        c, s = math.cos(r), math.sin(r)
+        matrix = mi.ScalarMatrix3f([[c * sx, s * sy, ox], [-s * sx, c * sy, oy], [0.0, 0.0, 1.0]])
+        return dict(self.textures[key], to_uv=mi.ScalarTransform3f(matrix))
 
     def _load_texture(self, ti, factor):
         import mitsuba as mi

@@ -270,6 +270,8 @@ static void test_sparse_strided(void)
     lvcl_scene_free(&s);
 }
 
+static lvcl_error load_edited_scene(const char *key, char until, const char *with, lvcl_scene *s, char **warnings);
+
 /* features.gltf with the text from `key` up to the next `until` (or `key`
  * alone where until is 0) replaced by `with`: loads either way; returns
  * the decoded textures (-1 if it did not load) and the warnings in
@@ -277,32 +279,38 @@ static void test_sparse_strided(void)
  * height where there is one. */
 static long load_edited(const char *key, char until, const char *with, char **warnings)
 {
+    lvcl_scene s;
+    long textures = -1;
+    if (load_edited_scene(key, until, with, &s, warnings) == LVCL_OK) {
+        textures = (long)s.texture_count;
+        if (s.texture_count == 1) textures = s.textures[0].width * 10L + s.textures[0].height;
+        lvcl_scene_free(&s);
+    }
+    return textures;
+}
+
+static lvcl_error load_edited_scene(const char *key, char until, const char *with, lvcl_scene *s, char **warnings)
+{
     size_t size = 0;
     char *text = (char *)read_all(data_path("features.gltf"), &size);
     char *at = text ? strstr(text, key) : NULL;
     char *end = !at ? NULL : until ? strchr(at + strlen(key), until) : at + strlen(key);
-    long textures = -1;
+    lvcl_error e = LVCL_ERR_PARSE;
     *warnings = NULL;
     if (end) {
         size_t head = (size_t)(at - text), tail = size - (size_t)(end - text);
         char *edited = malloc(head + strlen(with) + tail + 16);
         size_t n = (size_t)sprintf(edited, "%.*s%s", (int)head, text, with);
         memcpy(edited + n, end, tail);
-        lvcl_scene s;
         lvcl_status st = {0};
         capture cap;
         capture_begin(&cap);
-        lvcl_error e = lvcl_scene_load_gltf_memory((unsigned char *)edited, n + tail, data_dir, &s, &st);
+        e = lvcl_scene_load_gltf_memory((unsigned char *)edited, n + tail, data_dir, s, &st);
         *warnings = capture_end(&cap);
-        if (e == LVCL_OK) {
-            textures = (long)s.texture_count;
-            if (s.texture_count == 1) textures = s.textures[0].width * 10L + s.textures[0].height;
-            lvcl_scene_free(&s);
-        }
         free(edited);
     }
     free(text);
-    return textures;
+    return e;
 }
 
 /* features.gltf with its texture's data URI replaced by `uri`. */
@@ -336,6 +344,33 @@ static void test_unread_warnings(void)
         CHECK("vertex colours: one warning", warnings && strstr(warnings, "vertex colours (COLOR_0) are not supported"),
               "stderr: %s", warnings ? warnings : "(null)");
     free(warnings);
+}
+
+/* KHR_texture_transform on the base colour texture, its specification's
+ * example (offset (0, 1), a quarter turn, scale 1/2: the lower left
+ * quadrant turned clockwise): the texture is read at (v / 2, 1 - u / 2). */
+static void test_texture_transform(void)
+{
+    char *warnings;
+    lvcl_scene s;
+    lvcl_error e =
+        load_edited_scene("\"baseColorTexture\": {", 0,
+                          "\"baseColorTexture\": {\"extensions\": {\"KHR_texture_transform\": {\"offset\": [0, 1], "
+                          "\"rotation\": 1.57079632679, \"scale\": [0.5, 0.5]}}, ",
+                          &s, &warnings);
+    free(warnings);
+    if (e != LVCL_OK) {
+        CHECK("KHR_texture_transform: loads", 0, "error %d", (int)e);
+        return;
+    }
+    const lvcl_material_desc *m = &s.materials[0];
+    const float want[6] = {0, 0.5f, 0, -0.5f, 0, 1};
+    int ok = m->has_uv_transform;
+    for (int k = 0; k < 6; k++) ok &= fabsf(m->uv_transform[k] - want[k]) < 1e-6f;
+    CHECK("KHR_texture_transform: the example reads (v / 2, 1 - u / 2)", ok, "has %d, (%g %g %g / %g %g %g)",
+          m->has_uv_transform, m->uv_transform[0], m->uv_transform[1], m->uv_transform[2], m->uv_transform[3],
+          m->uv_transform[4], m->uv_transform[5]);
+    lvcl_scene_free(&s);
 }
 
 /* Only PNG and JPEG, as glTF 2.0 allows, and at most 16384 pixels a side:
@@ -492,6 +527,7 @@ int main(int argc, char **argv)
     test_sparse_strided();
     test_image_formats();
     test_unread_warnings();
+    test_texture_transform();
     test_errors();
     test_corruptions();
     CHECK_EXIT();

@@ -36,12 +36,16 @@ static const char *attribute_types(const char *name, bool quantized)
                      : "VEC2 float or normalized unsigned byte or short (others need extension KHR_mesh_quantization)";
 }
 
-/* The TEXCOORD_n set the primitive's base colour texture reads (0 if none). */
+/* The TEXCOORD_n set the primitive's base colour texture reads (0 if none;
+ * KHR_texture_transform's texCoord overrides the texture's). */
 int Importer::texcoord_set(const tinygltf::Primitive &p)
 {
     if (p.material < 0 || (size_t)p.material >= m.materials.size()) return 0;
     const tinygltf::TextureInfo &info = m.materials[(size_t)p.material].pbrMetallicRoughness.baseColorTexture;
-    return info.index == -1 ? 0 : info.texCoord;
+    if (info.index == -1) return 0;
+    const tinygltf::Value *ext = find_ext(info.extensions, "KHR_texture_transform");
+    double set = ext ? ext_number(*ext, "texCoord", info.texCoord) : info.texCoord;
+    return set >= 0 && set == std::floor(set) && set < 1 << 16 ? (int)set : info.texCoord;
 }
 
 VertexData Importer::read_vertices(const tinygltf::Primitive &p, const char *what)

@@ -182,13 +182,20 @@ inline double ext_number(const tinygltf::Value &obj, const char *key, double def
     return number_or(obj.Get(key), def);
 }
 
-/* A 3-vector from an extension object into `out`, left alone if absent. */
-inline void ext_vec3(const tinygltf::Value &obj, const char *key, float out[3])
+/* An n-vector from an extension object into `out`, left alone if absent. */
+inline void ext_vector(const tinygltf::Value &obj, const char *key, int n, double *out)
 {
     if (!obj.IsObject() || !obj.Has(key)) return;
     const tinygltf::Value &v = obj.Get(key);
-    if (!v.IsArray() || v.ArrayLen() != 3) return;
-    for (int k = 0; k < 3; k++) out[k] = to_f(number_or(v.Get(k), out[k]));
+    if (!v.IsArray() || v.ArrayLen() != (size_t)n) return;
+    for (int k = 0; k < n; k++) out[k] = number_or(v.Get(k), out[k]);
+}
+
+inline void ext_vec3(const tinygltf::Value &obj, const char *key, float out[3])
+{
+    double v[3] = {out[0], out[1], out[2]};
+    ext_vector(obj, key, 3, v);
+    for (int k = 0; k < 3; k++) out[k] = to_f(v[k]);
 }
 
 inline const tinygltf::Value *find_ext(const tinygltf::ExtensionMap &exts, const char *name)
@@ -201,7 +208,7 @@ inline const tinygltf::Value *find_ext(const tinygltf::ExtensionMap &exts, const
 inline const char *const kSupportedExtensions[] = {
     "KHR_lights_punctual",   "KHR_materials_emissive_strength", "KHR_materials_transmission",
     "KHR_materials_ior",     "KHR_materials_specular",          "KHR_materials_volume",
-    "KHR_mesh_quantization",
+    "KHR_mesh_quantization", "KHR_texture_transform",
 };
 
 /* Required extensions that change how geometry is stored: without them the
@@ -308,6 +315,7 @@ class Importer
     void convert_materials();
     lvcl_material_desc convert_material(int index);
     int base_color_texture(int material, const tinygltf::TextureInfo &info);
+    void read_uv_transform(const tinygltf::TextureInfo &info, lvcl_material_desc &d);
     int decode_image(int image_index);
     std::vector<int> scene_roots();
     void visit(int node, const glm::dmat4 &parent, int depth);

@@ -100,8 +100,6 @@ int Importer::base_color_texture(int material, const tinygltf::TextureInfo &info
         fail(LVCL_ERR_PARSE, "material %d: texture %d out of range (file has %zu)", material, info.index,
              m.textures.size());
     if (info.texCoord < 0) fail(LVCL_ERR_PARSE, "material %d: texCoord %d is negative", material, info.texCoord);
-    if (find_ext(info.extensions, "KHR_texture_transform"))
-        warn_once("ext:KHR_texture_transform", "extension KHR_texture_transform is not supported (ignored)");
     int source = m.textures[(size_t)info.index].source, sampler = m.textures[(size_t)info.index].sampler;
     if (sampler >= 0 && (size_t)sampler < m.samplers.size()) {
         /* lvcl filters bilinearly and repeats (glTF's defaults). */
@@ -122,6 +120,23 @@ int Importer::base_color_texture(int material, const tinygltf::TextureInfo &info
     return decode_image(source);
 }
 
+/* KHR_texture_transform on the base colour texture: the UVs scaled, then
+ * turned by `rotation` (the matrix of the extension's ratified text, which
+ * its example of the lower left quadrant turned clockwise bears out), then
+ * offset. */
+void Importer::read_uv_transform(const tinygltf::TextureInfo &info, lvcl_material_desc &d)
+{
+    const tinygltf::Value *ext = find_ext(info.extensions, "KHR_texture_transform");
+    if (!ext || d.base_color_texture < 0) return;
+    double offset[2] = {0, 0}, scale[2] = {1, 1}, r = ext_number(*ext, "rotation", 0.0);
+    ext_vector(*ext, "offset", 2, offset);
+    ext_vector(*ext, "scale", 2, scale);
+    double c = std::cos(r), s = std::sin(r);
+    const double m[6] = {c * scale[0], s * scale[1], offset[0], -s * scale[0], c * scale[1], offset[1]};
+    d.has_uv_transform = 1;
+    for (int k = 0; k < 6; k++) d.uv_transform[k] = to_f(m[k]);
+}
+
 lvcl_material_desc Importer::convert_material(int index)
 {
     const tinygltf::Material &mat = m.materials[(size_t)index];
@@ -132,6 +147,7 @@ lvcl_material_desc Importer::convert_material(int index)
         fail(LVCL_ERR_PARSE, "material %d: baseColorFactor must have 4 numbers", index);
     for (int k = 0; k < 4; k++) d.base_color[k] = to_f(pbr.baseColorFactor[(size_t)k]);
     d.base_color_texture = base_color_texture(index, pbr.baseColorTexture);
+    read_uv_transform(pbr.baseColorTexture, d);
     d.metallic = to_f(pbr.metallicFactor);
     d.roughness = to_f(pbr.roughnessFactor);
 
