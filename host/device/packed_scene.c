@@ -111,6 +111,7 @@ static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lv
     }
     free(emitters);
     for (size_t k = 0; k < scene->punctual_count; k++) {
+        p->lit_from_outside |= scene->punctuals[k].type == LV_PUNCTUAL_DIRECTIONAL;
         p->lights[i].kind = LV_LIGHT_PUNCTUAL;
         p->lights[i].index = (lv_u32)k;
         group[i] = p->material_count + k;

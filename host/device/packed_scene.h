@@ -35,6 +35,7 @@ typedef struct {
     float *light_odds; /* each light's pdf_select as packed (lvcl_packed_set_light_odds departs from it) */
     lv_scene_info info;
     float bounds_min[3], bounds_max[3];
+    int lit_from_outside; /* a directional light shines in from beyond the bounds: open space may be lit */
 } lvcl_packed_scene;
 
 /* The share of light choices spread evenly over the lights (the triangles

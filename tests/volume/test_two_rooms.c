@@ -319,6 +319,10 @@ static void test_leak(void)
         {0.0f, 0.0f, 23, 4, .bend = 0.5f},
         {0.02f, 0.37f, 16, 4, .shell = 0.1f, .bright_light = SUN},
         {0.0f, 0.5f, 24, 0, .shell = 0.02f, .bright_light = SUN, .yaw = 30, .pitch = 8},
+        /* Outer walls of one polygon: where a cell holds the wall, its
+         * copy, the floor and an outer wall, the outer wall has no plane,
+         * and its sunlit outside must not count as dark. */
+        {0.06f, 0.37f, 20, 3, .bright_light = SUN, .twin = 0.1f, .pitch = 26.8f, .scale = 0.1f},
         {0.0f, 0.37f, 40, 0, .bend = 0.5f, .rows = 5},
         {0.0f, 0.5f, 24, 2, .bend = 0.3f, .rows = 5, .yaw = 20, .pitch = 8},
     };
