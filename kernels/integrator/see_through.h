@@ -52,16 +52,29 @@ inline int lv_still_seen_through(__global const lv_material *m, const lv_surface
     return delta && !lv_bsdf_gathers(m->bsdf, m->alpha) && !lv_turned_outside_glass(m, s, dir, dir0);
 }
 
-/* Whether a particle's light that left area light `emitter` (an index into
+/* Whether a light is a sun (a directional light): the one punctual light
+ * that glass may be seen through, since its light arrives from a direction,
+ * not from a point a shifted path would miss. */
+inline int lv_light_is_sun(const lv_scene *sc, lv_light light)
+{
+#ifdef LV_FEATURE_PUNCTUAL
+    return light.kind == LV_LIGHT_PUNCTUAL && sc->punctuals[light.index].type == LV_PUNCTUAL_DIRECTIONAL;
+#else
+    return 0;
+#endif
+}
+
+/* Whether a particle's light that left light `emitter` (an index into
  * sc->lights) along dir0, crossed `scatters` specular surfaces at which no
  * gather reads the volume, and now travels along dir from p is seen
- * through: its direction kept, and the half-line from p back along -dir
- * meeting the emitter's front face, as a gather's light sample toward that
- * face would. */
+ * through: its direction kept, and for an area light the half-line from p
+ * back along -dir meeting the emitter's front face, as a gather's light
+ * sample toward that face would (a sun's is met by any such half-line). */
 inline int lv_seen_through(const lv_scene *sc, uint emitter, float3 dir0, float3 p, float3 dir, uint scatters)
 {
     if (scatters < 1u || scatters > LV_SEE_THROUGH_MAX || !lv_same_direction(dir, dir0)) return 0;
     lv_light light = sc->lights[emitter];
+    if (lv_light_is_sun(sc, light)) return 1;
 #ifdef LV_FEATURE_PUNCTUAL
     if (light.kind == LV_LIGHT_PUNCTUAL) return 0; /* a point cannot be met again */
 #endif
@@ -76,13 +89,16 @@ inline int lv_seen_through(const lv_scene *sc, uint emitter, float3 dir0, float3
  * glass, starting from weight beta: the ray goes on through specular
  * surfaces (sampled as a path would; numbers are drawn only where a
  * surface has a delta lobe) and counts if it meets the sampled triangle's
- * front face after 1 to max_scatters of them, going the way it set out. */
+ * front face after 1 to max_scatters of them, going the way it set out; or,
+ * toward a sun, if it leaves the scene so. No path can meet a sun, so that
+ * light is this sample's alone (r->mis is 1). */
 inline float3 lv_light_seen_through(const lv_scene *sc, const lv_shadow_ray *r, float3 beta, uint max_scatters,
                                     lv_rng *rng)
 {
     lv_light light = sc->lights[r->light];
+    int sun = lv_light_is_sun(sc, light);
 #ifdef LV_FEATURE_PUNCTUAL
-    if (light.kind == LV_LIGHT_PUNCTUAL) return (float3)(0.0f);
+    if (light.kind == LV_LIGHT_PUNCTUAL && !sun) return (float3)(0.0f);
 #endif
     if (!(r->mis > 0.0f)) return (float3)(0.0f);
     float3 dir = normalize(r->d);
@@ -90,9 +106,9 @@ inline float3 lv_light_seen_through(const lv_scene *sc, const lv_shadow_ray *r, 
     const lv_walk walk = {LV_RADIANCE, LV_ROULETTE_NONE, (float3)(1.0f)};
     for (uint scatters = 0u;; scatters++) {
         lv_hit h = lv_trace(sc, ray, 0);
-        if (h.tri == LV_NO_HIT) return (float3)(0.0f);
+        if (h.tri == LV_NO_HIT) return sun && scatters >= 1u && lv_same_direction(ray.dir, dir) ? beta : (float3)(0.0f);
         lv_surface s = lv_surface_at(sc, ray, h);
-        if (h.inst == light.instance && h.tri == light.index)
+        if (!sun && h.inst == light.instance && h.tri == light.index)
             return s.front && scatters >= 1u && lv_same_direction(ray.dir, dir) ? beta : (float3)(0.0f);
         __global const lv_material *m = &sc->materials[s.material];
         if (scatters >= max_scatters || lv_bsdf_gathers(m->bsdf, m->alpha)) return (float3)(0.0f);
