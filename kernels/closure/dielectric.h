@@ -3,7 +3,8 @@
  * the inside index over the outside one. Refraction scales radiance by
  * 1/eta'^2, importance not (`mode`), and the base colour tints it at each
  * crossing (glTF's KHR_materials_transmission; reflection keeps its
- * colour). Beer-Lambert absorption inside is the integrators' business. Included by closure/bsdf.h, after lv_bsdf. */
+ * colour). Beer-Lambert absorption inside is the integrators' business.
+ * Included by closure/bsdf.h, after lv_bsdf. */
 #ifndef LV_CLOSURE_DIELECTRIC_H
 #define LV_CLOSURE_DIELECTRIC_H
 
