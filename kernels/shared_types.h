@@ -89,6 +89,14 @@ typedef struct {
 #define LV_BSDF_THIN_GLASS 4 /* thin-walled dielectric: reflection, straight transmission */
 #define LV_BSDF_COUNT 5
 
+/* lv_material.texture_sampling, glTF's sampler: a wrap mode for u (bits
+ * 0-1) and for v (bits 2-3), and nearest filtering instead of bilinear. */
+#define LV_WRAP_REPEAT 0u
+#define LV_WRAP_CLAMP 1u
+#define LV_WRAP_MIRROR 2u
+#define LV_WRAP_V_SHIFT 2u
+#define LV_TEXTURE_NEAREST 16u
+
 typedef struct {
     float base_color[3];
     lv_i32 base_color_texture; /* index into lv_texture table, -1 if none */
@@ -98,8 +106,8 @@ typedef struct {
     float ior;                 /* dielectric index of refraction */
     float specular;            /* KHR_materials_specular factor (scales Fresnel) */
     lv_u32 double_sided;
-    float attenuation[3]; /* absorption coefficient per metre inside glass */
-    float pad;
+    float attenuation[3];    /* absorption coefficient per metre inside glass */
+    lv_u32 texture_sampling; /* how the base colour texture is read: LV_WRAP_* per axis, LV_TEXTURE_NEAREST */
     /* The base colour texture is read at (u', v') = (t0 u + t1 v + t2,
      * t3 u + t4 v + t5): KHR_texture_transform, or the identity. */
     float uv_transform[6];

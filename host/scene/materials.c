@@ -11,6 +11,7 @@ void lvcl_material_from_desc(const lvcl_material_desc *d, size_t index, lv_mater
         m->emission[k] = d->emissive[k];
     }
     m->base_color_texture = d->base_color_texture;
+    m->texture_sampling = d->texture_sampling;
     static const float identity[6] = {1, 0, 0, 0, 1, 0};
     memcpy(m->uv_transform, d->has_uv_transform ? d->uv_transform : identity, sizeof m->uv_transform);
     m->alpha = d->roughness * d->roughness;

@@ -24,6 +24,7 @@ typedef struct {
      * texture is read at (u', v') = (m0 u + m1 v + m2, m3 u + m4 v + m5). */
     int has_uv_transform;
     float uv_transform[6];
+    unsigned texture_sampling; /* its sampler: LV_WRAP_* per axis, LV_TEXTURE_NEAREST (kernels/shared_types.h) */
     float metallic;
     float roughness;
     float emissive[3];          /* emissiveFactor x KHR_materials_emissive_strength */

@@ -15,25 +15,36 @@ typedef struct {
 } lv_surface;
 
 #ifdef LV_FEATURE_TEXTURES
-inline float4 lv_texel(const lv_scene *sc, lv_texture t, int x, int y)
+/* Texel index i of a row or column of n, wrapped by mode (LV_WRAP_*). */
+inline uint lv_wrap_texel(int i, int n, uint mode)
 {
-    x = x % (int)t.width;
-    y = y % (int)t.height;
-    if (x < 0) x += (int)t.width;
-    if (y < 0) y += (int)t.height;
-    return convert_float4(sc->texels[t.offset + (uint)y * t.width + (uint)x]) * (1.0f / 65535.0f);
+    if (mode == LV_WRAP_CLAMP) return (uint)clamp(i, 0, n - 1);
+    int period = mode == LV_WRAP_MIRROR ? 2 * n : n, k = i % period;
+    if (k < 0) k += period;
+    return (uint)(k < n ? k : period - 1 - k);
 }
 
-/* Bilinear lookup with repeat wrapping, of linear texels. */
-inline float3 lv_texture_rgb(const lv_scene *sc, int index, float2 uv)
+inline float4 lv_texel(const lv_scene *sc, lv_texture t, int x, int y, uint sampling)
+{
+    uint u = lv_wrap_texel(x, (int)t.width, sampling & 3u),
+         v = lv_wrap_texel(y, (int)t.height, sampling >> LV_WRAP_V_SHIFT & 3u);
+    return convert_float4(sc->texels[t.offset + v * t.width + u]) * (1.0f / 65535.0f);
+}
+
+/* A lookup of linear texels, bilinear or nearest, wrapped as `sampling`
+ * (lv_material.texture_sampling) says. */
+inline float3 lv_texture_rgb(const lv_scene *sc, int index, float2 uv, uint sampling)
 {
     lv_texture t = sc->textures[index];
-    float x = uv.x * (float)t.width - 0.5f, y = uv.y * (float)t.height - 0.5f;
+    float x = uv.x * (float)t.width, y = uv.y * (float)t.height;
+    if (sampling & LV_TEXTURE_NEAREST) return lv_texel(sc, t, (int)floor(x), (int)floor(y), sampling).xyz;
+    x -= 0.5f;
+    y -= 0.5f;
     float fx = floor(x), fy = floor(y);
     int x0 = (int)fx, y0 = (int)fy;
     float ax = x - fx, ay = y - fy;
-    float4 c = mix(mix(lv_texel(sc, t, x0, y0), lv_texel(sc, t, x0 + 1, y0), ax),
-                   mix(lv_texel(sc, t, x0, y0 + 1), lv_texel(sc, t, x0 + 1, y0 + 1), ax), ay);
+    float4 c = mix(mix(lv_texel(sc, t, x0, y0, sampling), lv_texel(sc, t, x0 + 1, y0, sampling), ax),
+                   mix(lv_texel(sc, t, x0, y0 + 1, sampling), lv_texel(sc, t, x0 + 1, y0 + 1, sampling), ax), ay);
     return c.xyz;
 }
 #endif
@@ -100,7 +111,7 @@ inline lv_bsdf lv_surface_bsdf(const lv_scene *sc, const lv_surface *s)
     if (m->base_color_texture >= 0) {
         float2 uv = (float2)(m->uv_transform[0] * s->uv.x + m->uv_transform[1] * s->uv.y + m->uv_transform[2],
                              m->uv_transform[3] * s->uv.x + m->uv_transform[4] * s->uv.y + m->uv_transform[5]);
-        b.base *= lv_texture_rgb(sc, m->base_color_texture, uv);
+        b.base *= lv_texture_rgb(sc, m->base_color_texture, uv, m->texture_sampling);
     }
 #endif
     b.alpha = m->alpha;

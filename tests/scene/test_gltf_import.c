@@ -321,23 +321,25 @@ static long load_with_image(const char *uri, char **warnings)
     return load_edited("\"uri\": \"data:image/png;base64,", '"', with, warnings);
 }
 
-/* What lvcl does not read, it names: a sampler asking for clamped
- * wrapping and nearest filtering (lvcl repeats and filters bilinearly),
- * vertex colours (COLOR_0, which glTF multiplies into the base colour). */
-static void test_unread_warnings(void)
+/* A sampler's wrap modes and nearest filtering are read (clamp to edge on
+ * u, mirrored repeat on v, nearest); and what lvcl does not read, it
+ * names: vertex colours (COLOR_0, which glTF multiplies into the base
+ * colour). */
+static void test_sampler_and_warnings(void)
 {
     char *warnings;
-    long textures = load_edited("\"textures\": [", 0,
-                                "\"samplers\": [{\"wrapS\": 33071, \"magFilter\": 9728}], \"textures\": [{\"source\": "
-                                "0, \"sampler\": 0}], \"unused\": [",
-                                &warnings);
-    CHECK("texture with a clamp / nearest sampler loads", textures == 22, "got %ld", textures);
-    if (!verbose())
-        CHECK("a clamp / nearest sampler: one warning for each",
-              warnings && strstr(warnings, "only repeat wrapping is supported") &&
-                  strstr(warnings, "nearest filtering is not supported"),
-              "stderr: %s", warnings ? warnings : "(null)");
+    lvcl_scene s;
+    lvcl_error e = load_edited_scene("\"textures\": [", 0,
+                                     "\"samplers\": [{\"wrapS\": 33071, \"wrapT\": 33648, \"magFilter\": 9728}], "
+                                     "\"textures\": [{\"source\": 0, \"sampler\": 0}], \"unused\": [",
+                                     &s, &warnings);
     free(warnings);
+    unsigned want = LV_WRAP_CLAMP | LV_WRAP_MIRROR << LV_WRAP_V_SHIFT | LV_TEXTURE_NEAREST;
+    CHECK("a sampler's clamp, mirrored repeat and nearest filtering are read",
+          e == LVCL_OK && s.material_count > 0 && s.materials[0].texture_sampling == want, "error %d, sampling %u",
+          (int)e, e == LVCL_OK && s.material_count > 0 ? s.materials[0].texture_sampling : 0u);
+    if (e == LVCL_OK) lvcl_scene_free(&s);
+    long textures;
     textures = load_edited("\"attributes\": {", 0, "\"attributes\": {\"COLOR_0\": 0, ", &warnings);
     CHECK("a primitive with vertex colours loads", textures == 22, "got %ld", textures);
     if (!verbose())
@@ -526,7 +528,7 @@ int main(int argc, char **argv)
     test_nan_vertex();
     test_sparse_strided();
     test_image_formats();
-    test_unread_warnings();
+    test_sampler_and_warnings();
     test_texture_transform();
     test_errors();
     test_corruptions();

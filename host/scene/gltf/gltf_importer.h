@@ -316,6 +316,7 @@ class Importer
     lvcl_material_desc convert_material(int index);
     int base_color_texture(int material, const tinygltf::TextureInfo &info);
     void read_uv_transform(const tinygltf::TextureInfo &info, lvcl_material_desc &d);
+    void read_sampler(const tinygltf::TextureInfo &info, lvcl_material_desc &d);
     int decode_image(int image_index);
     std::vector<int> scene_roots();
     void visit(int node, const glm::dmat4 &parent, int depth);

@@ -100,17 +100,7 @@ int Importer::base_color_texture(int material, const tinygltf::TextureInfo &info
         fail(LVCL_ERR_PARSE, "material %d: texture %d out of range (file has %zu)", material, info.index,
              m.textures.size());
     if (info.texCoord < 0) fail(LVCL_ERR_PARSE, "material %d: texCoord %d is negative", material, info.texCoord);
-    int source = m.textures[(size_t)info.index].source, sampler = m.textures[(size_t)info.index].sampler;
-    if (sampler >= 0 && (size_t)sampler < m.samplers.size()) {
-        /* lvcl filters bilinearly and repeats (glTF's defaults). */
-        const tinygltf::Sampler &smp = m.samplers[(size_t)sampler];
-        if (smp.wrapS != TINYGLTF_TEXTURE_WRAP_REPEAT || smp.wrapT != TINYGLTF_TEXTURE_WRAP_REPEAT)
-            warn_once("wrap", "texture %d: only repeat wrapping is supported (its sampler's clamp or mirrored "
-                              "repeat rendered as repeat)",
-                      info.index);
-        if (smp.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST)
-            warn_once("nearest", "texture %d: nearest filtering is not supported (rendered bilinear)", info.index);
-    }
+    int source = m.textures[(size_t)info.index].source;
     if (source == -1) {
         warn_once("nosource", "texture %d has no supported image source (ignored)", info.index);
         return -1;
@@ -118,6 +108,26 @@ int Importer::base_color_texture(int material, const tinygltf::TextureInfo &info
     if (source < 0 || (size_t)source >= m.images.size())
         fail(LVCL_ERR_PARSE, "texture %d: image %d out of range (file has %zu)", info.index, source, m.images.size());
     return decode_image(source);
+}
+
+/* The base colour texture's sampler as lv_material.texture_sampling: its
+ * wrap modes, and nearest filtering where magFilter asks for it (lvcl has
+ * no mipmaps, so minFilter does not apply); glTF's defaults without one. */
+static unsigned wrap_mode(int gl)
+{
+    return gl == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE  ? LV_WRAP_CLAMP
+        : gl == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT ? LV_WRAP_MIRROR
+                                                      : LV_WRAP_REPEAT;
+}
+
+void Importer::read_sampler(const tinygltf::TextureInfo &info, lvcl_material_desc &d)
+{
+    if (d.base_color_texture < 0) return;
+    int sampler = m.textures[(size_t)info.index].sampler;
+    if (sampler < 0 || (size_t)sampler >= m.samplers.size()) return;
+    const tinygltf::Sampler &s = m.samplers[(size_t)sampler];
+    d.texture_sampling = wrap_mode(s.wrapS) | wrap_mode(s.wrapT) << LV_WRAP_V_SHIFT |
+        (s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? LV_TEXTURE_NEAREST : 0u);
 }
 
 /* KHR_texture_transform on the base colour texture: the UVs scaled, then
@@ -148,6 +158,7 @@ lvcl_material_desc Importer::convert_material(int index)
     for (int k = 0; k < 4; k++) d.base_color[k] = to_f(pbr.baseColorFactor[(size_t)k]);
     d.base_color_texture = base_color_texture(index, pbr.baseColorTexture);
     read_uv_transform(pbr.baseColorTexture, d);
+    read_sampler(pbr.baseColorTexture, d);
     d.metallic = to_f(pbr.metallicFactor);
     d.roughness = to_f(pbr.roughnessFactor);
 
