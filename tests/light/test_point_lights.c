@@ -336,21 +336,30 @@ static int one_texel(const view *v, int x, int y, const void *ctx)
     return 1;
 }
 
-static void test_texture_blend(void)
+/* A TEX x TEX texture and its texels' linear values: where `gradient`,
+ * red growing along x and green along y; else a red checker of 0 and 255
+ * and green stripes of 0 and 255 (every lookup blends); blue 128. */
+static lvcl_texture_data make_texture(int gradient, float linear[TEX * TEX * 3])
 {
-    const double factor = 0.8, intensity[3] = {9.0, 9.0, 9.0};
-    const int spp = 256;
     lvcl_texture_data tex = {TEX, TEX, must_alloc(TEX * TEX * 4)};
-    float linear[TEX * TEX * 3];
     for (int y = 0; y < TEX; y++)
         for (int x = 0; x < TEX; x++) {
             uint8_t *t = &tex.rgba[4 * (y * TEX + x)];
-            t[0] = (x + y) % 2 ? 255 : 0;
-            t[1] = x % 2 ? 255 : 0;
+            t[0] = gradient ? (uint8_t)(20 + 33 * x) : (x + y) % 2 ? 255 : 0;
+            t[1] = gradient ? (uint8_t)(20 + 33 * y) : x % 2 ? 255 : 0;
             t[2] = 128;
             t[3] = 255;
             for (int c = 0; c < 3; c++) linear[3 * (y * TEX + x) + c] = (float)srgb_to_linear(t[c] / 255.0);
         }
+    return tex;
+}
+
+static void test_texture_blend(void)
+{
+    const double factor = 0.8, intensity[3] = {9.0, 9.0, 9.0};
+    const int spp = 256;
+    float linear[TEX * TEX * 3];
+    lvcl_texture_data tex = make_texture(0, linear);
     lv_punctual_light light = point_light(0.1, 0.2, 3.0, intensity);
     lvcl_scene scene = textured_plane(&tex, factor, &light);
     view v = vertical_view(0, 0, 2.5, 1, 40, 32);
@@ -388,14 +397,8 @@ static void check_texture_reads(const char *name, int quadrant, double scale, do
 {
     const double factor = 0.8, intensity[3] = {9.0, 9.0, 9.0};
     const int spp = 256;
-    lvcl_texture_data tex = {TEX, TEX, must_alloc(TEX * TEX * 4)};
     float linear[TEX * TEX * 3];
-    for (int y = 0; y < TEX; y++)
-        for (int x = 0; x < TEX; x++) {
-            uint8_t *t = &tex.rgba[4 * (y * TEX + x)];
-            t[0] = (uint8_t)(20 + 33 * x), t[1] = (uint8_t)(20 + 33 * y), t[2] = 128, t[3] = 255;
-            for (int c = 0; c < 3; c++) linear[3 * (y * TEX + x) + c] = (float)srgb_to_linear(t[c] / 255.0);
-        }
+    lvcl_texture_data tex = make_texture(1, linear);
     lv_punctual_light light = point_light(0.1, 0.2, 3.0, intensity);
     lvcl_scene scene = textured_plane(&tex, factor, &light);
     const float r = 1.5707963267948966f,
