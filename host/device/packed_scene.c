@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "../scene/materials.h"
+#include "../util/colour.h"
 
 /* The kernels' luminance (kernels/shared_types.h) of an RGB triple. */
 static float luminance(const float c[3])
@@ -201,9 +202,7 @@ static lv_ushort4 linear_texel(const uint8_t rgba[4])
 {
     lv_ushort4 t;
     for (int k = 0; k < 3; k++) {
-        double c = rgba[k] / 255.0;
-        double linear = c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
-        t.s[k] = (uint16_t)lround(linear * 65535.0);
+        t.s[k] = (uint16_t)lround(lvcl_srgb_to_linear(rgba[k] / 255.0) * 65535.0);
     }
     t.s[3] = (uint16_t)(rgba[3] * 257u);
     return t;

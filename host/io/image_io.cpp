@@ -1,5 +1,6 @@
 // OpenImageIO behind a C interface; nothing else lives here.
 #include "image_io.h"
+#include "../util/colour.h"
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -89,7 +90,7 @@ extern "C" lvcl_error lvcl_image_read(const char *path, float **rgb, int *width,
         for (size_t i = 0; i < pixels; i++)
             for (int c = 0; c < 3; c++) {
                 float v = all[i * channels + (c < channels ? c : 0)];
-                if (srgb) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+                if (srgb) v = (float)lvcl_srgb_to_linear(v);
                 out[3 * i + c] = v;
             }
         *rgb = out;
