@@ -14,7 +14,7 @@ bright room's light read through the wall (its true value, and the path
 tracer's, is 0).
 
     python3 bench/leak_sweep.py [--seed S] [--count N] [--corridors] [--wide] [--curved] [--tees] [--edges] [--bias]
-        [--corners] [--sun] [--subcells K] [--build build]
+        [--corners] [--sun] [--subcells K] [--cells C] [--build build]
 
 One JSON object per set-up (its parameters, the dim room's mean red and
 blue, leak = red / (ratio x blue) and red / blue, the share of the dim
@@ -37,7 +37,8 @@ apart), and in the room views so must each 8 x 8-pixel block, within 10%
 That found a thin wall's face just inside a subcell reading its room
 5-11% dark (docs/light-volume.md, "A face by a subcell's face"). About
 six seconds a set-up. --subcells K renders every set-up with K subcells
-(the draws stay as they were); --corners looks at a corner of the dim
+and --cells C with C cells along the longest axis (the draws stay as they
+were); --corners looks at a corner of the dim
 room in half the set-ups (where slabs of a turned shell meet; an ad-hoc
 sweep of such views found corners 0.88-0.95 in 8 x 8 blocks without
 subcells before 2026-12-07)."""
@@ -196,6 +197,8 @@ def main():
                          "instead of the shared wall; counted as room views")
     ap.add_argument("--subcells", type=int, default=None,
                     help="render every set-up with this many subcells a side (0-4) instead of the drawn count")
+    ap.add_argument("--cells", type=int, default=None,
+                    help="render every set-up with this many cells along the longest axis instead of the drawn count")
     ap.add_argument("--sun", action="store_true",
                     help="in a third of the set-ups add a sun of the bright lamp's colour on the building's outside "
                          "and on ground round it: the outside's light must stay out too")
@@ -215,6 +218,8 @@ def main():
             u = draw(r, a.corridors)
             if a.subcells is not None:
                 u["subcells"] = a.subcells
+            if a.cells is not None:
+                u["cells"] = a.cells
             wide = draw_wide(r_wide) if a.wide else {"scale": 1.0, "wall_material": "lambert", "bright_light": "area"}
             if wide["bright_light"] == "spot" and (u["yaw_deg"] or u["pitch_deg"]):
                 wide["bright_light"] = "point"

@@ -25,6 +25,11 @@
  * each other lie side by side, their offsets far closer than this. */
 #define LAYER_NORMAL 0.99985
 #define LAYER_OFFSET 0.05
+/* A facet that lies over the other (their extents overlap) is a layer from
+ * this offset on (cells): no piece of one smooth surface lies over
+ * another, and a corridor 3 cm wide in a cell of 75 cm (0.04) joined its
+ * two walls at LAYER_OFFSET, so its light shared the room's region. */
+#define LAYER_OVER_OFFSET 0.01
 /* A plane must cut the cell by more than this (cells) to split it. */
 #define CUT_MARGIN 1e-3
 /* A part of a mesh's tree that spans at most two cells along every axis
@@ -90,6 +95,7 @@ typedef struct {
     double top_against;           /* and of a front against it */
     double along_n[3], against_n[3]; /* the normals of those two facets */
     face_extent along, against;      /* the extents of its facets of each front */
+    face_extent top_along_extent, top_against_extent; /* and of those two facets */
     int clear, gap;                  /* of glass; it faces another cluster across a gap */
     int sheet;                       /* it holds a facet of a sheet */
     int group;                    /* of parallel clusters (cluster_cell) */
@@ -434,21 +440,28 @@ static void extent_add(face_extent *e, int first, const turned_facet *t)
     }
 }
 
-/* Whether facet t lies over the facets of cluster c whose front faces
- * it: their extents overlap by more than FACET_OFFSET cell along both
- * axes (where their axes do not match, it is taken that they do). Facing
- * fronts that only meet at an edge or lie side by side (a doorway's side
- * and a cupboard's beside the doorway, each against its own wall) hold
- * no thin layer of air between them. */
-static int faces_across(const turned_facet *t, const cluster *c, double h)
+/* Whether facet t lies over extent e: they overlap by more than
+ * FACET_OFFSET cell along both axes; `unknown` where either extent is
+ * not known or their axes do not match. */
+static int lies_over(const turned_facet *t, const face_extent *e, double h, int unknown)
 {
-    if (!c->along.known || !t->extent) return 1;
+    if (!e->known || !t->extent) return unknown;
     for (int k = 0; k < 2; k++) {
         double l, u;
-        if (!extent_along(t->axes, t->lo, t->hi, c->along.axes[k], &l, &u)) return 1;
-        if (l >= c->along.hi[k] - FACET_OFFSET * h || u <= c->along.lo[k] + FACET_OFFSET * h) return 0;
+        if (!extent_along(t->axes, t->lo, t->hi, e->axes[k], &l, &u)) return unknown;
+        if (l >= e->hi[k] - FACET_OFFSET * h || u <= e->lo[k] + FACET_OFFSET * h) return 0;
     }
     return 1;
+}
+
+/* Whether facet t lies over the facets of cluster c whose front faces
+ * it (where that is not known, it is taken that it does). Facing fronts
+ * that only meet at an edge or lie side by side (a doorway's side and a
+ * cupboard's beside the doorway, each against its own wall) hold no thin
+ * layer of air between them. */
+static int faces_across(const turned_facet *t, const cluster *c, double h)
+{
+    return lies_over(t, &c->along, h, 1);
 }
 
 /* Clusters one cell's facets into w->clusters (w->turned then holds the
@@ -521,8 +534,11 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h, si
         double other = c ? (t->front > 0 ? c->top_against : c->top_along) : -HUGE_VAL;
         /* Glass joins no opaque facet, nor the opposite face of a slab. */
         int opposite = other > -HUGE_VAL;
-        /* A layer beyond a parallel facet of the same front. */
-        int layer = top > -HUGE_VAL && t->d - top > LAYER_OFFSET * h &&
+        /* A layer beyond a parallel facet of the same front, nearer where
+         * it lies over that facet (not where that is not known). */
+        const face_extent *under = t->front > 0 ? &c->top_along_extent : &c->top_against_extent;
+        int layer = top > -HUGE_VAL &&
+            (t->d - top > LAYER_OFFSET * h || (t->d - top > LAYER_OVER_OFFSET * h && lies_over(t, under, h, 0))) &&
             lvcl_dot3(t->n, t->front > 0 ? c->along_n : c->against_n) > LAYER_NORMAL;
         /* Two sheets back to back (or a sheet behind a solid's face) are
          * not a solid's two faces: the space between them may hold light
@@ -546,10 +562,12 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h, si
         /* Sorted by offset: this facet is the cluster's topmost of its front. */
         if (t->front > 0) {
             extent_add(&c->along, c->top_along == -HUGE_VAL, t);
+            extent_add(&c->top_along_extent, 1, t);
             c->top_along = t->d;
             memcpy(c->along_n, t->n, sizeof c->along_n);
         } else {
             extent_add(&c->against, c->top_against == -HUGE_VAL, t);
+            extent_add(&c->top_against_extent, 1, t);
             c->top_against = t->d;
             memcpy(c->against_n, t->n, sizeof c->against_n);
         }

@@ -493,7 +493,7 @@ int main(void)
         for (size_t ti = 0; ti < sizeof turns / sizeof *turns; ti++)
             for (size_t ci = 0; ci < sizeof cell_counts / sizeof *cell_counts; ci++)
                 for (size_t oi = 0; oi < sizeof offsets / sizeof *offsets; oi++) {
-                    if (!away && apart <= 0.06 * 4.0 / cell_counts[ci]) continue; /* see LAYER_OFFSET */
+                    if (!away && apart <= 0.012 * 4.0 / cell_counts[ci]) continue; /* see LAYER_OVER_OFFSET */
                     int p, b;
                     shared +=
                         corridor_in_room(apart, away, turns[ti][0], turns[ti][1], cell_counts[ci], offsets[oi], &p, &b);
@@ -509,6 +509,28 @@ int main(void)
         CHECK(name, built && shared == 0 && pairs > 0 && grids > 0,
               "%d of %d point pairs in one cell share a region (%d grids)", shared, pairs, grids);
     }
+    {
+        /* Coarse grids, where such a corridor is 2 to 6% of a cell: its
+         * walls lie over each other, so they stay two layers. */
+        const int coarse[] = {5, 6, 8};
+        const float aparts[] = {0.02f, 0.03f};
+        int shared = 0, pairs = 0, built = 1, grids = 0;
+        for (size_t ai = 0; ai < sizeof aparts / sizeof *aparts; ai++)
+            for (size_t ti = 0; ti < sizeof turns / sizeof *turns; ti += 3)
+                for (size_t ci = 0; ci < sizeof coarse / sizeof *coarse; ci++)
+                    for (size_t oi = 0; oi < sizeof offsets / sizeof *offsets; oi++) {
+                        int p, b;
+                        shared += corridor_in_room(aparts[ai], 0, turns[ti][0], turns[ti][1], coarse[ci], offsets[oi],
+                                                   &p, &b);
+                        pairs += p;
+                        built &= b;
+                        grids++;
+                    }
+        CHECK("cell planes: a corridor 2 or 3 cm wide between walls of one polygon facing one way keeps both walls "
+              "at 5 to 8 cells",
+              built && shared == 0 && pairs > 0 && grids > 0,
+              "%d of %d point pairs in one cell share a region (%d grids)", shared, pairs, grids);
+    }
     for (int panel = 0; panel < 2; panel++) {
         const float aparts[] = {0.02f, 0.03f, 0.05f};
         int shared = 0, pairs = 0, built = 1, grids = 0;
@@ -516,8 +538,8 @@ int main(void)
             for (size_t ci = 0; ci < sizeof cell_counts / sizeof *cell_counts; ci++)
                 for (size_t oi = 0; oi < sizeof offsets / sizeof *offsets; oi++) {
                     double h = 2.0 / cell_counts[ci];
-                    if (aparts[ai] <= 0.06 * h || aparts[ai] >= 0.25 * h)
-                        continue; /* see LAYER_OFFSET; beyond a quarter cell no cluster joins them */
+                    if (aparts[ai] <= 0.012 * h || aparts[ai] >= 0.25 * h)
+                        continue; /* see LAYER_OVER_OFFSET; beyond a quarter cell no cluster joins them */
                     int p, b;
                     shared += layers_apart(panel, aparts[ai], cell_counts[ci], offsets[oi], &p, &b);
                     pairs += p;
