@@ -814,12 +814,15 @@ static int pattern_at(const float planes[][4], int count, const double lo[3], do
     return m;
 }
 
-/* A cell casts at most this many rays per region pattern to tell whether
- * a sheet's back is dark: a cell of a rippled tile holds hundreds of
- * samples whose backs all lie against the wall, and after that many the
- * rest of the pattern's are taken to be dark too. (A cap per cell, 16,
- * let a tile's samples spend the rays a region elsewhere in the cell
- * needed.) */
+/* A cell casts at most this many rays per region pattern and group of
+ * parallel facets to tell whether a sheet's back is dark: a cell of a
+ * rippled tile holds hundreds of samples whose backs all lie against the
+ * wall, and after that many the rest of the group's in the pattern are
+ * taken to be dark too. (A cap per cell, 16, let a tile's samples spend
+ * the rays a region elsewhere in the cell needed; a cap per pattern let
+ * a lamp's samples, its back against the ceiling, spend those of a bowed
+ * wall in the same region: bench/leak_sweep.py --cells 4 --seed 124,
+ * red / blue 10.9.) */
 #define PATTERN_RAYS 4
 
 /* Whether the back of a sheet at point b (its front normal front) is dark:
@@ -954,7 +957,7 @@ static uint64_t mixed_patterns(const lvcl_packed_scene *p, const cell_scratch *w
     side_test s = {.p = p, .planes = planes, .count = count, .lo = lo, .h = h};
     for (size_t first = 0, end; first < m; first = end) {
         for (end = first + 1; end < m && t[end].group == t[first].group;) end++;
-        for (int q = 0; q < 1 << count; q++) s.along[q] = -HUGE_VAL, s.against[q] = HUGE_VAL;
+        for (int q = 0; q < 1 << count; q++) s.along[q] = -HUGE_VAL, s.against[q] = HUGE_VAL, s.pattern_rays[q] = 0;
         s.ref = w->refs[t[first].group];
         for (size_t a = first; a < end; a++) {
             if (t[a].hidden) continue;
