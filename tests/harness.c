@@ -317,6 +317,30 @@ lvcl_error harness_render_with(lvcl_scene *scene, const lvcl_session_config *cfg
     return e;
 }
 
+lvcl_error harness_trace_volume(lvcl_scene *scene, const lvcl_session_config *cfg, const lvcl_volume_settings *vs,
+                                harness_volume *out, lvcl_status *st)
+{
+    memset(out, 0, sizeof *out);
+    lvcl_error e = lvcl_session_open(scene, cfg, &out->session, st);
+    if (!e) e = lvcl_session_trace_volume(out->session, vs, st);
+    if (!e) {
+        out->volume = lvcl_session_volume(out->session, 0);
+        e = lvcl_volume_read(out->volume, &out->tallies, &out->masks, st);
+    }
+    if (!e) e = lvcl_volume_read_lit(out->volume, &out->lit, st);
+    if (e) harness_volume_release(out);
+    return e;
+}
+
+void harness_volume_release(harness_volume *v)
+{
+    free(v->tallies);
+    free(v->masks);
+    free(v->lit);
+    lvcl_session_close(v->session);
+    memset(v, 0, sizeof *v);
+}
+
 lvcl_error harness_render_mean(lvcl_scene *scene, unsigned seed, const lvcl_render_request *req, double *mean,
                                lvcl_status *st)
 {

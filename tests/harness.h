@@ -123,6 +123,23 @@ lvcl_error harness_render(lvcl_scene *scene, const char *device, unsigned seed, 
 lvcl_error harness_render_with(lvcl_scene *scene, const lvcl_session_config *cfg, const lvcl_render_request *req,
                                lvcl_render_result *out, lvcl_status *st);
 
+/* A light volume traced in a session, and what its kernels stored, read
+ * back (harness_trace_volume). */
+typedef struct {
+    lvcl_session *session;
+    const lvcl_light_volume *volume; /* device 0's */
+    int64_t *tallies;
+    uint32_t *masks;
+    float *lit; /* per slot, as lv_lit_volumes stored it */
+} harness_volume;
+
+/* Opens a session on `scene` (consumed) with cfg and builds a light volume
+ * in it as the lv modes do; reads back its tallies, subcell masks and lit
+ * volumes. On failure *out holds nothing to release and st says why. */
+lvcl_error harness_trace_volume(lvcl_scene *scene, const lvcl_session_config *cfg, const lvcl_volume_settings *vs,
+                                harness_volume *out, lvcl_status *st);
+void harness_volume_release(harness_volume *v);
+
 /* harness_render on the first device, and the mean of the image's values
  * (*mean -1 on an error). */
 lvcl_error harness_render_mean(lvcl_scene *scene, unsigned seed, const lvcl_render_request *req, double *mean,

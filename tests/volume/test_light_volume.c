@@ -12,20 +12,12 @@
 
 #include "../kernels/test_args.h"
 
-typedef struct {
-    lvcl_session *session;
-    const lvcl_light_volume *volume; /* device 0's */
-    int64_t *tallies;
-    uint32_t *masks;
-    float *lit; /* per slot, as lv_lit_volumes stored it */
-} traced_volume;
-
 /* Opens a session on `scene` (consumed) and builds a light volume in it as
  * the lv modes do, on a device that acts as one of device_memory bytes (0:
  * its own size), with the kernels built with build_flags (LVCL_BUILD_*)
  * besides the scene's; reads back what the kernels stored. */
 static int trace_sized(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_volume_settings *vs,
-                       uint64_t device_memory, unsigned build_flags, traced_volume *tv)
+                       uint64_t device_memory, unsigned build_flags, harness_volume *tv)
 {
     lvcl_status st = {0};
     lvcl_session_config cfg = {.device = device,
@@ -34,11 +26,7 @@ static int trace_sized(lvcl_scene *scene, const char *device, unsigned seed, con
                                .fast_math = 1,
                                .device_memory = device_memory,
                                .build_flags = build_flags};
-    memset(tv, 0, sizeof *tv);
-    if (lvcl_session_open(scene, &cfg, &tv->session, &st) || lvcl_session_trace_volume(tv->session, vs, &st) ||
-        !(tv->volume = lvcl_session_volume(tv->session, 0)) ||
-        lvcl_volume_read(tv->volume, &tv->tallies, &tv->masks, &st) ||
-        lvcl_volume_read_lit(tv->volume, &tv->lit, &st)) {
+    if (harness_trace_volume(scene, &cfg, vs, tv, &st)) {
         CHECK("light volume trace", 0, "%s", st.message);
         return 0;
     }
@@ -46,25 +34,17 @@ static int trace_sized(lvcl_scene *scene, const char *device, unsigned seed, con
 }
 
 static int trace(lvcl_scene *scene, const char *device, unsigned seed, const lvcl_volume_settings *vs,
-                 traced_volume *tv)
+                 harness_volume *tv)
 {
     return trace_sized(scene, device, seed, vs, 0, 0, tv);
 }
 
-static void release(traced_volume *tv)
-{
-    free(tv->tallies);
-    free(tv->masks);
-    free(tv->lit);
-    lvcl_session_close(tv->session);
-}
-
-static int64_t tally(const traced_volume *tv, uint32_t slot, uint32_t bin, int c)
+static int64_t tally(const harness_volume *tv, uint32_t slot, uint32_t bin, int c)
 {
     return tv->tallies[(size_t)slot * LV_SET_LONGS(lvcl_volume_grid(tv->volume)->bins) + 3 * bin + c];
 }
 
-static uint32_t slot_of(const traced_volume *tv, int x, int y, int z)
+static uint32_t slot_of(const harness_volume *tv, int x, int y, int z)
 {
     return lvcl_volume_slot(tv->volume, (uint32_t)x, (uint32_t)y, (uint32_t)z);
 }
@@ -76,7 +56,7 @@ static LVCL_DEFINE_BINDER(t_bin_radiance, T_BIN_RADIANCE_ARGS, t_bin_radiance_ar
  * it from the volume (t_bin_radiance in tests/kernels/unit_tests.cl), on
  * the session's device; malloc'ed. A failure ends the test program with
  * a FAIL line. */
-    static double *slot_radiance(const traced_volume *tv, uint32_t slot)
+    static double *slot_radiance(const harness_volume *tv, uint32_t slot)
 {
     const lvcl_device *dev = lvcl_session_device(tv->session, 0);
     uint32_t bins = lvcl_volume_grid(tv->volume)->bins;
@@ -153,7 +133,7 @@ static void test_emitting_plane(void)
     lvcl_scene scene;
     black_emitter_scene(tris, 3, le, &scene);
     lvcl_volume_settings vs = {.cell_size = 1.0, .dirs = 6, .particles = 8000000, .store_emitted = 1};
-    traced_volume tv;
+    harness_volume tv;
     if (!trace(&scene, NULL, 1, &vs, &tv)) return;
     const lv_grid_info *g = lvcl_volume_grid(tv.volume);
     /* Cell (x, y) over the plane's centre, z in [0, 1) m. */
@@ -161,7 +141,7 @@ static void test_emitting_plane(void)
     uint32_t slot = slot_of(&tv, cx, cx, cz);
     CHECK("emitting plane: the cell above it is stored", slot != LV_EMPTY_CELL, "cell (%d,%d,%d) empty", cx, cx, cz);
     if (slot == LV_EMPTY_CELL) {
-        release(&tv);
+        harness_volume_release(&tv);
         return;
     }
     /* A particle crossing the cell adds about its weight 1 x (mean chord 2/3) to one
@@ -192,7 +172,7 @@ static void test_emitting_plane(void)
     CHECK("emitting plane: every upward bin is Le within 5 sigma", worst_sigmas < 5.0, "worst %.1f sigma",
           worst_sigmas);
     CHECK("emitting plane: downward bins are empty", down == 0.0, "sum %.4g", down);
-    release(&tv);
+    harness_volume_release(&tv);
 }
 
 /* Subcells (paper 4.1): an emitting plane through the middle of a cell, on a
@@ -210,7 +190,7 @@ static void test_cut_cell(void)
     lvcl_scene scene;
     black_emitter_scene(tris, 4, le, &scene);
     lvcl_volume_settings vs = {.cell_size = 1.0, .dirs = 6, .subcells = 4, .particles = 4000000, .store_emitted = 1};
-    traced_volume tv;
+    harness_volume tv;
     if (!trace(&scene, NULL, 3, &vs, &tv)) return;
     const lv_grid_info *g = lvcl_volume_grid(tv.volume);
     /* The plane cuts the cell into two regions: read the one above it. */
@@ -218,7 +198,7 @@ static void test_cut_cell(void)
     uint32_t slot = lvcl_volume_slot_at(tv.volume, above);
     if (slot == LV_EMPTY_CELL) {
         CHECK("cut cell: stored", 0, "the cell at (0.5, 0.5, 0.25) is empty");
-        release(&tv);
+        harness_volume_release(&tv);
         return;
     }
     double lit = tv.lit[slot];
@@ -236,7 +216,7 @@ static void test_cut_cell(void)
     CHECK("cut cell: subcells give a lit fraction of 1/2", fabs(lit - 0.5) < 1e-9, "lit fraction %.4f", lit);
     CHECK("cut cell: its upward bins give the plane's radiance within 2%", fabs(mean_up - le) < 0.02 * le, "mean %.4f",
           mean_up);
-    release(&tv);
+    harness_volume_release(&tv);
 }
 
 /* Visibility rays (paper 4.1): a black floor cuts a cell so that 0.3 of it
@@ -263,7 +243,7 @@ static void test_visibility(void)
     m[1].emissive[0] = m[1].emissive[1] = m[1].emissive[2] = 5.0f;
     scene.tri_material[2] = scene.tri_material[3] = 1;
     lvcl_volume_settings vs = {.cell_size = 1.0, .dirs = 4, .subcells = 4, .particles = 2000000, .store_emitted = 1};
-    traced_volume tv;
+    harness_volume tv;
     if (!trace(&scene, NULL, 4, &vs, &tv)) return;
     /* The floor cuts the cell into two regions: the one above it is lit. */
     const float above[3] = {0.5f, 0.5f, z + 0.15f};
@@ -272,7 +252,7 @@ static void test_visibility(void)
     printf("  visibility: floor at %.2f of the cell's height, lit fraction %.4f (expected %.2f)\n", 1 - f, lit, f);
     CHECK("subcell visibility: a cell cut at 0.3 of its volume is lit 0.3 within 10%", fabs(lit - f) < 0.1 * f,
           "lit fraction %.4f", lit);
-    release(&tv);
+    harness_volume_release(&tv);
 }
 
 /* (b, c) The white furnace (a 2 m closed cube, albedo 0.5, Le 1) with the
@@ -289,7 +269,7 @@ static void test_furnace(void)
         return;
     }
     lvcl_volume_settings vs = {.cells = 4, .dirs = 6, .particles = 2000000, .store_emitted = 1};
-    traced_volume tv;
+    harness_volume tv;
     if (!trace(&scene, NULL, 2, &vs, &tv)) return;
     const lv_grid_info *g = lvcl_volume_grid(tv.volume);
     double worst = 0.0, total = 0.0;
@@ -319,7 +299,7 @@ static void test_furnace(void)
     printf("  furnace: mean tracked length per particle %.4f m, expected %.4f m\n", mean_path, expected);
     CHECK("lv-all furnace: tallied length = emitted power x mean path length within 1%",
           fabs(mean_path - expected) < 0.01 * expected, "%.4f m against %.4f m", mean_path, expected);
-    release(&tv);
+    harness_volume_release(&tv);
 }
 
 /* (d) The same seed gives the same volume bit for bit: run to run, and on
@@ -327,7 +307,7 @@ static void test_furnace(void)
 static void test_determinism(void)
 {
     lvcl_volume_settings vs = {.cells = 12, .dirs = 5, .subcells = 4, .particles = 300000};
-    traced_volume first;
+    harness_volume first;
     lvcl_scene scene;
     lvcl_status st = {0};
     if (lvcl_scene_load("cornell", &scene, &st) || !trace(&scene, "0", 9, &vs, &first)) return;
@@ -335,7 +315,7 @@ static void test_determinism(void)
     for (int d = 0; d < n; d++) {
         char device[16], name[128];
         snprintf(device, sizeof device, "%d", d);
-        traced_volume again;
+        harness_volume again;
         if (lvcl_scene_load("cornell", &scene, &st) || !trace(&scene, device, 9, &vs, &again)) break;
         int same = lvcl_volume_stats_of(first.volume).tally_bytes == lvcl_volume_stats_of(again.volume).tally_bytes &&
             memcmp(first.tallies, again.tallies, lvcl_volume_stats_of(first.volume).tally_bytes) == 0;
@@ -374,7 +354,7 @@ static void test_determinism(void)
             printf("  %s: tallies differ by %.3g of their sum; %zu of %zu mask words differ\n", platform, diff / sum,
                    masks_differ, masks);
         }
-        release(&again);
+        harness_volume_release(&again);
     }
     /* Passes of particles traced one after another into one volume (as under
      * a time budget) give the volume traced at once, lit volumes included. */
@@ -414,7 +394,7 @@ static void test_determinism(void)
     /* A device too small to hold the tallies in one buffer splits them: one
      * of twice the volume's size allows half of it in one buffer, less than
      * the tallies and more than the subcell records. */
-    traced_volume split;
+    harness_volume split;
     uint64_t small = 2 * lvcl_volume_stats_of(first.volume).device_bytes;
     if (!lvcl_scene_load("cornell", &scene, &st) && trace_sized(&scene, "0", 9, &vs, small, 0, &split)) {
         int same = lvcl_volume_stats_of(first.volume).tally_bytes == lvcl_volume_stats_of(split.volume).tally_bytes &&
@@ -422,14 +402,14 @@ static void test_determinism(void)
         CHECK("light volume: tallies split over buffers are the same bit for bit",
               same && lvcl_volume_stats_of(split.volume).tally_buffers > 1, "%d buffers, tallies %s",
               lvcl_volume_stats_of(split.volume).tally_buffers, same ? "equal" : "differ");
-        release(&split);
+        harness_volume_release(&split);
     }
     /* The tallies of a device without 64-bit atomics (two 32-bit adds with a
      * carry) are the same too. A few cells of few bins gather thousands of
      * weight x length units (2^24 each) per bin, past 2^32, so carries and
      * high words happen. */
     lvcl_volume_settings coarse = {.cells = 4, .dirs = 3, .subcells = 4, .particles = 100000, .store_emitted = 1};
-    traced_volume native, emulated;
+    harness_volume native, emulated;
     if (!lvcl_scene_load("cornell", &scene, &st) && trace(&scene, "0", 9, &coarse, &native)) {
         if (!lvcl_scene_load("cornell", &scene, &st) &&
             trace_sized(&scene, "0", 9, &coarse, 0, LVCL_BUILD_EMULATED_INT64_ATOMICS, &emulated)) {
@@ -444,11 +424,11 @@ static void test_determinism(void)
                       strstr(lvcl_session_program(emulated.session, 0)->options, "-DLV_EMULATE_INT64_ATOMICS"),
                   "the tallies %s; %zu of %zu past 2^32; kernel options %s", same ? "equal" : "differ", wide, n,
                   lvcl_session_program(emulated.session, 0)->options);
-            release(&emulated);
+            harness_volume_release(&emulated);
         }
-        release(&native);
+        harness_volume_release(&native);
     }
-    release(&first);
+    harness_volume_release(&first);
 }
 
 /* Turns every triangle's shading normal 30 degrees away from its geometric

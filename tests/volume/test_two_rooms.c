@@ -550,15 +550,13 @@ static void test_lit_within_volume(void)
         req.volume.subcells = u->subcells;
         req.volume.offset = u->offset;
         lvcl_session_config cfg = {.seed = 5, .max_depth = 64, .fast_math = 1};
-        lvcl_session *session = NULL;
-        const lvcl_light_volume *v = NULL;
-        float *lit = NULL;
-        if (lvcl_session_open(&scene, &cfg, &session, &st) || lvcl_session_trace_volume(session, &req.volume, &st) ||
-            !(v = lvcl_session_volume(session, 0)) || lvcl_volume_read_lit(v, &lit, &st)) {
+        harness_volume traced;
+        if (harness_trace_volume(&scene, &cfg, &req.volume, &traced, &st)) {
             CHECK("two rooms: lit volumes traced", 0, "%s", st.message);
-            if (session) lvcl_session_close(session);
             return;
         }
+        const lvcl_light_volume *v = traced.volume;
+        const float *lit = traced.lit;
         size_t cut = 0, over = 0;
         double worst = 0;
         for (uint32_t slot = 0; slot < v->buf.info.slot_count; slot++) {
@@ -576,8 +574,7 @@ static void test_lit_within_volume(void)
         CHECK("two rooms: no region's lit volume passes its volume less its solids", cut > 0 && over == 0,
               "wall %.3f m, %d cells, %d subcells: %zu of %zu regions over, up to %.3f times", u->thickness, u->cells,
               u->subcells, over, cut, worst);
-        free(lit);
-        lvcl_session_close(session);
+        harness_volume_release(&traced);
     }
 }
 
