@@ -14,7 +14,7 @@ bright room's light read through the wall (its true value, and the path
 tracer's, is 0).
 
     python3 bench/leak_sweep.py [--seed S] [--count N] [--corridors] [--wide] [--curved] [--tees] [--edges] [--bias]
-        [--corners] [--sun] [--subcells K] [--cells C] [--build build]
+        [--corners] [--sun] [--gables] [--subcells K] [--cells C] [--build build]
 
 One JSON object per set-up (its parameters, the dim room's mean red and
 blue, leak = red / (ratio x blue) and red / blue, the share of the dim
@@ -38,7 +38,8 @@ That found a thin wall's face just inside a subcell reading its room
 5-11% dark (docs/light-volume.md, "A face by a subcell's face"). About
 six seconds a set-up. --subcells K renders every set-up with K subcells
 and --cells C with C cells along the longest axis (the draws stay as they
-were); --corners looks at a corner of the dim
+were); --gables puts a third of the set-ups' rooms, of one polygon, under
+a gable roof; --corners looks at a corner of the dim
 room in half the set-ups (where slabs of a turned shell meet; an ad-hoc
 sweep of such views found corners 0.88-0.95 in 8 x 8 blocks without
 subcells before 2026-12-07)."""
@@ -171,6 +172,32 @@ def draw_corner(r, u):
     return {"corner": [x, r.choice([0.0, Y]), r.choice([-Z, Z])]}
 
 
+def draw_gable(r):
+    """The draws of --gables, from their own stream: in a third of the
+    set-ups a gable roof over rooms of one polygon (make_two_rooms.py
+    --gable, --ridge), which then have no slabs, cupboard, corridor, bow or
+    split: eaves 0.15 to 1.3 m high, the ridge over the middle or off it,
+    the roof 37 to 80 degrees steep."""
+    eaves, ridge = r.choice([0.15, 0.4, 0.8, 1.3]), r.choice([0.0, 0.0, 0.35, -0.6])
+    if r.random() >= 1 / 3:
+        return {"gable_m": None}
+    return {"gable_m": eaves, "ridge_z": ridge, "slabs_m": 0.0, "cupboard_m": 0.0, "corridor_m": 0.0, "door_m": 0.0,
+            "back_to_back": False, "bend_m": 0.0, "split_z": None}
+
+
+def under_roof(u):
+    """A view onto the ceiling's line, or high on a side wall, moved onto
+    the roof or below the eaves of u's gable."""
+    eaves, ridge, fitted = u["gable_m"], u["ridge_z"], {}
+    def roof(z):
+        return eaves + (Y - eaves) * ((z + Z) / (ridge + Z) if z <= ridge else (Z - z) / (Z - ridge))
+    for key in ("look_at", "corner"):
+        if u.get(key):
+            x, y, z = u[key]
+            fitted[key] = [x, round(roof(z) if y == Y else y * eaves / Y if abs(z) == Z else y, 6), z]
+    return fitted
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seed", type=int, default=1)
@@ -202,6 +229,9 @@ def main():
     ap.add_argument("--sun", action="store_true",
                     help="in a third of the set-ups add a sun of the bright lamp's colour on the building's outside "
                          "and on ground round it: the outside's light must stay out too")
+    ap.add_argument("--gables", action="store_true",
+                    help="in a third of the set-ups a gable roof over rooms of one polygon, without slabs, "
+                         "cupboard, corridor, bow or split")
     ap.add_argument("--edges", action="store_true",
                     help="in half the set-ups zoom the camera onto a line where the wall meets the floor, the "
                          "ceiling, a side wall, the cupboard or the --tees wall")
@@ -209,6 +239,7 @@ def main():
     r, r_wide, r_curved = random.Random(a.seed), random.Random(a.seed + 1000003), random.Random(a.seed + 2000003)
     r_edges, r_tees = random.Random(a.seed + 3000017), random.Random(a.seed + 4000037)
     r_corners, r_sun = random.Random(a.seed + 5000011), random.Random(a.seed + 6000029)
+    r_gables = random.Random(a.seed + 7000003)
     leaks, pt_leaks, worst, worst_share = 0, 0, 0.0, 0.0
     biased, worst_bias, edge_biased, worst_edge_bias = 0, 0.0, 0, 0.0
     blocks_biased, worst_block_bias = 0, 0.0
@@ -230,11 +261,17 @@ def main():
                 u.update(curved, wall_m=0.0, corridor_m=0.0, door_m=0.0, back_to_back=False)
             if a.tees:
                 u.update(draw_tee(r_tees, u))
+            if a.gables:
+                u.update(draw_gable(r_gables))
+                if u["gable_m"]:
+                    curved = {"bend_m": 0.0, "bend_rows": 1}
             if a.edges:
                 u.update(draw_edges(r_edges, u))
             if a.corners:
                 u.update(draw_corner(r_corners, u))
             u["sun"] = a.sun and r_sun.random() < 1 / 3
+            if u.get("gable_m"):
+                u.update(under_roof(u))
             with open(os.devnull, "w") as quiet:
                 saved, sys.stdout = sys.stdout, quiet
                 try:
@@ -245,7 +282,8 @@ def main():
                               bend=curved["bend_m"], bend_rows=curved["bend_rows"],
                               look_at_point=u.get("look_at") or u.get("corner"),
                               fov_deg=1e-5 if u.get("look_at") else 40.0 if u.get("corner") else 70.0,
-                              split=u.get("split_z"), sun=u["sun"])
+                              split=u.get("split_z"), sun=u["sun"], gable=u.get("gable_m"),
+                              ridge=u.get("ridge_z", 0.0))
                 finally:
                     sys.stdout = saved
             grid = ["--cells", str(u["cells"]), "--grid-offset", str(u["grid_offset"]), "--subcells", str(u["subcells"])]

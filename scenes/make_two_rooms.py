@@ -8,7 +8,7 @@ ratio, and the path tracer's, is 1).
     python3 scenes/make_two_rooms.py OUT.gltf --thickness 0.02 --ratio 25 [--bright-off | --dim-off]
         [--shell 0.1] [--panel 0.04] [--door 0.1] [--yaw 12 --pitch 7] [--scale 100]
         [--wall-material lambert|glossy|mirror] [--bright-light area|point|spot]
-        [--bend 0.4 [--bend-rows 5]] [--split -0.3] [--look-at X,Y,Z --fov 1e-5]
+        [--bend 0.4 [--bend-rows 5]] [--split -0.3] [--look-at X,Y,Z --fov 1e-5] [--gable 0.4 [--ridge 0.35]]
 
 --thickness 0 makes the wall one double-sided polygon; --shell S builds the
 outer walls, floor and ceiling as slabs S thick; --panel D stands a
@@ -25,8 +25,11 @@ so that no cell's plane fits it; --look-at and --fov aim the camera (a
 field of view of 1e-5 degrees puts every pixel within a few hundred
 nanometres of the point: onto the line where the wall meets the floor,
 say); --split adds a wall across the camera's side, ending against the
-shared one (a T), with a bright room beyond it. The geometry is the same as
-tests/volume/test_two_rooms.c builds in memory."""
+shared one (a T), with a bright room beyond it; --gable E puts the rooms
+under a gable roof, eaves E high and the ridge at the ceiling's height
+over z = --ridge, so that the shared wall is a pentagon (one polygon or a
+slab) and meets two sloping roof planes. Without --gable the geometry is
+the same as tests/volume/test_two_rooms.c builds in memory."""
 import argparse
 import math
 import os
@@ -71,9 +74,46 @@ def bowed_wall(mesh, bend, rows, columns=16):
             mesh.quad([(x(z0), y0, z0), (x(z1), y0, z1), (x(z1), y1, z1), (x(z0), y1, z0)], (1.0, 0.0, 0.0))
 
 
+def gable_section(x, eave, ridge):
+    """The rooms' cross-section under a gable roof at x: a pentagon, its
+    corners in order round its boundary."""
+    return [(x, 0.0, -Z), (x, 0.0, Z), (x, eave, Z), (x, Y, ridge), (x, eave, -Z)]
+
+
+def pentagon(mesh, p, facing):
+    mesh.quad(p[:4], facing)
+    mesh.tri([p[0], p[3], p[4]], facing)
+
+
+def gable_rooms(room, shared, eave, ridge, thickness):
+    """The rooms of one polygon each side under a gable roof (floor, the
+    walls at z = -Z and Z up to the eaves, two roof planes to the ridge,
+    pentagon end walls), all facing in, and the shared wall: a pentagon
+    facing +x, or a slab `thickness` thick (a pentagonal prism)."""
+    room.quad([(-X, 0, -Z), (X, 0, -Z), (X, 0, Z), (-X, 0, Z)], (0.0, 1.0, 0.0))
+    for z in (-Z, Z):
+        room.quad([(-X, 0, z), (X, 0, z), (X, eave, z), (-X, eave, z)], (0.0, 0.0, -z))
+        # The roof plane from this eave to the ridge, facing down and in.
+        room.quad([(-X, eave, z), (X, eave, z), (X, Y, ridge), (-X, Y, ridge)], (0.0, -abs(ridge - z), (Y - eave) * -z))
+    for x in (-X, X):
+        pentagon(room, gable_section(x, eave, ridge), (-x, 0.0, 0.0))
+    if thickness <= 0:
+        pentagon(shared, gable_section(WALL_X, eave, ridge), (1.0, 0.0, 0.0))
+        return
+    a, b = gable_section(WALL_X - thickness / 2, eave, ridge), gable_section(WALL_X + thickness / 2, eave, ridge)
+    pentagon(shared, a, (-1.0, 0.0, 0.0))
+    pentagon(shared, b, (1.0, 0.0, 0.0))
+    middle = (0.0, (eave + Y) / 3, ridge / 3)
+    for i in range(5):
+        j = (i + 1) % 5
+        edge = [(a[i][k] + a[j][k]) / 2 for k in range(3)]
+        shared.quad([a[i], a[j], b[j], b[i]], (0.0, edge[1] - middle[1], edge[2] - middle[2]))
+
+
 def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel=0.0, yaw=0.0, pitch=0.0,
               door=0.0, dim_on=True, corridor=0.0, back_to_back=False, scale=1.0, wall_material="lambert",
-              bright_light="area", bend=0.0, bend_rows=1, look_at_point=None, fov_deg=70.0, split=None, sun=False):
+              bright_light="area", bend=0.0, bend_rows=1, look_at_point=None, fov_deg=70.0, split=None, sun=False,
+              gable=None, ridge=0.0):
     """colours: the bright lamp red and the dim one blue (grey walls keep
     the channels apart), so that any red in the dim room is a leak.
     scale: every length times this (radiance is the same, so the image
@@ -89,7 +129,10 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
     split (-0.45 to -0.1), from the shared wall to the outer wall, and a
     third lamp, as bright as the bright one, beyond it: the two walls meet
     in a T, and a hit on the end of the second lies on the first's plane
-    (no cupboard, corridor or bow)."""
+    (no cupboard, corridor or bow); gable: the eaves' height of a gable
+    roof whose ridge runs over z = ridge (gable_rooms; one-polygon rooms
+    without slabs, doorway, corridor, cupboard, bow or split); the lamps
+    then hang 20 cm under the roof's middle height."""
     WHITE, DIM, BRIGHT, WALL = range(4)
     dim_le = DIM_LE if dim_on else 0.0
     bright_le = DIM_LE * ratio if bright_on else 0.0
@@ -115,7 +158,20 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
     room = Mesh("rooms", WHITE)
     shared = Mesh("shared wall", WALL)
     lo, hi = (-X, 0.0, -Z), (X, Y, Z)
-    if shell > 0:
+    lamp_y = Y - 0.001
+    if gable is not None:
+        if shell > 0 or panel > 0 or door > 0 or corridor > 0 or bend or split is not None:
+            raise ValueError("a gable roof goes with rooms of one polygon, without slabs, a doorway, corridor, "
+                             "cupboard, bow or split")
+        if not (0 < gable < Y and -0.6 <= ridge <= 0.6):
+            raise ValueError("a gable roof needs eaves between 0 and %g m and a ridge within 0.6 m of z = 0" % Y)
+
+        def roof(z):
+            return gable + (Y - gable) * ((z + Z) / (ridge + Z) if z <= ridge else (Z - z) / (Z - ridge))
+        lamp_y = min(roof(-0.3), roof(0.3)) - 0.2
+    if gable is not None:
+        gable_rooms(room, shared, gable, ridge, thickness)
+    elif shell > 0:
         # Six slabs round the rooms, overlapping at the edges.
         for axis in range(3):
             for side in range(2):
@@ -131,7 +187,7 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
     # (z0, z1, y0) spans, full height from y0.
     pieces = [(-Z, DOOR_Z, 0.0), (DOOR_Z + door, Z, 0.0), (DOOR_Z, DOOR_Z + door, DOOR_TOP)] if door > 0 \
         else [(-Z, Z, 0.0)]
-    walls = [WALL_X] + ([WALL_X + corridor] if corridor > 0 else [])
+    walls = [] if gable is not None else [WALL_X] + ([WALL_X + corridor] if corridor > 0 else [])
     if bend:
         if thickness > 0 or door > 0 or corridor > 0:
             raise ValueError("a bowed wall is one polygon, without a doorway or corridor")
@@ -170,7 +226,7 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
         if mat == BRIGHT and bright_light != "area":
             continue
         lamp = Mesh(name, mat)
-        lamp.quad([(x0, Y - 0.001, -0.3), (x1, Y - 0.001, -0.3), (x1, Y - 0.001, 0.3), (x0, Y - 0.001, 0.3)],
+        lamp.quad([(x0, lamp_y, -0.3), (x1, lamp_y, -0.3), (x1, lamp_y, 0.3), (x0, lamp_y, 0.3)],
                   (0.0, -1.0, 0.0))
         meshes.append(lamp)
     if split is not None:
@@ -200,7 +256,8 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
                  "intensity": bright_le * 0.36 * scale * scale / 4.0}
         if bright_light == "spot":
             light["spot"] = {"innerConeAngle": 0.0, "outerConeAngle": math.radians(60.0)}
-        node = {"name": "bright light", "translation": [scale * c for c in turn((-1.1, Y - 0.05, 0.0), yaw, pitch)]}
+        at = turn((-1.1, lamp_y - 0.049, 0.0), yaw, pitch)
+        node = {"name": "bright light", "translation": [scale * c for c in at]}
         if bright_light == "spot":
             # A light shines down its node's -z: -90 degrees about x points it down, then the scene's turn.
             h = math.sqrt(0.5)
@@ -261,6 +318,11 @@ def main():
     ap.add_argument("--split", type=float, default=None, metavar="Z",
                     help="a wall like the shared one across the camera's side at z = Z (-0.45 to -0.1), a third lamp "
                          "as bright as the bright one beyond it: the walls meet in a T")
+    ap.add_argument("--gable", type=float, default=None, metavar="EAVES",
+                    help="the rooms under a gable roof, its eaves this high (metres) and its ridge at %g m; rooms of "
+                         "one polygon, without --shell, --door, --corridor, --panel, --bend or --split" % Y)
+    ap.add_argument("--ridge", type=float, default=0.0, metavar="Z",
+                    help="with --gable: the ridge over z = Z (-0.6 to 0.6)")
     ap.add_argument("--look-at", default=None, metavar="X,Y,Z",
                     help="where the camera looks, in the rooms' own frame (before --yaw, --pitch and --scale; default "
                          "the middle of the wall)")
@@ -283,13 +345,19 @@ def main():
             ap.error("--look-at expects three numbers X,Y,Z, not '%s'" % a.look_at)
     if a.split is not None and (a.panel > 0 or a.corridor > 0 or a.bend or not -0.45 <= a.split <= -0.1):
         ap.error("--split expects a z from -0.45 to -0.1, without --panel, --corridor or --bend")
+    if a.gable is not None and (a.shell > 0 or a.door > 0 or a.corridor > 0 or a.panel > 0 or a.bend or
+                                a.split is not None):
+        ap.error("--gable goes with rooms of one polygon: not with --shell, --door, --corridor, --panel, --bend "
+                 "or --split")
+    if a.gable is not None and not (0 < a.gable < Y and -0.6 <= a.ridge <= 0.6):
+        ap.error("--gable expects eaves between 0 and %g m, --ridge a z from -0.6 to 0.6" % Y)
     if not 0 < a.fov < 180:
         ap.error("--fov must be between 0 and 180 degrees")
     if a.bright_off and a.dim_off:
         ap.error("--bright-off and --dim-off together leave the scene dark")
     two_rooms(a.out, a.thickness, a.ratio, not a.bright_off, a.colours, a.shell, a.panel, a.yaw, a.pitch, a.door,
               not a.dim_off, a.corridor, a.back_to_back, a.scale, a.wall_material, a.bright_light, a.bend,
-              a.bend_rows, look, a.fov, a.split, a.sun)
+              a.bend_rows, look, a.fov, a.split, a.sun, a.gable, a.ridge)
 
 
 if __name__ == "__main__":
