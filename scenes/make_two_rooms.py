@@ -132,7 +132,8 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
     (no cupboard, corridor or bow); gable: the eaves' height of a gable
     roof whose ridge runs over z = ridge (gable_rooms; one-polygon rooms
     without slabs, doorway, corridor, cupboard, bow or split); the lamps
-    then hang 20 cm under the roof's middle height."""
+    then hang 20 cm under the roof, 30 cm deep under the ridge (half the
+    area), and the camera 25 cm below them."""
     WHITE, DIM, BRIGHT, WALL = range(4)
     dim_le = DIM_LE if dim_on else 0.0
     bright_le = DIM_LE * ratio if bright_on else 0.0
@@ -158,7 +159,7 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
     room = Mesh("rooms", WHITE)
     shared = Mesh("shared wall", WALL)
     lo, hi = (-X, 0.0, -Z), (X, Y, Z)
-    lamp_y = Y - 0.001
+    lamp_y, lamp_z, eye_y = Y - 0.001, (-0.3, 0.3), 1.2
     if gable is not None:
         if shell > 0 or panel > 0 or door > 0 or corridor > 0 or bend or split is not None:
             raise ValueError("a gable roof goes with rooms of one polygon, without slabs, a doorway, corridor, "
@@ -168,7 +169,11 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
 
         def roof(z):
             return gable + (Y - gable) * ((z + Z) / (ridge + Z) if z <= ridge else (Z - z) / (Z - ridge))
-        lamp_y = min(roof(-0.3), roof(0.3)) - 0.2
+        # Lamps 30 cm deep under the ridge, 20 cm under the roof; the
+        # camera 25 cm below them, so that it never sees a lamp's dark top.
+        lamp_z = (ridge - 0.15, ridge + 0.15)
+        lamp_y = min(roof(lamp_z[0]), roof(lamp_z[1])) - 0.2
+        eye_y = min(eye_y, lamp_y - 0.25)
     if gable is not None:
         gable_rooms(room, shared, gable, ridge, thickness)
     elif shell > 0:
@@ -226,7 +231,8 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
         if mat == BRIGHT and bright_light != "area":
             continue
         lamp = Mesh(name, mat)
-        lamp.quad([(x0, lamp_y, -0.3), (x1, lamp_y, -0.3), (x1, lamp_y, 0.3), (x0, lamp_y, 0.3)],
+        z0, z1 = lamp_z
+        lamp.quad([(x0, lamp_y, z0), (x1, lamp_y, z0), (x1, lamp_y, z1), (x0, lamp_y, z1)],
                   (0.0, -1.0, 0.0))
         meshes.append(lamp)
     if split is not None:
@@ -239,7 +245,7 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
     for m in meshes:
         m.positions = [tuple(scale * c for c in turn(p, yaw, pitch)) for p in m.positions]
     aim = look_at_point if look_at_point is not None else (walls[-1] if walls else WALL_X, 1.1, 0.0)
-    eye, target = turn((1.9, 1.2, 0.0), yaw, pitch), turn(aim, yaw, pitch)
+    eye, target = turn((1.9, eye_y, 0.0), yaw, pitch), turn(aim, yaw, pitch)
     eye, target = tuple(scale * c for c in eye), tuple(scale * c for c in target)
     camera = {"yfov": math.radians(fov_deg), "aspect": 1.0, "translation": list(eye), "rotation": look_at(eye, target),
               "znear": 0.01 * scale}
@@ -256,7 +262,7 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
                  "intensity": bright_le * 0.36 * scale * scale / 4.0}
         if bright_light == "spot":
             light["spot"] = {"innerConeAngle": 0.0, "outerConeAngle": math.radians(60.0)}
-        at = turn((-1.1, lamp_y - 0.049, 0.0), yaw, pitch)
+        at = turn((-1.1, lamp_y - 0.049, sum(lamp_z) / 2), yaw, pitch)
         node = {"name": "bright light", "translation": [scale * c for c in at]}
         if bright_light == "spot":
             # A light shines down its node's -z: -90 degrees about x points it down, then the scene's turn.
