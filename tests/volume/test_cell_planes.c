@@ -20,7 +20,8 @@
  * narrow corridor, stays a plane of its own (a layer, not one cluster),
  * and both corridor walls keep their planes where they meet the floor and
  * an outer wall of a room of one-polygon walls (four planes in one cell;
- * corridors 3 to 20 cm wide, four turns, 12 to 32 cells, three offsets).
+ * corridors 2 to 20 cm wide, four turns, 12 to 32 cells, three offsets;
+ * 2 and 3 cm at 5 to 8 cells, where they are 2 to 6% of a cell).
  *
  * Holds while the gap is narrower than a quarter cell: the two surfaces
  * facing each other across it take a cell's first two planes, the
