@@ -81,6 +81,7 @@ def gable_section(x, eave, ridge):
 
 
 def pentagon(mesh, p, facing):
+    """Adds pentagon p (corners in order round it) facing along `facing`."""
     mesh.quad(p[:4], facing)
     mesh.tri([p[0], p[3], p[4]], facing)
 
@@ -174,7 +175,6 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
         lamp_z = (ridge - 0.15, ridge + 0.15)
         lamp_y = min(roof(lamp_z[0]), roof(lamp_z[1])) - 0.2
         eye_y = min(eye_y, lamp_y - 0.25)
-    if gable is not None:
         gable_rooms(room, shared, gable, ridge, thickness)
     elif shell > 0:
         # Six slabs round the rooms, overlapping at the edges.
