@@ -53,7 +53,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes"))
-from make_two_rooms import WALL_X, Y, Z, two_rooms  # noqa: E402
+from make_two_rooms import WALL_X, Y, Z, roof_height, two_rooms  # noqa: E402
 
 LEAK = 1e-4
 # And at most this share of the dim room's own light, whatever the ratio:
@@ -189,12 +189,11 @@ def under_roof(u):
     """A view onto the ceiling's line, or high on a side wall, moved onto
     the roof or below the eaves of u's gable."""
     eaves, ridge, fitted = u["gable_m"], u["ridge_z"], {}
-    def roof(z):
-        return eaves + (Y - eaves) * ((z + Z) / (ridge + Z) if z <= ridge else (Z - z) / (Z - ridge))
     for key in ("look_at", "corner"):
         if u.get(key):
             x, y, z = u[key]
-            fitted[key] = [x, round(roof(z) if y == Y else y * eaves / Y if abs(z) == Z else y, 6), z]
+            y = roof_height(z, eaves, ridge) if y == Y else y * eaves / Y if abs(z) == Z else y
+            fitted[key] = [x, round(y, 6), z]
     return fitted
 
 

@@ -80,6 +80,11 @@ def gable_section(x, eave, ridge):
     return [(x, 0.0, -Z), (x, 0.0, Z), (x, eave, Z), (x, Y, ridge), (x, eave, -Z)]
 
 
+def roof_height(z, eave, ridge):
+    """The gable roof's height over z: eave at z = -Z and Z, Y over z = ridge."""
+    return eave + (Y - eave) * ((z + Z) / (ridge + Z) if z <= ridge else (Z - z) / (Z - ridge))
+
+
 def pentagon(mesh, p, facing):
     """Adds pentagon p (corners in order round it) facing along `facing`."""
     mesh.quad(p[:4], facing)
@@ -167,13 +172,10 @@ def two_rooms(path, thickness, ratio, bright_on, colours=False, shell=0.0, panel
                              "cupboard, bow or split")
         if not (0 < gable < Y and -0.6 <= ridge <= 0.6):
             raise ValueError("a gable roof needs eaves between 0 and %g m and a ridge within 0.6 m of z = 0" % Y)
-
-        def roof(z):
-            return gable + (Y - gable) * ((z + Z) / (ridge + Z) if z <= ridge else (Z - z) / (Z - ridge))
         # Lamps 30 cm deep under the ridge, 20 cm under the roof; the
         # camera 25 cm below them, so that it never sees a lamp's dark top.
         lamp_z = (ridge - 0.15, ridge + 0.15)
-        lamp_y = min(roof(lamp_z[0]), roof(lamp_z[1])) - 0.2
+        lamp_y = min(roof_height(lamp_z[0], gable, ridge), roof_height(lamp_z[1], gable, ridge)) - 0.2
         eye_y = min(eye_y, lamp_y - 0.25)
         gable_rooms(room, shared, gable, ridge, thickness)
     elif shell > 0:
