@@ -260,25 +260,27 @@ typedef struct {
  * that up to LV_GEOMETRY_PLANES planes of its geometry cut, and a refined
  * cell (its middle planes beside those, up to LV_REGION_PLANES in all),
  * holds one slot per region: per sign pattern of its planes whose region
- * has volume, consecutive slots from the cell's first. Per slot, the
- * cell's planes (n, c: a point u in cell units from the cell's corner is
- * on the positive side of plane i if n_i . u > c_i, and its sign pattern m
- * has bit i set where it is), their count P (0: one region), the cell's
- * first slot, which pattern this slot is, where its shares start in the
- * region_shares table (the region's volume as a fraction of the cell, then
- * per entry, a subcell the region has volume in, the fraction of the
- * subcell inside the region: exact, from volume_shares.c; LV_NO_SHARES for
- * a cell without planes, whose one region is all of it), which subcells
- * are its entries and where they start (the subcell records below), and
- * the slot of each pattern
- * (LV_REGION_OFFSET). Every slot of a cell repeats the cell's planes and
- * offsets; its flags are its own. A pattern
- * whose region has no volume in the cell (3 planes leave at most 7 of 8)
- * gets no slot of its own: its points (on a boundary, by rounding) read a
- * neighbouring region's. */
+ * has volume, consecutive slots from the cell's first. The cell's planes
+ * are kept once, in its lv_cell_cut (n, c: a point u in cell units from
+ * the cell's corner is on the positive side of plane i if n_i . u > c_i,
+ * and its sign pattern m has bit i set where it is), with their count P
+ * and the slot of each pattern (LV_REGION_OFFSET). Per slot, an
+ * lv_slot_region: the cell's first slot, its cut (LV_NO_CUT for a cell
+ * without planes, whose one region is all of it), which pattern this slot
+ * is, where its shares start in the region_shares table (the region's
+ * volume as a fraction of the cell, then per entry, a subcell the region
+ * has volume in, the fraction of the subcell inside the region: exact,
+ * from volume_shares.c; LV_NO_SHARES for a cell without planes), its
+ * flags, and which subcells are its entries and where they start (the
+ * subcell records below). A pattern whose region has no volume in the
+ * cell (3 planes leave at most 7 of 8) gets no slot of its own: its points
+ * (on a boundary, by rounding) read a neighbouring region's. (Each slot
+ * once repeated its cell's planes and offsets: 192 bytes a slot, 4.4 MB of
+ * the kitchen's volume.) */
 #define LV_GEOMETRY_PLANES 3
 #define LV_REGION_PLANES 6
 #define LV_NO_SHARES 0xffffffffu
+#define LV_NO_CUT 0xffffffffu
 /* lv_slot_region.flags. HALF_BOX: a cell refinement split where its light
  * is focused; lookups jitter in half a cell. MIXED: the cell's planes do
  * not keep the two sides of one of its surfaces apart in this region (a
@@ -290,18 +292,22 @@ typedef struct {
 
 typedef struct {
     float planes[LV_REGION_PLANES][4];
-    lv_u32 plane_count; /* P */
-    lv_u32 base_slot;
-    lv_u32 region;
-    lv_u32 shares;                               /* first entry in region_shares, or LV_NO_SHARES */
-    lv_u32 offsets[(1 << LV_REGION_PLANES) / 4]; /* pattern m's slot - base_slot, 8 bits each */
-    lv_u32 flags;                                /* LV_REGION_* */
+    lv_u32 plane_count;                          /* P */
+    lv_u32 offsets[(1 << LV_REGION_PLANES) / 4]; /* pattern m's slot - the cell's first slot, 8 bits each */
+} lv_cell_cut;
+
+typedef struct {
+    lv_u32 base_slot;  /* the cell's first slot */
+    lv_u32 cut;        /* the cell's lv_cell_cut, or LV_NO_CUT */
+    lv_u32 region;     /* its pattern */
+    lv_u32 shares;     /* first entry in region_shares, or LV_NO_SHARES */
+    lv_u32 flags;      /* LV_REGION_* */
     lv_u32 present[2]; /* the subcells the region has volume in (bit i: subcell i, as the marks) */
     lv_u32 entries;    /* its first entry in subcell_rays and lit_points */
 } lv_slot_region;
 
-/* The slot of pattern m of the cell whose slot table entry is *r, from its first slot. */
-#define LV_REGION_OFFSET(r, m) ((r)->offsets[(m) >> 2] >> (8u * ((m)&3u)) & 255u)
+/* The slot of pattern m of a cell with cut *c, from the cell's first slot. */
+#define LV_REGION_OFFSET(c, m) ((c)->offsets[(m) >> 2] >> (8u * ((m)&3u)) & 255u)
 
 /* Buffers the tallies may be split over, each within the device's largest
  * allocation (tally set t lies in buffer t / slots_per_part). Slot s keeps
@@ -443,7 +449,8 @@ typedef struct {
  * slots, ONE(type, name) in one buffer. */
 #define LV_VOLUME_BUFFERS(SPLIT, ONE)                                                            \
     ONE(const uint, cell_slot)         /* cell -> first slot (| LV_CUT_CELL) or LV_EMPTY_CELL */ \
-    ONE(const lv_slot_region, regions) /* per slot: the cell's planes */                         \
+    ONE(const lv_slot_region, regions) /* per slot: its region of its cell */                    \
+    ONE(const lv_cell_cut, cuts)       /* per cut cell: its planes */                            \
     ONE(const uint, tally_slot)        /* per slot: its tally set */                             \
     ONE(const float, region_shares)    /* per slot of a cut cell: 1 + its entries */             \
     SPLIT(long, tallies)               /* tally set x bin x RGB, 64-bit fixed point */           \

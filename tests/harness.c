@@ -380,7 +380,7 @@ int harness_build_regions(const char *who, const float *tris, size_t n, int cell
     lvcl_packed_scene packed = {0};
     lvcl_status st = {0};
     lvcl_volume_settings vs = {.cells = cells, .offset = offset, .dirs = 4, .subcells = subcells, .particles = 1};
-    size_t count = 0, share_count;
+    size_t count = 0;
     lvcl_solid_slabs solids = {0};
     memset(out, 0, sizeof *out);
     int ok = !lvcl_accel_build(&scene, &accel, &st);
@@ -388,9 +388,7 @@ int harness_build_regions(const char *who, const float *tris, size_t n, int cell
     if (ok) ok = !lvcl_volume_grid_choose(&packed, &vs, &out->g, &count, &st);
     if (ok) ok = (out->slot = malloc(count * sizeof *out->slot)) != NULL;
     if (ok) ok = !lvcl_volume_assign_slots(&packed, &out->g, count, out->slot, &st);
-    if (ok)
-        ok = !lvcl_volume_build_regions(&packed, &out->g, count, out->slot, &out->regions, &out->shares, &share_count,
-                                        &solids, &st);
+    if (ok) ok = !lvcl_volume_build_regions(&packed, &out->g, count, out->slot, &out->regions, &solids, &st);
     lvcl_solid_slabs_free(&solids); /* already in the shares */
     if (!ok) fprintf(stderr, "%s: making the regions failed: %s\n", who, st.message);
     lvcl_packed_scene_free(&packed);
@@ -402,6 +400,5 @@ int harness_build_regions(const char *who, const float *tris, size_t n, int cell
 void harness_free_regions(harness_regions *r)
 {
     free(r->slot);
-    free(r->regions);
-    free(r->shares);
+    lvcl_regions_free(&r->regions);
 }

@@ -4,6 +4,7 @@
 #define LVCL_TEST_HARNESS_H
 
 #include "../host/device/kernel_args.h"
+#include "../host/render/light_volume_internal.h" /* harness_regions */
 #include "../host/render/session.h"
 #include "kernels/test_args.h"
 
@@ -35,8 +36,7 @@ size_t harness_add_room(float *t, size_t n, const float lo[3], const float hi[3]
 typedef struct {
     lv_grid_info g;
     uint32_t *slot; /* per cell */
-    lv_slot_region *regions;
-    float *shares;
+    lvcl_regions regions;
 } harness_regions;
 int harness_build_regions(const char *who, const float *tris, size_t n, int cells, double offset, int subcells,
                           harness_regions *out);

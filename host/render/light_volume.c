@@ -27,8 +27,7 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for a %zu-cell grid", cells);
     }
     if ((e = lvcl_volume_assign_slots(p, g, vol->cell_count, vol->cell_slot, st)) ||
-        (e = lvcl_volume_build_regions(p, g, vol->cell_count, vol->cell_slot, &vol->regions, &vol->region_shares,
-                                       &vol->region_share_count, &vol->solid_slabs, st))) {
+        (e = lvcl_volume_build_regions(p, g, vol->cell_count, vol->cell_slot, &vol->regions, &vol->solid_slabs, st))) {
         lvcl_volume_release(vol);
         return e;
     }
@@ -53,20 +52,38 @@ lvcl_error lvcl_volume_create(const lvcl_device *dev, const lvcl_packed_scene *p
     return LVCL_OK;
 }
 
+/* Bytes of the regions' three buffers: per slot, per cut cell, shares. */
+static void region_sizes(const lvcl_light_volume *vol, size_t sizes[3])
+{
+    const lvcl_regions *r = &vol->regions;
+    sizes[0] = ((size_t)vol->buf.info.slot_count + 1) * sizeof(lv_slot_region);
+    sizes[1] = (r->cut_count ? r->cut_count : 1) * sizeof(lv_cell_cut);
+    sizes[2] = (r->share_count ? r->share_count : 1) * sizeof(float);
+}
+
+void lvcl_regions_free(lvcl_regions *r)
+{
+    free(r->slots);
+    free(r->cuts);
+    free(r->shares);
+    *r = (lvcl_regions){0};
+}
+
 lvcl_error lvcl_volume_place(lvcl_light_volume *vol, lvcl_status *st)
 {
     const lvcl_device *dev = vol->dev;
     const lv_grid_info *g = &vol->buf.info;
     int fits = lvcl_volume_layout_tallies(vol);
     /* Beside the tallies: the cell index, per slot its subcell marks, a lit
-     * volume, its tally set and the cell's planes, and per subcell entry
-     * its rays and lit point (one buffer each). */
+     * volume, its tally set and its region, per cut cell its planes, and
+     * per subcell entry its rays and lit point (one buffer each). */
     size_t records = lvcl_volume_record_bytes(vol) + ((size_t)g->slot_count + 1) * 2 * sizeof(uint32_t);
-    size_t region_bytes = ((size_t)g->slot_count + 1) * sizeof(lv_slot_region);
-    size_t share_bytes = (vol->region_share_count ? vol->region_share_count : 1) * sizeof(float);
-    vol->device_bytes = vol->tally_bytes + vol->cell_count * sizeof(uint32_t) + records + region_bytes + share_bytes;
-    if (!fits || records > dev->max_alloc || region_bytes > dev->max_alloc || share_bytes > dev->max_alloc ||
-        vol->device_bytes > dev->global_mem)
+    size_t sizes[3];
+    region_sizes(vol, sizes);
+    vol->device_bytes =
+        vol->tally_bytes + vol->cell_count * sizeof(uint32_t) + records + sizes[0] + sizes[1] + sizes[2];
+    if (!fits || records > dev->max_alloc || sizes[0] > dev->max_alloc || sizes[1] > dev->max_alloc ||
+        sizes[2] > dev->max_alloc || vol->device_bytes > dev->global_mem)
         return lvcl_fail(st, LVCL_ERR_TOO_LARGE,
                          "the light volume needs %.1f MiB (%u cells x %u bins) but %s allows %.1f MiB in one "
                          "buffer (at most %d buffers) and %.1f MiB in all; use fewer --cells or --dirs",
@@ -79,17 +96,20 @@ lvcl_error lvcl_volume_allocate(lvcl_light_volume *vol, lvcl_status *st)
 {
     const lvcl_device *dev = vol->dev;
     const lv_grid_info *g = &vol->buf.info;
-    size_t region_bytes = ((size_t)g->slot_count + 1) * sizeof(lv_slot_region);
-    size_t share_bytes = (vol->region_share_count ? vol->region_share_count : 1) * sizeof(float);
+    size_t sizes[3];
+    region_sizes(vol, sizes);
     cl_int err;
     vol->buf.cell_slot = lvcl_buffer_create(dev, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                             vol->cell_count * sizeof(uint32_t), vol->cell_slot, &err);
     if (err == CL_SUCCESS)
         vol->buf.regions =
-            lvcl_buffer_create(dev, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, region_bytes, vol->regions, &err);
+            lvcl_buffer_create(dev, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizes[0], vol->regions.slots, &err);
+    if (err == CL_SUCCESS)
+        vol->buf.cuts =
+            lvcl_buffer_create(dev, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizes[1], vol->regions.cuts, &err);
     if (err == CL_SUCCESS)
         vol->buf.region_shares =
-            lvcl_buffer_create(dev, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, share_bytes, vol->region_shares, &err);
+            lvcl_buffer_create(dev, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizes[2], vol->regions.shares, &err);
     if (err == CL_SUCCESS)
         vol->buf.tally_slot = lvcl_buffer_create(dev, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                                  ((size_t)g->slot_count + 1) * sizeof(uint32_t), vol->tally_slot, &err);
@@ -147,7 +167,7 @@ size_t lvcl_volume_part_bytes(const lvcl_light_volume *vol, int part)
 
 void lvcl_volume_record_sections(const lvcl_light_volume *vol, size_t bytes[3])
 {
-    size_t entries = vol->regions[vol->buf.info.slot_count].entries;
+    size_t entries = vol->regions.slots[vol->buf.info.slot_count].entries;
     bytes[0] = ((size_t)vol->buf.info.slot_count + 1) * LV_MARK_WORDS * sizeof(uint32_t);
     bytes[1] = entries * LV_RAY_WORDS * sizeof(uint32_t);
     bytes[2] = entries * sizeof(uint32_t);
@@ -172,7 +192,7 @@ const lv_grid_info *lvcl_volume_grid(const lvcl_light_volume *vol)
     return &vol->buf.info;
 }
 
-uint32_t lvcl_volume_grid_slot_at(const lv_grid_info *g, const uint32_t *cell_slot, const lv_slot_region *regions,
+uint32_t lvcl_volume_grid_slot_at(const lv_grid_info *g, const uint32_t *cell_slot, const lvcl_regions *regions,
                                   const float p[3], long *cell)
 {
     float u[3];
@@ -188,18 +208,20 @@ uint32_t lvcl_volume_grid_slot_at(const lv_grid_info *g, const uint32_t *cell_sl
     if (cell) *cell = (long)index;
     uint32_t entry = cell_slot[index];
     if (entry == LV_EMPTY_CELL) return entry;
-    uint32_t base = entry & ~LV_CUT_CELL;
-    const lv_slot_region *r = &regions[base];
+    uint32_t base = entry & ~LV_CUT_CELL, cut = regions->slots[base].cut;
+    if (cut == LV_NO_CUT) return base;
+    const lv_cell_cut *planes = &regions->cuts[cut];
     uint32_t pattern = 0;
-    for (uint32_t i = 0; i < r->plane_count; i++)
-        if (r->planes[i][0] * u[0] + r->planes[i][1] * u[1] + r->planes[i][2] * u[2] > r->planes[i][3])
-            pattern |= 1u << i;
-    return r->plane_count ? base + LV_REGION_OFFSET(r, pattern) : base;
+    for (uint32_t i = 0; i < planes->plane_count; i++) {
+        const float *n = planes->planes[i];
+        if (n[0] * u[0] + n[1] * u[1] + n[2] * u[2] > n[3]) pattern |= 1u << i;
+    }
+    return base + LV_REGION_OFFSET(planes, pattern);
 }
 
 uint32_t lvcl_volume_slot_at(const lvcl_light_volume *vol, const float p[3])
 {
-    return lvcl_volume_grid_slot_at(&vol->buf.info, vol->cell_slot, vol->regions, p, NULL);
+    return lvcl_volume_grid_slot_at(&vol->buf.info, vol->cell_slot, &vol->regions, p, NULL);
 }
 
 uint32_t lvcl_volume_tally_set(const lvcl_light_volume *vol, uint32_t slot)
@@ -218,7 +240,8 @@ uint32_t lvcl_volume_slot(const lvcl_light_volume *vol, uint32_t x, uint32_t y, 
 lvcl_volume_stats lvcl_volume_stats_of(const lvcl_light_volume *vol)
 {
     size_t mixed = 0;
-    for (uint32_t s = 0; s < vol->buf.info.slot_count; s++) mixed += (vol->regions[s].flags & LV_REGION_MIXED) != 0;
+    for (uint32_t s = 0; s < vol->buf.info.slot_count; s++)
+        mixed += (vol->regions.slots[s].flags & LV_REGION_MIXED) != 0;
     return (lvcl_volume_stats){.mixed_slots = mixed,
                                .tally_bytes = vol->tally_bytes,
                                .device_bytes = vol->device_bytes,
@@ -255,14 +278,13 @@ void lvcl_volume_release(lvcl_light_volume *vol)
     lvcl_volume_buffers_release(&vol->buf);
     if (vol->bin_table_buf) clReleaseMemObject(vol->bin_table_buf);
     free(vol->cell_slot);
-    free(vol->regions);
+    lvcl_regions_free(&vol->regions);
     free(vol->tally_slot);
     free(vol->block_of_slot);
     if (vol->fine_bin_table_buf) clReleaseMemObject(vol->fine_bin_table_buf);
     if (vol->guide_table_buf) clReleaseMemObject(vol->guide_table_buf);
     if (vol->axis_sums_buf) clReleaseMemObject(vol->axis_sums_buf);
     lvcl_volume_view_probe(vol, NULL, 0, 0, NULL);
-    free(vol->region_shares);
     lvcl_solid_slabs_free(&vol->solid_slabs);
     free(vol);
 }

@@ -43,12 +43,26 @@ typedef struct lvcl_solid_slabs {
     lvcl_cell_solids *list;
 } lvcl_solid_slabs;
 
+/* The regions of the stored cells (shared_types.h, "Regions of a cut
+ * cell"): per slot its region, per cut cell its planes, and the regions'
+ * exact shares. Each array malloc'ed, with at least one entry. */
+typedef struct {
+    lv_slot_region *slots; /* slot_count + 1 (the last: the records' entry count) */
+    lv_cell_cut *cuts;
+    size_t cut_count;
+    float *shares; /* what lv_slot_region.shares points into */
+    size_t share_count;
+} lvcl_regions;
+
+/* Frees the arrays of *r and empties it. */
+void lvcl_regions_free(lvcl_regions *r);
+
 struct lvcl_light_volume {
     const lvcl_device *dev;    /* borrowed */
     lvcl_volume_buffers buf;   /* the grid and the buffers the kernels take (tallies: info.slots_per_part
                                  slots each, unused parts NULL) */
     uint32_t *cell_slot;       /* host copy of the index grid (cell -> first slot) */
-    lv_slot_region *regions;   /* host copy of the per-slot planes (slot_count + 1) */
+    lvcl_regions regions;      /* host copy of the slots' regions and the cells' planes */
     uint32_t *tally_slot;      /* host copy of each slot's tally set (slot_count + 1) */
     uint32_t *block_of_slot;   /* per slot: the block of cells it may merge in, or LV_EMPTY_CELL (volume_adapt.c) */
     size_t block_count;        /* blocks block_of_slot numbers */
@@ -67,9 +81,7 @@ struct lvcl_light_volume {
     cl_mem view_light_buf;     /* and its sums, view_seen x view_groups x 2 */
     size_t view_seen, view_groups;
     uint32_t axis_sums_slots;
-    int axis_sums_current; /* they sum the volume lvcl_volume_finish last finished */
-    float *region_shares;  /* host copy of the cut cells' region shares */
-    size_t region_share_count;
+    int axis_sums_current;        /* they sum the volume lvcl_volume_finish last finished */
     lvcl_solid_slabs solid_slabs; /* the cells' solids' slabs (none: NULLs) */
     size_t cell_count; /* dims[0] * dims[1] * dims[2] */
     int tally_parts;
@@ -118,27 +130,24 @@ lvcl_error lvcl_volume_assign_slots(const lvcl_packed_scene *p, lv_grid_info *g,
 /* Chooses every stored cell's planes (volume_planes.c) and gives a cell
  * cut by P of them 2^P consecutive slots: on entry slot[] numbers the
  * stored cells (g->slot_count of them), on return it holds each cell's
- * first slot, g->slot_count the slots and *regions (malloc'ed,
- * slot_count + 1 entries) every slot's planes, *shares (malloc'ed,
- * *share_count floats, at least one allocated) the exact region shares
- * that lv_slot_region.shares points into, and *solids (its arrays
+ * first slot, g->slot_count the slots and *regions the slots' regions,
+ * the cut cells' planes and the regions' shares, and *solids (its arrays
  * malloc'ed, or NULL where no cell has any) the cells' solids' slabs,
  * which their regions' volumes leave out. */
 lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
-                                     lv_slot_region **regions, float **shares, size_t *share_count,
-                                     lvcl_solid_slabs *solids, lvcl_status *st);
+                                     lvcl_regions *regions, lvcl_solid_slabs *solids, lvcl_status *st);
 
 /* Frees what lvcl_volume_build_regions put in *solids and empties it. */
 void lvcl_solid_slabs_free(lvcl_solid_slabs *solids);
 
 /* The slot of the region holding world point p in a grid whose cells'
- * entries are cell_slot and whose slots' regions are `regions` (what
+ * entries are cell_slot and whose regions are `regions` (what
  * lvcl_volume_build_regions made), or LV_EMPTY_CELL; *cell (unless NULL)
  * gets p's cell index, or -1 outside the grid. */
-uint32_t lvcl_volume_grid_slot_at(const lv_grid_info *g, const uint32_t *cell_slot, const lv_slot_region *regions,
+uint32_t lvcl_volume_grid_slot_at(const lv_grid_info *g, const uint32_t *cell_slot, const lvcl_regions *regions,
                                   const float p[3], long *cell);
 
-/* One stored cell's planes (cell units, lv_slot_region's convention). */
+/* One stored cell's planes (cell units, lv_cell_cut's convention). */
 typedef struct {
     float planes[LV_REGION_PLANES][4];
     uint8_t count;
@@ -155,18 +164,17 @@ typedef int (*lvcl_known_shares)(void *ctx, uint32_t s, float *out);
  * region is empty): on entry slot[] numbers the stored cells
  * (g->slot_count of them) and planes[] holds each one's; on return slot[]
  * holds each cell's first slot (| LV_CUT_CELL where it has planes),
- * g->slot_count the slots, and *regions, *shares and *share_count are as
- * lvcl_volume_build_regions gives them. `known` (may be NULL) saves
+ * g->slot_count the slots, and *regions is as lvcl_volume_build_regions
+ * gives it. `known` (may be NULL) saves
  * computing the shares of cells whose planes did not change. A region's
  * volume leaves out its cell's solids' slabs (solids: the list that
  * planes[].solids index, or NULL). */
 lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl_cell_planes *planes,
                                        const lvcl_cell_solids *solids, lvcl_known_shares known, void *ctx,
-                                       uint32_t *slot, lv_slot_region **regions, float **shares, size_t *share_count,
-                                       lvcl_status *st);
+                                       uint32_t *slot, lvcl_regions *regions, lvcl_status *st);
 
 /* The exact shares of the 2^count regions of a cell with these planes (cell
- * units, lv_slot_region's convention) and k^3 subcells (k = 0: none): per
+ * units, lv_cell_cut's convention) and k^3 subcells (k = 0: none): per
  * region m, at out[m (1 + max(k^3, 1))], the region's volume over the
  * cell's, then the fraction of each subcell (of the cell if k = 0) in it
  * (volume_shares.c). */

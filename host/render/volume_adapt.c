@@ -192,7 +192,7 @@ static double record_lit_volume(const lvcl_light_volume *vol, const uint32_t *re
     const uint32_t *rays = records + LV_MARK_WORDS * ((size_t)vol->buf.info.slot_count + 1);
     double lit = 0, n = (double)(k * k * k);
     for (uint32_t i = 0; i < k * k * k; i++) {
-        uint32_t entry = lvcl_region_entry(&vol->regions[slot], i);
+        uint32_t entry = lvcl_region_entry(&vol->regions.slots[slot], i);
         if (!(marks[i >> 5] & (1u << (i & 31u))) || entry == LV_NO_ENTRY) continue;
         const uint32_t *r = rays + (size_t)entry * LV_RAY_WORDS;
         lit += r[0] ? (double)r[1] / r[0] : 1.0;

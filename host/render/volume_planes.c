@@ -1123,12 +1123,9 @@ static int keep_cell_solids(lvcl_solid_slabs *solids, size_t stored, size_t s, c
 }
 
 lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g, size_t cells, uint32_t *slot,
-                                     lv_slot_region **regions, float **shares, size_t *share_count,
-                                     lvcl_solid_slabs *solids, lvcl_status *st)
+                                     lvcl_regions *regions, lvcl_solid_slabs *solids, lvcl_status *st)
 {
-    *regions = NULL;
-    *shares = NULL;
-    *share_count = 0;
+    *regions = (lvcl_regions){0};
     *solids = (lvcl_solid_slabs){0};
     size_t solid_cells = 0, solid_capacity = 0;
     size_t stored = g->slot_count;
@@ -1202,8 +1199,7 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
     free(w.refs);
     free(w.clusters);
     lvcl_error e = failed ? lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' planes")
-                          : lvcl_volume_lay_out_regions(g, cells, planes, solids->list, NULL, NULL, slot, regions,
-                                                        shares, share_count, st);
+                          : lvcl_volume_lay_out_regions(g, cells, planes, solids->list, NULL, NULL, slot, regions, st);
     if (e) lvcl_solid_slabs_free(solids);
     free(planes);
     return e;
@@ -1225,12 +1221,9 @@ static uint64_t present_subcells(const float *share, uint32_t k)
 
 lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl_cell_planes *planes,
                                        const lvcl_cell_solids *solids, lvcl_known_shares known, void *ctx,
-                                       uint32_t *slot, lv_slot_region **regions, float **shares, size_t *share_count,
-                                       lvcl_status *st)
+                                       uint32_t *slot, lvcl_regions *regions, lvcl_status *st)
 {
-    *regions = NULL;
-    *shares = NULL;
-    *share_count = 0;
+    *regions = (lvcl_regions){0};
     size_t stored = g->slot_count;
     /* Per stored cell: its first slot, its pattern -> slot offsets,
      * which patterns have a region of their own and where their shares
@@ -1238,7 +1231,7 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
     enum { MAX_PATTERNS = 1 << LV_REGION_PLANES, OFFSET_WORDS = MAX_PATTERNS / 4 };
     uint32_t k = g->subcells, per = 1u + (k ? k * k * k : 1u);
     uint64_t all = k ? (k == 4 ? ~(uint64_t)0 : ((uint64_t)1 << (k * k * k)) - 1) : 0;
-    size_t total = 0, share_total = 0, share_cap = 0, present_cap = 0;
+    size_t total = 0, share_total = 0, share_cap = 0, present_cap = 0, cut_count = 0;
     uint32_t *base = malloc((stored ? stored : 1) * sizeof *base);
     uint32_t *offsets = calloc((stored ? stored : 1) * OFFSET_WORDS, sizeof *offsets);
     uint32_t *first = malloc((stored ? stored : 1) * sizeof *first);
@@ -1333,22 +1326,30 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
             }
     }
     lv_slot_region *r = NULL;
+    lv_cell_cut *cuts = NULL;
+    for (size_t s = 0; !failed && s < stored; s++) cut_count += planes[s].count != 0;
     if (!failed && !sh) sh = calloc(1, sizeof *sh);
     if (!failed && sh && total < LV_CUT_CELL - 1) r = calloc(total + 1, sizeof *r);
+    if (r) cuts = calloc(cut_count ? cut_count : 1, sizeof *cuts);
+    if (!cuts) free(r), r = NULL;
     uint64_t entries = 0;
-    for (size_t s = 0; r && s < stored; s++)
+    for (size_t s = 0, cut = 0; r && s < stored; s++) {
+        lv_cell_cut *c = planes[s].count ? &cuts[cut++] : NULL;
+        if (c) {
+            memcpy(c->planes, planes[s].planes, sizeof c->planes);
+            memcpy(c->offsets, &offsets[s * OFFSET_WORDS], sizeof c->offsets);
+            c->plane_count = planes[s].count;
+        }
         for (uint32_t m = 0, j = 0, at = first[s]; m < 1u << planes[s].count; m++) {
             if (!(kept[s] >> m & 1u)) continue;
             lv_slot_region *e = &r[base[s] + j];
             uint64_t mask = present[base[s] + j];
-            memcpy(e->planes, planes[s].planes, sizeof e->planes);
-            memcpy(e->offsets, &offsets[s * OFFSET_WORDS], sizeof e->offsets);
-            e->plane_count = planes[s].count;
             e->base_slot = base[s];
+            e->cut = c ? (uint32_t)(c - cuts) : LV_NO_CUT;
             e->region = m;
             /* Mixed where its own pattern is, or an empty one it stands for. */
             for (uint32_t q = 0; q < 1u << planes[s].count; q++)
-                if (planes[s].mixed >> q & 1u && LV_REGION_OFFSET(e, q) == j) e->flags |= LV_REGION_MIXED;
+                if (planes[s].mixed >> q & 1u && (c ? LV_REGION_OFFSET(c, q) : 0u) == j) e->flags |= LV_REGION_MIXED;
             e->shares = planes[s].count ? at : LV_NO_SHARES;
             e->present[0] = (uint32_t)mask;
             e->present[1] = (uint32_t)(mask >> 32);
@@ -1358,6 +1359,7 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
             at += 1u + count;
             j++;
         }
+    }
     lvcl_error e = !r ? lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' regions")
         : entries > UINT32_MAX || share_total > UINT32_MAX
         ? lvcl_fail(st, LVCL_ERR_TOO_LARGE,
@@ -1365,13 +1367,14 @@ lvcl_error lvcl_volume_lay_out_regions(lv_grid_info *g, size_t cells, const lvcl
         : LVCL_OK;
     if (e) {
         free(r);
+        free(cuts);
         free(sh);
     } else {
         r[total].shares = LV_NO_SHARES;
+        r[total].cut = LV_NO_CUT;
         r[total].entries = (uint32_t)entries;
-        *regions = r;
-        *shares = sh;
-        *share_count = share_total;
+        *regions =
+            (lvcl_regions){.slots = r, .cuts = cuts, .cut_count = cut_count, .shares = sh, .share_count = share_total};
         for (size_t i = 0; i < cells; i++)
             if (slot[i] != LV_EMPTY_CELL) slot[i] = base[slot[i]] | (planes[slot[i]].count ? LV_CUT_CELL : 0u);
         g->slot_count = (lv_u32)total;

@@ -74,7 +74,7 @@ static int add_middle_planes(lvcl_cell_planes *c)
 }
 
 /* Device bytes one more slot costs at most (tallies, subcell marks, lit
- * volume, tally set, planes, a record entry per subcell), and the shares a
+ * volume, tally set, region, a record entry per subcell), and the shares a
  * slot of a cut cell holds at most. */
 static size_t slot_bytes(const lv_grid_info *g)
 {
@@ -147,9 +147,14 @@ static size_t collect(const lvcl_light_volume *vol, const int64_t *tallies, doub
     for (size_t i = 0, s = 0; i < vol->cell_count; i++) {
         uint32_t entry = vol->cell_slot[i];
         if (entry == LV_EMPTY_CELL) continue;
-        uint32_t base = entry & ~LV_CUT_CELL, end = cell_end(vol->regions, g->slot_count, entry);
-        memcpy(planes[s].planes, vol->regions[base].planes, sizeof planes[s].planes);
-        planes[s].count = (uint8_t)(entry & LV_CUT_CELL ? vol->regions[base].plane_count : 0);
+        uint32_t base = entry & ~LV_CUT_CELL, end = cell_end(vol->regions.slots, g->slot_count, entry);
+        uint32_t cut = vol->regions.slots[base].cut;
+        memset(planes[s].planes, 0, sizeof planes[s].planes);
+        planes[s].count = 0;
+        if (cut != LV_NO_CUT) {
+            memcpy(planes[s].planes, vol->regions.cuts[cut].planes, sizeof planes[s].planes);
+            planes[s].count = (uint8_t)vol->regions.cuts[cut].plane_count;
+        }
         planes[s].mixed = 0; /* the new slots take their old slot's flag (lvcl_volume_refine) */
         planes[s].solids = vol->solid_slabs.of_cell ? vol->solid_slabs.of_cell[s] : LVCL_NO_SOLIDS;
         first_slot[s] = base;
@@ -179,8 +184,9 @@ static void remap(const lvcl_light_volume *vol, const uint32_t *new_cell_slot, c
         uint32_t entry = new_cell_slot[i];
         if (entry == LV_EMPTY_CELL) continue;
         uint32_t base = entry & ~LV_CUT_CELL, end = cell_end(new_regions, new_slots, entry), old_base = first_slot[s];
-        const lv_slot_region *old = &vol->regions[old_base];
-        uint32_t old_count = vol->cell_slot[i] & LV_CUT_CELL ? old->plane_count : 0;
+        uint32_t old_cut = vol->regions.slots[old_base].cut;
+        const lv_cell_cut *old = old_cut != LV_NO_CUT ? &vol->regions.cuts[old_cut] : NULL;
+        uint32_t old_count = old ? old->plane_count : 0;
         for (uint32_t slot = base; slot < end; slot++) {
             from[slot] = old_base + (slot - base);
             split_slot[slot] = split_cell[s];
@@ -262,10 +268,10 @@ static int old_shares(void *ctx, uint32_t s, float *out)
     uint32_t k = g->subcells, per = 1u + (k ? k * k * k : 1u), base = o->first_slot[s];
     uint32_t patterns = 1u << o->planes[s].count;
     for (uint32_t m = 0; m < patterns; m++) out[m * per] = 0.0f;
-    for (uint32_t slot = base; slot < g->slot_count && o->vol->regions[slot].base_slot == base; slot++) {
-        const lv_slot_region *r = &o->vol->regions[slot];
+    for (uint32_t slot = base; slot < g->slot_count && o->vol->regions.slots[slot].base_slot == base; slot++) {
+        const lv_slot_region *r = &o->vol->regions.slots[slot];
         if (r->shares == LV_NO_SHARES) return 0;
-        const float *share = o->vol->region_shares + r->shares;
+        const float *share = o->vol->regions.shares + r->shares;
         float *to = out + r->region * per;
         to[0] = share[0];
         if (!k) to[1] = share[0]; /* the cell's one "subcell" */
@@ -286,7 +292,8 @@ static void copy_record(const lvcl_light_volume *vol, const uint32_t *records, u
                         const lv_slot_region *new_regions, uint32_t *new_records, uint32_t slot)
 {
     const lv_grid_info *g = &vol->buf.info;
-    size_t old_rays = LV_MARK_WORDS * ((size_t)g->slot_count + 1), old_entries = vol->regions[g->slot_count].entries;
+    size_t old_rays = LV_MARK_WORDS * ((size_t)g->slot_count + 1),
+           old_entries = vol->regions.slots[g->slot_count].entries;
     size_t new_rays = LV_MARK_WORDS * ((size_t)ng->slot_count + 1), new_entries = new_regions[ng->slot_count].entries;
     const uint32_t *old_lit = records + old_rays + LV_RAY_WORDS * old_entries;
     uint32_t *new_lit = new_records + new_rays + LV_RAY_WORDS * new_entries;
@@ -294,7 +301,7 @@ static void copy_record(const lvcl_light_volume *vol, const uint32_t *records, u
            LV_MARK_WORDS * sizeof(uint32_t));
     uint32_t k = g->subcells;
     for (uint32_t i = 0; i < k * k * k; i++) {
-        uint32_t from = lvcl_region_entry(&vol->regions[old], i), to = lvcl_region_entry(&new_regions[slot], i);
+        uint32_t from = lvcl_region_entry(&vol->regions.slots[old], i), to = lvcl_region_entry(&new_regions[slot], i);
         if (from == LV_NO_ENTRY || to == LV_NO_ENTRY) continue;
         memcpy(&new_records[new_rays + (size_t)to * LV_RAY_WORDS], &records[old_rays + (size_t)from * LV_RAY_WORDS],
                LV_RAY_WORDS * sizeof(uint32_t));
@@ -313,10 +320,10 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
     vol->refined = 1;
     int64_t *tallies = NULL, *new_tallies = NULL;
     uint32_t *records = NULL, *new_records = NULL, *new_tally_slot = NULL, *from = NULL;
-    lv_slot_region *new_regions = NULL;
-    float *new_shares = NULL;
+    lvcl_regions new_layout = {0};
+    lv_slot_region *new_regions = NULL; /* new_layout.slots */
     uint8_t *split_slot = NULL;
-    size_t new_share_count = 0, per_set = LV_SET_LONGS(g->bins), stored = 0;
+    size_t per_set = LV_SET_LONGS(g->bins), stored = 0;
     for (size_t i = 0; i < vol->cell_count; i++) stored += vol->cell_slot[i] != LV_EMPTY_CELL;
     lvcl_cell_planes *planes = malloc((stored ? stored : 1) * sizeof *planes);
     candidate *cand = malloc((stored ? stored : 1) * sizeof *cand);
@@ -339,7 +346,8 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
         for (; density > 0 && taken < candidates; taken++) {
             const candidate *c = &cand[taken];
             size_t most = (size_t)c->slots << c->added, cut = planes[c->cell].count > 0;
-            size_t more = (most - c->slots) * slot_bytes(g) + (most - (cut ? c->slots : 0)) * share_bytes(g);
+            size_t more = (most - c->slots) * slot_bytes(g) + (most - (cut ? c->slots : 0)) * share_bytes(g) +
+                (cut ? 0 : sizeof(lv_cell_cut));
             if (c->score * expected_particles < threshold || need + more > budget) break;
             need += more;
             add_middle_planes(&planes[c->cell]);
@@ -357,7 +365,8 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
         ng.slot_count = (lv_u32)stored;
         old_layout old = {.vol = vol, .first_slot = first_slot, .split_cell = split_cell, .planes = planes};
         e = lvcl_volume_lay_out_regions(&ng, vol->cell_count, planes, vol->solid_slabs.list, old_shares, &old,
-                                        new_cell_slot, &new_regions, &new_shares, &new_share_count, st);
+                                        new_cell_slot, &new_layout, st);
+        new_regions = new_layout.slots;
         if (!e) {
             size_t n = (size_t)ng.slot_count + 1;
             from = malloc(n * sizeof *from);
@@ -374,7 +383,7 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
         remap(vol, new_cell_slot, new_regions, ng.slot_count, first_slot, split_cell, from, split_slot);
         for (uint32_t slot = 0; slot < ng.slot_count; slot++)
             new_regions[slot].flags |= (split_slot[slot] == FOCUSED_SPLIT ? LV_REGION_HALF_BOX : 0u) |
-                (vol->regions[from[slot]].flags & LV_REGION_MIXED);
+                (vol->regions.slots[from[slot]].flags & LV_REGION_MIXED);
         /* Tally sets in slot order; a set of fine bins takes four sets'
          * room in one buffer (lvcl_volume_layout_tallies puts per_part sets
          * in each). */
@@ -405,11 +414,11 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
     } while (0)
         /* The volume takes the new layout. */
         memcpy(vol->cell_slot, new_cell_slot, vol->cell_count * sizeof *new_cell_slot);
-        SWAP(regions, new_regions);
-        SWAP(region_shares, new_shares);
         SWAP(tally_slot, new_tally_slot);
 #undef SWAP
-        vol->region_share_count = new_share_count;
+        lvcl_regions_free(&vol->regions);
+        vol->regions = new_layout;
+        new_layout = (lvcl_regions){0};
         vol->split_cells = taken;
         vol->fine_slots = fine_taken;
         vol->split_from = g->particles;
@@ -429,8 +438,7 @@ lvcl_error lvcl_volume_refine(lvcl_light_volume *vol, double expected_particles,
     free(new_tallies);
     free(new_records);
     free(new_tally_slot);
-    free(new_regions);
-    free(new_shares);
+    lvcl_regions_free(&new_layout);
     free(split_slot);
     return e;
 }

@@ -15,7 +15,8 @@
 typedef struct {
     lv_grid_info g;
     __global const uint *cell_slot;         /* cell -> its first slot, | LV_CUT_CELL if it has planes */
-    __global const lv_slot_region *regions; /* per slot: the cell's planes (shared_types.h) */
+    __global const lv_slot_region *regions; /* per slot: its region of its cell (shared_types.h) */
+    __global const lv_cell_cut *cuts;       /* per cut cell: its planes */
     __global const float *region_shares;    /* per slot of a cut cell: its exact shares (shared_types.h) */
     __global const uint *tally_slot;        /* per slot: its tally set (shared by a merged block) */
     __global uint *subcell_marks;           /* LV_MARK_WORDS per slot (shared_types.h) */
@@ -82,12 +83,18 @@ inline float3 lv_grid_origin(const lv_grid *grid)
 
 /* Which region of its cell the point u (cell units from the cell's corner)
  * lies in: bit i set where it is on the positive side of plane i. */
-inline uint lv_region_of(__global const lv_slot_region *r, uint plane_count, float3 u)
+inline uint lv_region_of(__global const lv_cell_cut *c, float3 u)
 {
     uint pattern = 0u;
-    for (uint i = 0; i < plane_count; i++)
-        if (dot((float3)(r->planes[i][0], r->planes[i][1], r->planes[i][2]), u) > r->planes[i][3]) pattern |= 1u << i;
+    for (uint i = 0; i < c->plane_count; i++)
+        if (dot((float3)(c->planes[i][0], c->planes[i][1], c->planes[i][2]), u) > c->planes[i][3]) pattern |= 1u << i;
     return pattern;
+}
+
+/* The cut of the cell whose first slot is base (one with LV_CUT_CELL set). */
+inline __global const lv_cell_cut *lv_cell_cut_of(const lv_grid *grid, uint base)
+{
+    return grid->cuts + grid->regions[base].cut;
 }
 
 /* The slot of the region holding u in the cell whose cell_slot entry is
@@ -96,8 +103,8 @@ inline uint lv_region_slot(const lv_grid *grid, uint entry, float3 u)
 {
     if (entry == LV_EMPTY_CELL || !(entry & LV_CUT_CELL)) return entry;
     uint base = entry & ~LV_CUT_CELL;
-    __global const lv_slot_region *r = grid->regions + base;
-    return r->plane_count ? base + LV_REGION_OFFSET(r, lv_region_of(r, r->plane_count, u)) : base;
+    __global const lv_cell_cut *c = lv_cell_cut_of(grid, base);
+    return base + LV_REGION_OFFSET(c, lv_region_of(c, u));
 }
 
 /* The slot of the region of its cell holding point p, or LV_EMPTY_CELL. */

@@ -152,17 +152,17 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
         } else if (entry != LV_EMPTY_CELL && s_exit > s) {
             uint base = entry & ~LV_CUT_CELL;
             float3 corner = o - convert_float3(cell); /* the origin relative to the cell's corner */
-            __global const lv_slot_region *r = grid->regions + base;
-            uint planes = r->plane_count;
+            __global const lv_cell_cut *c = lv_cell_cut_of(grid, base);
+            uint planes = c->plane_count;
             /* Where the piece crosses the cell's planes, in order: each
              * sub-piece goes to the region of its midpoint. */
             float cut[LV_REGION_PLANES];
             uint cuts = 0u;
             for (uint i = 0; i < planes; i++) {
-                float3 n = (float3)(r->planes[i][0], r->planes[i][1], r->planes[i][2]);
+                float3 n = (float3)(c->planes[i][0], c->planes[i][1], c->planes[i][2]);
                 float dn = dot(n, dir);
                 if (fabs(dn) < 1e-20f) continue;
-                float at = (r->planes[i][3] - dot(n, corner)) / dn;
+                float at = (c->planes[i][3] - dot(n, corner)) / dn;
                 /* A plane within the sliver of either end of the segment
                  * is the surface it left or ended on: not crossed. */
                 if (at > s && at < s_exit && at > s0 + LV_SEGMENT_END_SLIVER && at < s_end) {
@@ -174,9 +174,7 @@ inline void lv_tally_segment(const lv_grid *grid, float3 origin, float3 dir, flo
             float a = s;
             for (uint j = 0; j <= cuts; j++) {
                 float b = j < cuts ? cut[j] : s_exit;
-                uint slot = planes
-                    ? base + LV_REGION_OFFSET(r, lv_region_of(r, planes, corner + dir * (0.5f * (a + b))))
-                    : base;
+                uint slot = base + LV_REGION_OFFSET(c, lv_region_of(c, corner + dir * (0.5f * (a + b))));
                 lv_tally_piece(grid, &batch, slot, corner, dir, a, b, h, t0, bins, weight, sigma, concentrated, lobe);
                 a = b;
             }

@@ -126,11 +126,11 @@ inline uint lv_sample_subcell_visibility(const lv_grid *grid, const lv_scene *sc
     float3 x = lv_subcell_point(grid, cell, sub, lv_rng_next3(rng));
     if (entry == LV_NO_ENTRY) return 0u;
     __global const lv_slot_region *r = grid->regions + slot;
-    if (r->plane_count) {
+    if (r->cut != LV_NO_CUT) {
         float3 corner = lv_grid_origin(grid) + cell * grid->g.cell_size;
-        uint planes = r->plane_count, own = LV_REGION_OFFSET(r, r->region);
-        for (int tries = 1; LV_REGION_OFFSET(r, lv_region_of(r, planes, (x - corner) / grid->g.cell_size)) != own;
-             tries++) {
+        __global const lv_cell_cut *c = grid->cuts + r->cut;
+        uint own = slot - r->base_slot;
+        for (int tries = 1; LV_REGION_OFFSET(c, lv_region_of(c, (x - corner) / grid->g.cell_size)) != own; tries++) {
             if (tries == 8) return 0u;
             x = lv_subcell_point(grid, cell, sub, lv_rng_next3(rng));
         }

@@ -92,7 +92,7 @@ static size_t make_stack(const stack *u, int axis, int shelf_first, int reversed
 /* Point p's cell (its index, or -1 outside) and the slot of its region. */
 static uint32_t slot_at(const harness_regions *r, const float p[3], long *cell)
 {
-    return lvcl_volume_grid_slot_at(&r->g, r->slot, r->regions, p, cell);
+    return lvcl_volume_grid_slot_at(&r->g, r->slot, &r->regions, p, cell);
 }
 
 /* Whether points a and b share a cell and its region; counts the pairs
@@ -141,11 +141,12 @@ static int same_planes(const harness_regions *a, const harness_regions *b, size_
     for (size_t c = 0; c < cells; c++) {
         if (a->slot[c] != b->slot[c]) return 0;
         if (a->slot[c] == LV_EMPTY_CELL || !(a->slot[c] & LV_CUT_CELL)) continue;
-        const lv_slot_region *ra = &a->regions[a->slot[c] & ~LV_CUT_CELL], *rb = &b->regions[b->slot[c] & ~LV_CUT_CELL];
-        if (ra->plane_count != rb->plane_count) return 0;
-        for (uint32_t i = 0; i < ra->plane_count; i++)
+        const lv_cell_cut *ca = &a->regions.cuts[a->regions.slots[a->slot[c] & ~LV_CUT_CELL].cut];
+        const lv_cell_cut *cb = &b->regions.cuts[b->regions.slots[b->slot[c] & ~LV_CUT_CELL].cut];
+        if (ca->plane_count != cb->plane_count) return 0;
+        for (uint32_t i = 0; i < ca->plane_count; i++)
             for (int k = 0; k < 4; k++)
-                if (fabsf(ra->planes[i][k] - rb->planes[i][k]) > 1e-5f) return 0;
+                if (fabsf(ca->planes[i][k] - cb->planes[i][k]) > 1e-5f) return 0;
     }
     return 1;
 }
@@ -330,21 +331,25 @@ static int record_faults(const harness_regions *r, uint32_t k, size_t cells, int
     int faults = 0;
     float full[(1 << LV_REGION_PLANES) * PER];
     for (uint32_t s = 0; s < r->g.slot_count; s++) {
-        const lv_slot_region *e = &r->regions[s];
+        const lv_slot_region *e = &r->regions.slots[s];
         uint64_t present = e->present[0] | (uint64_t)e->present[1] << 32;
-        faults += r->regions[s + 1].entries != e->entries + (uint32_t)__builtin_popcountll(present);
-        faults += !e->plane_count && (present != all || e->shares != LV_NO_SHARES);
+        faults += r->regions.slots[s + 1].entries != e->entries + (uint32_t)__builtin_popcountll(present);
+        faults += e->cut == LV_NO_CUT && (present != all || e->shares != LV_NO_SHARES);
+        faults += e->cut != LV_NO_CUT &&
+            (e->cut >= r->regions.cut_count || r->regions.cuts[e->cut].plane_count == 0 ||
+             e->cut != r->regions.slots[e->base_slot].cut);
     }
     *cut = 0;
     for (size_t c = 0; c < cells; c++) {
         if (r->slot[c] == LV_EMPTY_CELL || !(r->slot[c] & LV_CUT_CELL)) continue;
-        uint32_t base = r->slot[c] & ~LV_CUT_CELL, count = r->regions[base].plane_count, per = 1 + sub;
+        uint32_t base = r->slot[c] & ~LV_CUT_CELL, per = 1 + sub;
+        const lv_cell_cut *planes = &r->regions.cuts[r->regions.slots[base].cut];
         (*cut)++;
-        lvcl_region_shares((const float(*)[4])r->regions[base].planes, (int)count, k, full);
+        lvcl_region_shares((const float(*)[4])planes->planes, (int)planes->plane_count, k, full);
         uint64_t covered = 0;
-        for (uint32_t s = base; s < r->g.slot_count && r->regions[s].base_slot == base; s++) {
-            const lv_slot_region *e = &r->regions[s];
-            const float *want = full + e->region * per, *got = r->shares + e->shares;
+        for (uint32_t s = base; s < r->g.slot_count && r->regions.slots[s].base_slot == base; s++) {
+            const lv_slot_region *e = &r->regions.slots[s];
+            const float *want = full + e->region * per, *got = r->regions.shares + e->shares;
             /* The region's volume, less the solids' slabs in it where it
              * holds any (test_region_shares.c checks those against the air). */
             faults += !(got[0] == want[0] || (got[0] < want[0] && got[0] >= 1e-3f * want[0]));

@@ -113,7 +113,7 @@ static size_t add_partition(float *t, size_t n, double bend, int seg, int rows)
 static size_t mixed_slots(const harness_regions *r)
 {
     size_t mixed = 0;
-    for (uint32_t s = 0; s < r->g.slot_count; s++) mixed += (r->regions[s].flags & LV_REGION_MIXED) != 0;
+    for (uint32_t s = 0; s < r->g.slot_count; s++) mixed += (r->regions.slots[s].flags & LV_REGION_MIXED) != 0;
     return mixed;
 }
 
@@ -126,12 +126,12 @@ typedef struct {
 static void see(const harness_regions *r, sides *s, const double p[3], int side)
 {
     float q[3] = {(float)p[0], (float)p[1], (float)p[2]};
-    uint32_t slot = lvcl_volume_grid_slot_at(&r->g, r->slot, r->regions, q, NULL);
+    uint32_t slot = lvcl_volume_grid_slot_at(&r->g, r->slot, &r->regions, q, NULL);
     if (slot == LV_EMPTY_CELL) return;
     uint8_t before = s->seen[slot];
     s->seen[slot] |= (uint8_t)(1 << side);
     if (before != 3 && s->seen[slot] == 3) {
-        if (r->regions[slot].flags & LV_REGION_MIXED) s->flagged++;
+        if (r->regions.slots[slot].flags & LV_REGION_MIXED) s->flagged++;
         else s->shared++;
     }
 }

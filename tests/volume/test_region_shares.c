@@ -145,14 +145,15 @@ static void test_region_air(void)
                                     continue;
                                 size_t cell = x + (size_t)r.g.dims[0] * (y + (size_t)r.g.dims[1] * z);
                                 uint32_t first = r.slot[cell] & ~LV_CUT_CELL;
-                                const lv_slot_region *e = &r.regions[first];
-                                if (r.slot[cell] == LV_EMPTY_CELL || e->plane_count != 1 || e->shares == LV_NO_SHARES)
-                                    continue;
+                                if (r.slot[cell] == LV_EMPTY_CELL || !(r.slot[cell] & LV_CUT_CELL)) continue;
+                                const lv_slot_region *e = &r.regions.slots[first];
+                                const lv_cell_cut *planes = &r.regions.cuts[e->cut];
+                                if (planes->plane_count != 1 || e->shares == LV_NO_SHARES) continue;
                                 for (uint32_t j = 0; j < 2; j++) {
-                                    const lv_slot_region *q = &r.regions[first + j];
-                                    int beyond = (q->region & 1u) == (e->planes[0][0] > 0 ? 1u : 0u);
+                                    const lv_slot_region *q = &r.regions.slots[first + j];
+                                    int beyond = (q->region & 1u) == (planes->planes[0][0] > 0 ? 1u : 0u);
                                     double air = beyond ? (c0[0] + h - hi_face) / h : (lo_face - c0[0]) / h;
-                                    worst = fmax(worst, fabs(r.shares[q->shares] - fmax(air, 0.0)));
+                                    worst = fmax(worst, fabs(r.regions.shares[q->shares] - fmax(air, 0.0)));
                                     checked++;
                                 }
                             }

@@ -560,9 +560,9 @@ static void test_lit_within_volume(void)
         size_t cut = 0, over = 0;
         double worst = 0;
         for (uint32_t slot = 0; slot < v->buf.info.slot_count; slot++) {
-            const lv_slot_region *r = &v->regions[slot];
+            const lv_slot_region *r = &v->regions.slots[slot];
             if (r->shares == LV_NO_SHARES) continue;
-            double volume = v->region_shares[r->shares];
+            double volume = v->regions.shares[r->shares];
             if (!(volume > 0)) continue;
             cut++;
             over += lit[slot] > volume * 1.0001;
