@@ -76,6 +76,7 @@ typedef struct {
 /* A facet turned to the side of its group's reference normal. */
 typedef struct {
     int group, order; /* the group of parallel facets; the facet's place in the cell */
+    int cluster;      /* the cluster it joined (cluster_cell), or -1 where hidden */
     double n[3], d, area, front;
     double axes[2][3], lo[2], hi[2]; /* its extent in the cell (facet) */
     int extent;                      /* 1 where that is known */
@@ -521,7 +522,8 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h, si
     mark_hidden(w->turned, m, h);
     int count = 0;
     for (size_t i = 0; i < m; i++) {
-        const turned_facet *t = &w->turned[i];
+        turned_facet *t = &w->turned[i];
+        t->cluster = -1;
         if (t->hidden) continue;
         cluster *c = count > 0 && w->clusters[count - 1].group == t->group ? &w->clusters[count - 1] : NULL;
         /* A front against the group's normal faces a front along it below
@@ -555,6 +557,7 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h, si
                            .group = t->group,
                            .layer = layer};
         }
+        t->cluster = (int)(c - w->clusters);
         c->sheet |= t->sheet;
         for (int j = 0; j < 3; j++) c->sum_n[j] += t->area * t->n[j];
         c->sum_d += t->area * t->d;
@@ -814,15 +817,17 @@ static int pattern_at(const float planes[][4], int count, const double lo[3], do
     return m;
 }
 
-/* A cell casts at most this many rays per region pattern and group of
- * parallel facets to tell whether a sheet's back is dark: a cell of a
- * rippled tile holds hundreds of samples whose backs all lie against the
- * wall, and after that many the rest of the group's in the pattern are
- * taken to be dark too. (A cap per cell, 16, let a tile's samples spend
- * the rays a region elsewhere in the cell needed; a cap per pattern let
- * a lamp's samples, its back against the ceiling, spend those of a bowed
- * wall in the same region: bench/leak_sweep.py --cells 4 --seed 124,
- * red / blue 10.9.) */
+/* A cell casts at most this many rays per region pattern and cluster of
+ * facets to tell whether a sheet's back is dark: a cell of a rippled tile
+ * holds hundreds of samples whose backs all lie against the wall, and
+ * after that many the rest of the cluster's in the pattern are taken to
+ * be dark too. (A cap per cell, 16, let a tile's samples spend the rays a
+ * region elsewhere in the cell needed; a cap per pattern let a lamp's
+ * samples, its back against the ceiling, spend those of a bowed wall in
+ * the same region: bench/leak_sweep.py --cells 4 --seed 124, red / blue
+ * 10.9; and a cap per group of parallel facets let a room's end wall, its
+ * back in the slab, spend those of a bowed partition within 25 degrees of
+ * it, in a cell spanning both: --cells 4 --seed 134, red / blue 0.072.) */
 #define PATTERN_RAYS 4
 
 /* Whether the back of a sheet at point b (its front normal front) is dark:
@@ -957,10 +962,15 @@ static uint64_t mixed_patterns(const lvcl_packed_scene *p, const cell_scratch *w
     side_test s = {.p = p, .planes = planes, .count = count, .lo = lo, .h = h};
     for (size_t first = 0, end; first < m; first = end) {
         for (end = first + 1; end < m && t[end].group == t[first].group;) end++;
-        for (int q = 0; q < 1 << count; q++) s.along[q] = -HUGE_VAL, s.against[q] = HUGE_VAL, s.pattern_rays[q] = 0;
+        for (int q = 0; q < 1 << count; q++) s.along[q] = -HUGE_VAL, s.against[q] = HUGE_VAL;
         s.ref = w->refs[t[first].group];
+        int cluster = -1;
         for (size_t a = first; a < end; a++) {
             if (t[a].hidden) continue;
+            if (t[a].cluster != cluster) { /* each cluster its own rays */
+                cluster = t[a].cluster;
+                for (int q = 0; q < 1 << count; q++) s.pattern_rays[q] = 0;
+            }
             int side = fmax(t[a].hi[0] - t[a].lo[0], t[a].hi[1] - t[a].lo[1]) < SIDE_SMALL * h ? 2 : SIDE_SAMPLES;
             for (int i = 0; i < side * side; i++) {
                 double c[2], x[3];

@@ -1,14 +1,16 @@
 #!/bin/sh
-# Scenes from scenes/make_two_rooms.py rendered by BUILD/lvcl: two rooms
-# under a gable roof (--gable), the bright room's light red and 25 or 1000
-# times the dim room's blue, the camera in the dim room. No red may reach
-# it in lv mode (the true value and the path tracer's is 0), and the dim
-# room's own light must match the path tracer's. Varied: the shared wall
-# (a pentagon of one polygon, a 2 cm and a 10 cm slab), the eaves' height
-# and the ridge's place, a turn, the bright room's light (its lamp, a
-# point light, a sun outside), the grid (12 to 24 cells, offsets 0.37 and
-# 0.5, 0 to 4 subcells) and the view (the wall, or zoomed onto the line
-# where it meets the side wall under the eaves).
+# Scenes from scenes/make_two_rooms.py rendered by BUILD/lvcl: two rooms,
+# the bright room's light red and 25 or 1000 times the dim room's blue,
+# the camera in the dim room. No red may reach it in lv mode (the true
+# value and the path tracer's is 0), and the dim room's own light must
+# match the path tracer's. Under a gable roof (--gable), varied: the
+# shared wall (a pentagon of one polygon, a 2 cm and a 10 cm slab), the
+# eaves' height and the ridge's place, a turn, the bright room's light
+# (its lamp, a point light, a sun outside), the grid (12 to 24 cells,
+# offsets 0.37 and 0.5, 0 to 4 subcells) and the view (the wall, or
+# zoomed onto the line where it meets the side wall under the eaves). On
+# a grid of 4 cells, a cell a room wide: a bowed partition with a
+# cupboard against it, at scales 1 and 100.
 build=${1:-build}
 lvcl="$build/lvcl"
 here=$(dirname "$0")
@@ -23,8 +25,8 @@ channel() {
     "$build/lvcl-compare" "$1" "$1" | sed -n 's/.*"mean": \[\([^]]*\)\].*/\1/p' | tr -d ' ' | cut -d, -f$(($2 + 1))
 }
 
-# gable NAME GRID GENERATOR-ARGS...: red must be exactly 0 in lv.
-gable() {
+# no_red NAME GRID GENERATOR-ARGS...: red must be exactly 0 in lv.
+no_red() {
     name=$1 grid=$2
     shift 2
     if ! python3 "$here/../../scenes/make_two_rooms.py" "$tmp/g.gltf" --colours "$@" >/dev/null 2>"$tmp/err"; then
@@ -42,15 +44,28 @@ gable() {
     else fail "$name" "red $red, blue $blue: the bright room's light reached the dim one"; fi
 }
 
-gable "gable roof, a wall of one polygon, turned, zoomed onto the eaves' line, 1000:1" \
+no_red "gable roof, a wall of one polygon, turned, zoomed onto the eaves' line, 1000:1" \
     "--cells 24 --grid-offset 0.37 --subcells 4" \
     --gable 0.4 --ridge -0.6 --thickness 0 --yaw 17 --pitch 9 --ratio 1000 --look-at=0.37,0.2,1.0 --fov 1e-5
-gable "gable roof, low eaves, a 2 cm wall, a point light, no subcells, 1000:1" \
+no_red "gable roof, low eaves, a 2 cm wall, a point light, no subcells, 1000:1" \
     "--cells 12 --grid-offset 0.5 --subcells 0" \
     --gable 0.15 --ridge 0.35 --thickness 0.02 --bright-light point --ratio 1000
-gable "gable roof, a 10 cm wall, a sun outside, 25:1" \
+no_red "gable roof, a 10 cm wall, a sun outside, 25:1" \
     "--cells 16 --grid-offset 0.5 --subcells 2" \
     --gable 1.3 --thickness 0.1 --sun --ratio 25
+
+# The dim room's end wall and the bowed partition in one cell: the end
+# wall's samples spent the rays that tell a back from a dark pocket, and
+# the bow's band of bright air joined the dim room's region (red / blue
+# 0.073 at scale 1, 0.034 at 100 with 4 subcells, before 2026-12-07).
+no_red "4 cells: a bowed partition of five rows, a cupboard, slab walls, turned, a sun, 25:1" \
+    "--cells 4 --grid-offset 0 --subcells 0" \
+    --thickness 0 --shell 0.05 --panel 0.3 --yaw 78.8 --pitch 9.8 --ratio 25 --bright-light point --bend 0.26 \
+    --bend-rows 5 --sun --look-at=0.828,0.0,-1.0 --fov 40
+no_red "4 cells: the same at scale 100, 4 subcells" \
+    "--cells 4 --grid-offset 0 --subcells 4" \
+    --thickness 0 --shell 0.05 --panel 0.3 --yaw 78.8 --pitch 9.8 --ratio 25 --scale 100 --bright-light point \
+    --bend 0.26 --bend-rows 5 --sun --look-at=0.828,0.0,-1.0 --fov 40
 
 # The dim room's own light under the roof: lv against the path tracer.
 python3 "$here/../../scenes/make_two_rooms.py" "$tmp/d.gltf" --gable 0.4 --ridge 0.35 --thickness 0.02 --ratio 25 \
