@@ -27,8 +27,7 @@ static int segment_meets_box(const float lo[3], const float hi[3], const double 
     return 1;
 }
 
-/* The t in (0, len] at which o + t d meets triangle v (either face), or 0. */
-static double segment_meets_triangle(const float v[9], const double o[3], const double d[3], double len)
+double lvcl_segment_meets_triangle(const float v[9], const double o[3], const double d[3], double len)
 {
     double e1[3], e2[3], s[3], p[3], q[3];
     for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k], s[k] = o[k] - v[k];
@@ -86,14 +85,14 @@ static int box_on_segment(void *ctx, const float lo[3], const float hi[3])
 static int triangle_on_segment(void *ctx, const float v[9])
 {
     const segment *s = ctx;
-    return segment_meets_triangle(v, s->o, s->d, s->len) > 0;
+    return lvcl_segment_meets_triangle(v, s->o, s->d, s->len) > 0;
 }
 
 /* Shortens the segment to the triangle's hit, and goes on. */
 static int triangle_nearer(void *ctx, const float v[9])
 {
     segment *s = ctx;
-    double t = segment_meets_triangle(v, s->o, s->d, s->len);
+    double t = lvcl_segment_meets_triangle(v, s->o, s->d, s->len);
     if (t > 0) s->len = t, s->shortened = 1;
     return 0;
 }

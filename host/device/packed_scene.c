@@ -85,8 +85,9 @@ static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lv
     double *group_power = calloc(groups ? groups : 1, sizeof *group_power);
     p->lights = calloc(n ? n : 1, sizeof *p->lights);
     p->light_odds = malloc((n ? n : 1) * sizeof *p->light_odds);
+    p->punctuals = malloc((scene->punctual_count ? scene->punctual_count : 1) * sizeof *p->punctuals);
     size_t *number = malloc((groups ? groups : 1) * sizeof *number); /* lv_light.group of each group */
-    if (!power || !group || !group_power || !p->lights || !p->light_odds || !number) {
+    if (!power || !group || !group_power || !p->lights || !p->light_odds || !p->punctuals || !number) {
         free(power);
         free(group);
         free(group_power);
@@ -112,12 +113,14 @@ static lvcl_error build_lights(const lvcl_scene *scene, lvcl_packed_scene *p, lv
     }
     free(emitters);
     for (size_t k = 0; k < scene->punctual_count; k++) {
+        p->punctuals[k] = scene->punctuals[k];
         p->lit_from_outside |= scene->punctuals[k].type == LV_PUNCTUAL_DIRECTIONAL;
         p->lights[i].kind = LV_LIGHT_PUNCTUAL;
         p->lights[i].index = (lv_u32)k;
         group[i] = p->material_count + k;
         power[i++] = punctual_power(&scene->punctuals[k], p->info.bounds_radius);
     }
+    p->punctual_count = scene->punctual_count;
     double total = 0;
     for (i = 0; i < n; i++) {
         total += power[i];
@@ -416,5 +419,6 @@ void lvcl_packed_scene_free(lvcl_packed_scene *p)
     free(p->texels);
     free(p->lights);
     free(p->light_odds);
+    free(p->punctuals);
     memset(p, 0, sizeof *p);
 }

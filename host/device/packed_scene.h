@@ -32,6 +32,8 @@ typedef struct {
     size_t texel_count;
     lv_light *lights;
     size_t light_count;
+    lv_punctual_light *punctuals; /* a punctual light's lv_light.index points here */
+    size_t punctual_count;
     float *light_odds; /* each light's pdf_select as packed (lvcl_packed_set_light_odds departs from it) */
     lv_scene_info info;
     float bounds_min[3], bounds_max[3];
@@ -73,6 +75,10 @@ void lvcl_packed_triangle_world(const lvcl_packed_scene *p, size_t instance, siz
 typedef int (*lvcl_node_filter)(void *ctx, const float lo[3], const float hi[3]);
 typedef int (*lvcl_triangle_visitor)(void *ctx, const float v[9]);
 int lvcl_packed_walk(const lvcl_packed_scene *p, lvcl_node_filter enter, lvcl_triangle_visitor triangle, void *ctx);
+
+/* The t in (0, len] at which o + t d meets triangle v (world corners,
+ * either face), or 0. */
+double lvcl_segment_meets_triangle(const float v[9], const double o[3], const double d[3], double len);
 
 /* Whether the segment o + t d, 0 < t <= len (d unit), meets a triangle of
  * the packed scene (a walk of every instance's tree: for the few rays of

@@ -53,6 +53,10 @@
  * where the cell's floor and an outer wall hold two planes already. */
 #define LAYER_PLANES 1
 
+/* What a triangle's surface is (surface_kinds). */
+#define SURFACE_SHEET 1      /* it has open edges */
+#define SURFACE_LIT_INSIDE 2 /* closed, facing out, with a light inside: lit air behind its faces */
+
 typedef struct {
     double n[3];                  /* the first triangle's normal, canonical */
     double sum_n[3], sum_d, area; /* area x normal, area x offset, area */
@@ -63,6 +67,7 @@ typedef struct {
     int extent;                   /* 1 while every triangle's facet_axes match the first's */
     int clear;                    /* of solid glass */
     int sheet;                    /* of a surface with open edges (a wall of one polygon), not a closed solid's face */
+    int lit_back;                 /* of a closed surface facing out with a light inside (SURFACE_LIT_INSIDE) */
     int next;                     /* the cell's next facet, -1 at the end */
 } facet;
 
@@ -80,7 +85,7 @@ typedef struct {
     double n[3], d, area, front;
     double axes[2][3], lo[2], hi[2]; /* its extent in the cell (facet) */
     int extent;                      /* 1 where that is known */
-    int clear, sheet;
+    int clear, sheet, lit_back;
     int hidden; /* against a larger facet of the other front, in its plane */
 } turned_facet;
 
@@ -198,7 +203,7 @@ static void keep_extent(facet *k, const double lo[2], const double hi[2])
  * part in the cell (part, weighing `area`), to the cell's facet of that
  * plane, or makes one, whose extent is measured along `axes`
  * (facet_axes of the triangle). */
-static void add_to_cell(facets *f, int cell, const double n[3], double d, double front, int clear, int sheet,
+static void add_to_cell(facets *f, int cell, const double n[3], double d, double front, int clear, int kind,
                         double area, const clipped *part, const double axes[2][3], double h)
 {
     /* A plane's triangles mostly come one after another: looking at the
@@ -212,7 +217,8 @@ static void add_to_cell(facets *f, int cell, const double n[3], double d, double
         for (int j = 0; j < 3; j++) k->sum_n[j] += area * n[j];
         k->sum_d += area * d;
         k->area += area;
-        k->sheet |= sheet;
+        k->sheet |= (kind & SURFACE_SHEET) != 0;
+        k->lit_back |= (kind & SURFACE_LIT_INSIDE) != 0;
         /* An extent along axes that some triangle's do not match would
          * depend on which triangle came first. */
         double own[2][3], lo[2], hi[2];
@@ -243,7 +249,8 @@ static void add_to_cell(facets *f, int cell, const double n[3], double d, double
     keep_extent(k, lo, hi);
     k->extent = 1;
     k->clear = clear;
-    k->sheet = sheet;
+    k->sheet = (kind & SURFACE_SHEET) != 0;
+    k->lit_back = (kind & SURFACE_LIT_INSIDE) != 0;
     k->next = f->head[cell];
     f->head[cell] = (int)f->count++;
 }
@@ -316,7 +323,7 @@ static double area_in_cell(const float v[9], const double lo[3], double h, clipp
  * facets of every stored cell its box (grown by a hundredth of a cell)
  * overlaps and its plane cuts. */
 static void add_triangle(facets *c, const lv_grid_info *g, const uint32_t *stored, const float v[9], int clear,
-                         int sheet, double weight)
+                         int kind, double weight)
 {
     double e1[3], e2[3], n[3];
     for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k];
@@ -345,7 +352,7 @@ static void add_triangle(facets *c, const lv_grid_info *g, const uint32_t *store
                 if (!cuts_cell(n, d, corner, h)) continue;
                 clipped part;
                 double area = area_in_cell(v, corner, h, &part);
-                if (area > 0) add_to_cell(c, (int)s, n, d, front, clear, sheet, weight * area, &part, axes, h);
+                if (area > 0) add_to_cell(c, (int)s, n, d, front, clear, kind, weight * area, &part, axes, h);
             }
 }
 
@@ -500,6 +507,7 @@ static int cluster_cell(const facets *f, int cell, cell_scratch *w, double h, si
         t->extent = k->extent;
         t->clear = k->clear;
         t->sheet = k->sheet;
+        t->lit_back = k->lit_back;
         double len = sqrt(lvcl_dot3(k->sum_n, k->sum_n)); /* > 0: a facet's triangles have area, one normal */
         for (int j = 0; j < 3; j++) t->n[j] = k->sum_n[j] / len;
         t->d = k->sum_d / k->area;
@@ -881,11 +889,15 @@ static void test_sides(side_test *s, const turned_facet *t, const double x[3])
     double height = lvcl_dot3(s->ref, x);
     if (t->front > 0) s->along[pf] = fmax(s->along[pf], height);
     else s->against[pf] = fmin(s->against[pf], height);
-    if (t->sheet && !(s->mixed >> pf & 1) && s->pattern_rays[pf] < PATTERN_RAYS &&
-        pattern_at(s->planes, s->count, s->lo, s->h, b) == pf) {
-        s->pattern_rays[pf]++;
-        if (!sheet_back_dark(s->p, b, front, s->h)) s->mixed |= (uint64_t)1 << pf;
+    if (s->mixed >> pf & 1 || (!t->lit_back && !(t->sheet && s->pattern_rays[pf] < PATTERN_RAYS)) ||
+        pattern_at(s->planes, s->count, s->lo, s->h, b) != pf)
+        return;
+    if (t->lit_back) {
+        s->mixed |= (uint64_t)1 << pf; /* lit air on both sides, whatever a ray would say */
+        return;
     }
+    s->pattern_rays[pf]++;
+    if (!sheet_back_dark(s->p, b, front, s->h)) s->mixed |= (uint64_t)1 << pf;
 }
 
 /* The point (c0, c1) of facet t's plane in its axes. */
@@ -1045,25 +1057,121 @@ static size_t surface_of(size_t *parent, size_t t)
     return t;
 }
 
-/* Per leaf-ordered triangle, 1 where its surface (the triangles of its
- * mesh joined to it through shared edges, by the corners' positions as its
- * first instance places them) has an edge that belongs to no other
- * triangle: the triangle is part of a sheet, such as a wall of one polygon
- * or a dome, rather than of a closed solid. NULL out of memory. */
-static uint8_t *sheet_triangles(const lvcl_packed_scene *p)
+/* At most this many lights are looked for inside closed surfaces, picked
+ * by their odds where there are more: each costs a pass over the
+ * triangles of every mesh whose placed box holds it. */
+#define INSIDE_LIGHTS 64
+
+/* Where the lights are, for finding the closed surfaces that hold one:
+ * each emissive triangle's middle, a hair in front of it (an emitter that
+ * is a closed box's own face shines out of it, not into it), and each
+ * point or spot light; INSIDE_LIGHTS evenly spaced quantiles of the
+ * lights' odds pick them where there are more. Returns the count; *at
+ * (malloc'ed, 3 doubles a light) NULL out of memory. */
+static size_t light_points(const lvcl_packed_scene *p, double **at)
 {
-    uint8_t *sheet = calloc(p->triangle_count ? p->triangle_count : 1, 1);
+    double reach = 0;
+    for (int k = 0; k < 3; k++) reach = fmax(reach, (double)p->bounds_max[k] - p->bounds_min[k]);
+    size_t n = 0, picks = p->light_count < INSIDE_LIGHTS ? p->light_count : INSIDE_LIGHTS, last = p->light_count;
+    *at = malloc((picks ? picks : 1) * 3 * sizeof **at);
+    for (size_t j = 0; *at && j < picks; j++) {
+        size_t i = j;
+        if (p->light_count > INSIDE_LIGHTS) {
+            float q = ((float)j + 0.5f) / INSIDE_LIGHTS;
+            size_t lo = 0, hi = p->light_count - 1;
+            while (lo < hi) {
+                size_t mid = (lo + hi) / 2;
+                if (p->lights[mid].cdf < q) lo = mid + 1;
+                else hi = mid;
+            }
+            if (lo == last) continue;
+            i = last = lo;
+        }
+        const lv_light *l = &p->lights[i];
+        double *x = *at + 3 * n;
+        if (l->kind == LV_LIGHT_PUNCTUAL) {
+            const lv_punctual_light *u = &p->punctuals[l->index];
+            if (u->type == LV_PUNCTUAL_DIRECTIONAL) continue;
+            for (int k = 0; k < 3; k++) x[k] = u->position[k];
+        } else {
+            float v[9];
+            lvcl_packed_triangle_world(p, l->instance, l->index, v);
+            double e1[3], e2[3], nrm[3];
+            for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k];
+            lvcl_cross3(e1, e2, nrm);
+            double len = sqrt(lvcl_dot3(nrm, nrm));
+            if (!(len > 0)) continue;
+            for (int k = 0; k < 3; k++) x[k] = ((double)v[k] + v[3 + k] + v[6 + k]) / 3 + 1e-6 * reach * nrm[k] / len;
+        }
+        n++;
+    }
+    return n;
+}
+
+/* A direction off every axis and diagonal, for the parity rays. */
+static const double PARITY_DIR[3] = {0.5773, 0.5781, 0.5765};
+
+/* Marks SURFACE_LIT_INSIDE on the closed surfaces of mesh m (roots of
+ * parent, kinds in kind[]) that face out and, as some instance places
+ * them, hold one of the `count` light points: a ray from the point
+ * crosses them an odd number of times. odd[] and volume[] are scratch per
+ * triangle, zero on entry and on return. */
+static void mark_lit_insides(const lvcl_packed_scene *p, size_t m, size_t *parent, const double *lights, size_t count,
+                             uint8_t *kind, uint8_t *odd, double *volume)
+{
+    size_t first = p->mesh_first[m], end = first + p->mesh_size[m];
+    const lvcl_bvh_node *root = &p->tree_nodes[p->mesh_tree_root[m]];
+    for (size_t in = 0; in < p->instance_count; in++) {
+        if (p->instances[in].mesh != m) continue;
+        float lo[3], hi[3];
+        lvcl_transform_box(p->instances[in].world_from_object, root->bmin, root->bmax, lo, hi);
+        for (size_t l = 0; l < count; l++) {
+            const double *x = lights + 3 * l;
+            if (x[0] < lo[0] || x[0] > hi[0] || x[1] < lo[1] || x[1] > hi[1] || x[2] < lo[2] || x[2] > hi[2]) continue;
+            for (size_t t = first; t < end; t++) {
+                float v[9];
+                lvcl_packed_triangle_world(p, in, t, v);
+                size_t r = surface_of(parent, t);
+                if (kind[r] & SURFACE_SHEET) continue;
+                odd[r] ^= lvcl_segment_meets_triangle(v, x, PARITY_DIR, HUGE_VAL) > 0;
+                /* Six times the volume the surface closes round x: positive where its fronts face out. */
+                double a[3], b[3], c[3], bc[3];
+                for (int k = 0; k < 3; k++) a[k] = v[k] - x[k], b[k] = v[3 + k] - x[k], c[k] = v[6 + k] - x[k];
+                lvcl_cross3(b, c, bc);
+                volume[r] += lvcl_dot3(a, bc);
+            }
+            for (size_t t = first; t < end; t++) {
+                size_t r = surface_of(parent, t);
+                if (odd[r] && volume[r] > 0) kind[r] |= SURFACE_LIT_INSIDE;
+                odd[r] = 0, volume[r] = 0;
+            }
+        }
+    }
+}
+
+/* Per leaf-ordered triangle, what its surface (the triangles of its mesh
+ * joined to it through shared edges, by the corners' positions as its
+ * first instance places them) is: SURFACE_SHEET where the surface has an
+ * edge that belongs to no other triangle, a sheet such as a wall of one
+ * polygon or a dome rather than a closed solid; SURFACE_LIT_INSIDE where
+ * it is closed, faces out, and holds a light (mark_lit_insides): a
+ * cupboard, or a refrigerator, of one-polygon panels with a lamp inside
+ * is hollow, lit air behind every panel, where a closed surface is
+ * otherwise taken for a solid, dark inside. NULL out of memory. */
+static uint8_t *surface_kinds(const lvcl_packed_scene *p)
+{
+    size_t tris = p->triangle_count ? p->triangle_count : 1;
+    uint8_t *kind = calloc(tris, 1), *odd = calloc(tris, 1);
+    double *volume = calloc(tris, sizeof *volume), *lights = NULL;
+    size_t light_count = light_points(p, &lights);
     size_t most = 0, *placed_by = malloc((p->mesh_count ? p->mesh_count : 1) * sizeof *placed_by);
-    size_t *parent = malloc((p->triangle_count ? p->triangle_count : 1) * sizeof *parent);
+    size_t *parent = malloc(tris * sizeof *parent);
     for (size_t m = 0; m < p->mesh_count; m++) most = p->mesh_size[m] > most ? p->mesh_size[m] : most;
     mesh_edge *e = malloc((most ? 3 * most : 1) * sizeof *e), *tmp = malloc((most ? 3 * most : 1) * sizeof *tmp);
-    if (!sheet || !placed_by || !parent || !e || !tmp) {
-        free(sheet);
-        free(placed_by);
-        free(parent);
-        free(e);
-        free(tmp);
-        return NULL;
+    if (!kind || !odd || !volume || !lights || !placed_by || !parent || !e || !tmp) {
+        free(kind);
+        kind = NULL;
+        goto done;
     }
     for (size_t t = 0; t < p->triangle_count; t++) parent[t] = t;
     for (size_t m = 0; m < p->mesh_count; m++) placed_by[m] = p->instance_count;
@@ -1089,16 +1197,21 @@ static uint8_t *sheet_triangles(const lvcl_packed_scene *p)
             if (!by_ends(&e[i], &e[i + 1])) parent[surface_of(parent, e[i].tri)] = surface_of(parent, e[i + 1].tri);
         for (size_t i = 0; i < n; i++) {
             int shared = (i > 0 && !by_ends(&e[i - 1], &e[i])) || (i + 1 < n && !by_ends(&e[i], &e[i + 1]));
-            if (!shared) sheet[surface_of(parent, e[i].tri)] = 1;
+            if (!shared) kind[surface_of(parent, e[i].tri)] = SURFACE_SHEET;
         }
+        mark_lit_insides(p, m, parent, lights, light_count, kind, odd, volume);
         for (size_t t = p->mesh_first[m]; t < p->mesh_first[m] + p->mesh_size[m]; t++)
-            sheet[t] = sheet[surface_of(parent, t)];
+            kind[t] = kind[surface_of(parent, t)];
     }
+done:
+    free(odd);
+    free(volume);
+    free(lights);
     free(e);
     free(tmp);
     free(parent);
     free(placed_by);
-    return sheet;
+    return kind;
 }
 
 void lvcl_solid_slabs_free(lvcl_solid_slabs *solids)
@@ -1149,8 +1262,8 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
         return lvcl_fail(st, LVCL_ERR_OUT_OF_MEMORY, "out of host memory for the cells' planes");
     }
     for (size_t i = 0; i < stored; i++) c.head[i] = -1;
-    uint8_t *sheet = sheet_triangles(p);
-    c.failed = !sheet;
+    uint8_t *kind = surface_kinds(p);
+    c.failed = !kind;
     /* Every placed triangle, leaf by leaf, or a sample of a small part's. */
     int stack[LVCL_BVH_MAX_DEPTH + 1];
     for (size_t in = 0; in < p->instance_count && !c.failed; in++) {
@@ -1168,7 +1281,7 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
                     size_t t = first + i * count / taken;
                     lvcl_packed_triangle_world(p, in, t, v);
                     int clear = p->materials[p->triangles[t].material].bsdf == LV_BSDF_GLASS;
-                    add_triangle(&c, g, slot, v, clear, sheet[t], (double)count / (double)taken);
+                    add_triangle(&c, g, slot, v, clear, kind[t], (double)count / (double)taken);
                 }
             } else {
                 stack[top++] = (int)(n - p->tree_nodes) + 1;
@@ -1202,7 +1315,7 @@ lvcl_error lvcl_volume_build_regions(const lvcl_packed_scene *p, lv_grid_info *g
                         : 0;
                 }
     int failed = c.failed;
-    free(sheet);
+    free(kind);
     free(c.head);
     free(c.pool);
     free(w.turned);
