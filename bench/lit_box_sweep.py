@@ -4,14 +4,16 @@ volume's leak test (issue 12): a cupboard or refrigerator with its light
 on and its door shut. The room (4 x 2.5 x 3 m, its walls of one polygon
 facing in) is lit by a blue ceiling lamp; each of one to three boxes (15
 cm to 1.5 m a side, on the floor or raised, square to the room or turned
-up to 90 degrees about the vertical, faces of one polygon or walls 5 mm to
-5 cm thick) holds a red lamp 2 mm under its lid, 1000 or 25 times as
+up to 90 degrees about the vertical, faces of one polygon, walls 5 mm to
+5 cm thick, or, with --boards, in half the set-ups six boards 1 to 3 cm
+thick, each a closed box of its own, overlapping at the edges as a
+carpenter joins them) holds a red lamp 2 mm under its lid, 1000 or 25 times as
 bright as the blue one. The boxes are closed, so no red may reach the
 camera, which stands in the room (the path tracer's red is 0); any red in
 lv is the boxes' light read through their faces. Each set-up also draws
 a grid (8 to 40 cells, any offset) and --subcells.
 
-    python3 bench/lit_box_sweep.py [--seed S] [--count N] [--build build]
+    python3 bench/lit_box_sweep.py [--seed S] [--count N] [--boards] [--build build]
 
 One JSON object per set-up (the boxes, the grid, the image's mean red and
 blue), then a summary: how many leaked (any red at all) and the worst red
@@ -52,6 +54,19 @@ def draw_box(r):
             "wall_m": r.choice([0.0, 0.0, 0.005, 0.02, 0.05])}
 
 
+def boards(mesh, lo, hi, t):
+    """Six boards t thick, each a closed box, round lo..hi: the bottom and
+    top span the whole box, the sides stand between them, the back and
+    front between the sides."""
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    box(mesh, (x0, y0, z0), (x1, y0 + t, z1))
+    box(mesh, (x0, y1 - t, z0), (x1, y1, z1))
+    box(mesh, (x0, y0 + t, z0), (x0 + t, y1 - t, z1))
+    box(mesh, (x1 - t, y0 + t, z0), (x1, y1 - t, z1))
+    box(mesh, (x0 + t, y0 + t, z0), (x1 - t, y1 - t, z0 + t))
+    box(mesh, (x0 + t, y0 + t, z1 - t), (x1 - t, y1 - t, z1))
+
+
 def write_scene(path, boxes, ratio, eye, target, fov_deg):
     """The room, its blue lamp and the boxes with their red lamps, as glTF."""
     white, dim, bright = 0, 1, 2
@@ -67,8 +82,11 @@ def write_scene(path, boxes, ratio, eye, target, fov_deg):
     for k, b in enumerate(boxes):
         (w, h, d), (cx, y0, cz), t = b["size"], b["at"], b["wall_m"]
         shell, inside = Mesh("box %d" % k, white), Mesh("box %d lamp" % k, bright)
-        box(shell, (cx - w / 2, y0, cz - d / 2), (cx + w / 2, y0 + h, cz + d / 2))
-        if t > 0:
+        if b.get("boards_m"):
+            boards(shell, (cx - w / 2, y0, cz - d / 2), (cx + w / 2, y0 + h, cz + d / 2), t)
+        else:
+            box(shell, (cx - w / 2, y0, cz - d / 2), (cx + w / 2, y0 + h, cz + d / 2))
+        if t > 0 and not b.get("boards_m"):
             box(shell, (cx - w / 2 + t, y0 + t, cz - d / 2 + t), (cx + w / 2 - t, y0 + h - t, cz + d / 2 - t),
                 inward=True)
         half, y = 0.3 * min(w, d), y0 + h - t - 0.002
@@ -100,14 +118,19 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--count", type=int, default=40)
+    ap.add_argument("--boards", action="store_true",
+                    help="build half the set-ups' boxes of six boards 1-3 cm thick, each a closed box")
     ap.add_argument("--build", default="build")
     a = ap.parse_args()
-    r = random.Random(a.seed)
+    r, r_boards = random.Random(a.seed), random.Random(a.seed + 7000003)
     leaks, worst = 0, 0.0
     with tempfile.TemporaryDirectory() as tmp:
         scene, image = os.path.join(tmp, "boxes.gltf"), os.path.join(tmp, "boxes.exr")
         for _ in range(a.count):
             u = {"boxes": [draw_box(r) for _ in range(r.choice([1, 2, 3]))], "ratio": r.choice([1000, 25])}
+            if a.boards and r_boards.random() < 0.5:
+                for b in u["boxes"]:
+                    b["boards_m"] = b["wall_m"] = r_boards.choice([0.01, 0.018, 0.03])
             eye = (1.8, 1.2, round(r.uniform(-1.2, 1.2), 3))
             target = (round(r.uniform(-1.5, 0.5), 3), round(r.uniform(0.2, 1.5), 3), round(r.uniform(-1.0, 1.0), 3))
             u.update(eye=eye, target=target, fov_deg=r.choice([40, 70]), cells=r.choice([8, 12, 16, 24, 32, 40]),
