@@ -42,7 +42,7 @@ inline int lv_light_sample_ray(const lv_scene *sc, const lv_surface *s, lv_hit h
     /* Leave from the side of the surface the light is on. */
     float3 n_side = dot(ls.wi, sh->ng_out) >= 0.0f ? sh->ng_out : -sh->ng_out;
     if (!lv_bsdf_transmits(sh->b.type) && dot(ls.wi, sh->ng_out) <= 0.0f) return 0;
-    out->origin = lv_leave_point(s->p, n_side, lv_to_world(sh->f, sh->wo), h.t, sc->info.scene_scale);
+    out->origin = lv_leave_point(s->p, s->arrived, n_side, lv_to_world(sh->f, sh->wo), h.t, sc->info.scene_scale);
     out->d = ls.target - out->origin;
     out->inst = h.inst;
     out->tri = h.tri;

@@ -179,7 +179,8 @@ inline float3 lv_gather_radiance(const lv_scene *sc, lv_ray r, lv_rng *rng, uint
         int rough = lv_bsdf_gathers(sh.b.type, sh.b.alpha);
         int point = rough
             ? lv_lookup_point(&g->grid, sc, sh.ng_out,
-                              lv_leave_point(s.p, sh.ng_out, -r.dir, h.t, sc->info.scene_scale), rng, &lookup_point)
+                              lv_leave_point(s.p, s.arrived, sh.ng_out, -r.dir, h.t, sc->info.scene_scale), rng,
+                              &lookup_point)
             : LV_POINT_DARK;
         /* Where the volume mixes both sides of a surface the path goes on
          * as in pt, to a surface where it can be read. */

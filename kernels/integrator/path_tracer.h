@@ -72,7 +72,8 @@ __attribute__((always_inline)) inline int lv_path_shade(const lv_scene *sc, cons
      * in lv mode (rough, opaque, no delta lobe), the first few on a path. */
     int rough = guide && lv_bsdf_gathers(sh.b.type, sh.b.alpha);
     uint slot = rough
-        ? lv_guide_slot(guide, lv_leave_point(s.p, sh.ng_out, -p->ray.dir, h.t, sc->info.scene_scale), sh.ng_out)
+        ? lv_guide_slot(guide, lv_leave_point(s.p, s.arrived, sh.ng_out, -p->ray.dir, h.t, sc->info.scene_scale),
+                        sh.ng_out)
         : LV_EMPTY_CELL;
     lv_guide_vertex gv;
     int guided = rough && p->rough < LV_GUIDE_VERTICES && lv_guide_at(guide, slot, s.p, sh.f.n, sh.ng_out, &gv);

@@ -83,7 +83,8 @@ __attribute__((always_inline)) inline int lv_scatter_along(const lv_scene *sc, c
         *beta /= q;
     }
     float3 n = reflected ? sh->ng_out : -sh->ng_out;
-    *r = lv_ray_make(lv_leave_point(s->p, n, -r->dir, h.t, sc->info.scene_scale), wi, LV_FAR, h.inst, h.tri);
+    *r =
+        lv_ray_make(lv_leave_point(s->p, s->arrived, n, -r->dir, h.t, sc->info.scene_scale), wi, LV_FAR, h.inst, h.tri);
     return 1;
 }
 

@@ -7,6 +7,11 @@
 
 typedef struct {
     float3 p;
+    /* The arriving ray at the hit, its origin + t dir: on the side the ray
+     * came from of every surface it passed near, where p, from the
+     * barycentrics, may round a few ulps past a surface the ray grazed
+     * (lv_leave_point). */
+    float3 arrived;
     float3 ng; /* geometric normal of the front face (counter-clockwise winding), unit */
     float3 ns; /* shading normal on the same side as ng, unit */
     float2 uv;
@@ -80,6 +85,7 @@ inline lv_surface lv_surface_at(const lv_scene *sc, lv_ray r, lv_hit h)
     float front_sign = lv_triangle_world(sc, h.inst, h.tri, &v0, &v1, &v2);
     float b0 = 1.0f - h.b1 - h.b2;
     s.p = b0 * v0 + h.b1 * v1 + h.b2 * v2;
+    s.arrived = r.origin + r.dir * h.t;
     s.ng = front_sign * normalize(cross(v1 - v0, v2 - v0));
     s.front = dot(r.dir, s.ng) < 0.0f;
     lv_triangle tri = lv_triangle_record(sc, h.tri);

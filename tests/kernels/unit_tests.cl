@@ -330,7 +330,7 @@ __kernel void t_offset_rays(LV_KERNEL_PARAMS(T_OFFSET_RAYS_ARGS))
     float4 l = reshoot[i];
     float3 n = l.w > 0.0f ? ng_in : -ng_in;
     int leave = fabs(l.w) > 2.5f;
-    float3 from = leave ? lv_leave_point(s.p, n, -normalize(r.dir), h.t * length(r.dir), sc.info.scene_scale)
+    float3 from = leave ? lv_leave_point(s.p, s.arrived, n, -normalize(r.dir), h.t * length(r.dir), sc.info.scene_scale)
                         : lv_offset_origin(s.p, n, sc.info.scene_scale);
     lv_ray r2 = lv_ray_make(from, leave ? l.xyz : lv_to_world(lv_frame_make(n), l.xyz), LV_FAR, h.inst,
                             fabs(l.w) > 1.5f ? h.tri : LV_NO_HIT);
