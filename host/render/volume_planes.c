@@ -1099,8 +1099,9 @@ static size_t light_points(const lvcl_packed_scene *p, double **at)
             double e1[3], e2[3], nrm[3];
             for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k];
             lvcl_cross3(e1, e2, nrm);
-            double len = sqrt(lvcl_dot3(nrm, nrm));
-            if (!(len > 0)) continue;
+            /* A mirroring instance turns the winding, not the front. */
+            double len = sqrt(lvcl_dot3(nrm, nrm)) * (p->instances[l->instance].flags & LV_INSTANCE_MIRRORED ? -1 : 1);
+            if (!(fabs(len) > 0)) continue;
             for (int k = 0; k < 3; k++) x[k] = ((double)v[k] + v[3 + k] + v[6 + k]) / 3 + 1e-6 * reach * nrm[k] / len;
         }
         n++;
@@ -1123,6 +1124,7 @@ static void mark_lit_insides(const lvcl_packed_scene *p, size_t m, size_t *paren
     const lvcl_bvh_node *root = &p->tree_nodes[p->mesh_tree_root[m]];
     for (size_t in = 0; in < p->instance_count; in++) {
         if (p->instances[in].mesh != m) continue;
+        double facing = p->instances[in].flags & LV_INSTANCE_MIRRORED ? -1 : 1; /* as lv_triangle_world */
         float lo[3], hi[3];
         lvcl_transform_box(p->instances[in].world_from_object, root->bmin, root->bmax, lo, hi);
         for (size_t l = 0; l < count; l++) {
@@ -1138,7 +1140,7 @@ static void mark_lit_insides(const lvcl_packed_scene *p, size_t m, size_t *paren
                 double a[3], b[3], c[3], bc[3];
                 for (int k = 0; k < 3; k++) a[k] = v[k] - x[k], b[k] = v[3 + k] - x[k], c[k] = v[6 + k] - x[k];
                 lvcl_cross3(b, c, bc);
-                volume[r] += lvcl_dot3(a, bc);
+                volume[r] += facing * lvcl_dot3(a, bc);
             }
             for (size_t t = first; t < end; t++) {
                 size_t r = surface_of(parent, t);
