@@ -841,13 +841,43 @@ static int pattern_at(const float planes[][4], int count, const double lo[3], do
 /* Whether the back of a sheet at point b (its front normal front) is dark:
  * a ray from b straight back meets something within a cell (a pocket: a
  * tile's back against its wall, the inside of a shoe standing on the
- * floor), and, where no light shines in from beyond the scene, leaves the
+ * floor) other than a lamp facing b (a lamp 2 mm from a wall of one
+ * polygon, shining at it, lights the gap between them, and the two, a
+ * fiftieth of a cell apart, share a plane: red / blue 3.7 on the wall's
+ * other side before 2026-12-07), or, where no light shines in from beyond
+ * the scene, leaves the
  * scene's bounds within a cell (a floor of one polygon, whose underside
  * faces out of the scene) or leaves the scene without meeting anything. A
  * back that sees the scene beyond a cell may hold light; under a sun so
  * may one that sees open space: the outside of a building's wall of one
  * polygon, above sunlit ground, shared a region with the room's corner
  * and lit it (bench/leak_sweep.py --sun --seed 98: red / blue 0.22). */
+/* At most this many emissive triangles are looked at for a lamp facing
+ * into a pocket (pocket_lamp), picked by their odds where there are more. */
+#define POCKET_LAMPS 256
+
+/* Whether the first thing the ray from b along unit d meets, `hit` away,
+ * is a lamp whose front faces b: the pocket it closes is lit. */
+static int pocket_lamp(const lvcl_packed_scene *p, const double b[3], const double d[3], double hit)
+{
+    size_t n = p->light_count, picks = n < POCKET_LAMPS ? n : POCKET_LAMPS;
+    for (size_t j = 0; j < picks; j++) {
+        size_t i = n > POCKET_LAMPS ? (size_t)((j + 0.5) * (double)n / POCKET_LAMPS) : j;
+        const lv_light *l = &p->lights[i];
+        if (l->kind != LV_LIGHT_AREA) continue;
+        float v[9];
+        lvcl_packed_triangle_world(p, l->instance, l->index, v);
+        double t = lvcl_segment_meets_triangle(v, b, d, hit * (1 + 1e-6) + 1e-12);
+        if (!(t > 0) || t < hit * (1 - 1e-6)) continue;
+        double e1[3], e2[3], nrm[3];
+        for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k];
+        lvcl_cross3(e1, e2, nrm);
+        double facing = p->instances[l->instance].flags & LV_INSTANCE_MIRRORED ? -1 : 1;
+        if (facing * lvcl_dot3(nrm, d) < 0) return 1;
+    }
+    return 0;
+}
+
 static int sheet_back_dark(const lvcl_packed_scene *p, const double b[3], const double front[3], double h)
 {
     double back[3], out = HUGE_VAL;
@@ -855,7 +885,8 @@ static int sheet_back_dark(const lvcl_packed_scene *p, const double b[3], const 
         back[k] = -front[k];
         if (back[k] != 0) out = fmin(out, ((back[k] > 0 ? p->bounds_max[k] : p->bounds_min[k]) - b[k]) / back[k]);
     }
-    if (lvcl_packed_segment_hits(p, b, back, fmin(out, h))) return 1;
+    double hit = lvcl_packed_first_hit(p, b, back, fmin(out, h));
+    if (hit > 0) return !pocket_lamp(p, b, back, hit);
     if (p->lit_from_outside) return 0;
     if (!(out > h)) return 1;
     return !lvcl_packed_segment_hits(p, b, back, out + h); /* past the bounds: a wall may lie on them */
