@@ -32,7 +32,8 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes"))
-from make_scenes import Mesh, box, emission, flat_arrays, gltf_document, lambert, look_at, write_gltf_file  # noqa: E402
+from make_scenes import Mesh, box, emission, flat_arrays, gltf_document, lambert, look_at  # noqa: E402
+from sweep_common import image_mean, write_quietly  # noqa: E402
 
 ROOM_LO, ROOM_HI = (-2.0, 0.0, -1.5), (2.0, 2.5, 1.5)
 
@@ -99,19 +100,7 @@ def write_scene(path, boxes, ratio, eye, target, fov_deg):
               "znear": 0.01}
     doc, blob = gltf_document([flat_arrays(m) for m in meshes], materials, camera, "lvcl bench/lit_box_sweep.py",
                               note="closed boxes with a red lamp inside, in a room lit blue")
-    with open(os.devnull, "w") as quiet:
-        saved, sys.stdout = sys.stdout, quiet
-        try:
-            write_gltf_file(path, doc, blob)
-        finally:
-            sys.stdout = saved
-
-
-def image_mean(build, exr):
-    """The image's mean (r, g, b), as build/lvcl-compare reports it."""
-    out = subprocess.run([os.path.join(build, "lvcl-compare"), exr, exr], check=True, capture_output=True,
-                         text=True).stdout
-    return json.loads(out.splitlines()[0])["mean"]
+    write_quietly(path, doc, blob)
 
 
 def main():
