@@ -838,20 +838,33 @@ static int pattern_at(const float planes[][4], int count, const double lo[3], do
  * it, in a cell spanning both: --cells 4 --seed 134, red / blue 0.072.) */
 #define PATTERN_RAYS 4
 
-/* Whether the back of a sheet at point b (its front normal front) is dark:
- * a ray from b straight back meets something within a cell (a pocket: a
- * tile's back against its wall, the inside of a shoe standing on the
- * floor) other than a lamp facing b (a lamp 2 mm from a wall of one
- * polygon, shining at it, lights the gap between them, and the two, a
- * fiftieth of a cell apart, share a plane: red / blue 3.7 on the wall's
- * other side before 2026-12-07), or, where no light shines in from beyond
- * the scene, leaves the
- * scene's bounds within a cell (a floor of one polygon, whose underside
- * faces out of the scene) or leaves the scene without meeting anything. A
- * back that sees the scene beyond a cell may hold light; under a sun so
- * may one that sees open space: the outside of a building's wall of one
- * polygon, above sunlit ground, shared a region with the room's corner
- * and lit it (bench/leak_sweep.py --sun --seed 98: red / blue 0.22). */
+/* Light j of `picks` spread over the lights by their odds: light j
+ * itself where there are no more lights than picks, else the light whose
+ * share of the odds holds the quantile (j + 0.5) / picks. */
+static size_t light_by_odds(const lvcl_packed_scene *p, size_t j, size_t picks)
+{
+    if (p->light_count <= picks) return j;
+    float q = ((float)j + 0.5f) / (float)picks;
+    size_t lo = 0, hi = p->light_count - 1;
+    while (lo < hi) {
+        size_t mid = (lo + hi) / 2;
+        if (p->lights[mid].cdf < q) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+/* Emissive triangle light l's world corners v and its front normal n (not
+ * unit): a mirroring instance turns the winding, not the front. */
+static void emitter_front(const lvcl_packed_scene *p, const lv_light *l, float v[9], double n[3])
+{
+    lvcl_packed_triangle_world(p, l->instance, l->index, v);
+    double e1[3], e2[3], sign = p->instances[l->instance].flags & LV_INSTANCE_MIRRORED ? -1 : 1;
+    for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k];
+    lvcl_cross3(e1, e2, n);
+    for (int k = 0; k < 3; k++) n[k] *= sign;
+}
+
 /* At most this many emissive triangles are looked at for a lamp facing
  * into a pocket (pocket_lamp), picked by their odds where there are more. */
 #define POCKET_LAMPS 256
@@ -860,24 +873,33 @@ static int pattern_at(const float planes[][4], int count, const double lo[3], do
  * is a lamp whose front faces b: the pocket it closes is lit. */
 static int pocket_lamp(const lvcl_packed_scene *p, const double b[3], const double d[3], double hit)
 {
-    size_t n = p->light_count, picks = n < POCKET_LAMPS ? n : POCKET_LAMPS;
+    size_t picks = p->light_count < POCKET_LAMPS ? p->light_count : POCKET_LAMPS;
     for (size_t j = 0; j < picks; j++) {
-        size_t i = n > POCKET_LAMPS ? (size_t)((j + 0.5) * (double)n / POCKET_LAMPS) : j;
-        const lv_light *l = &p->lights[i];
+        const lv_light *l = &p->lights[light_by_odds(p, j, POCKET_LAMPS)];
         if (l->kind != LV_LIGHT_AREA) continue;
         float v[9];
-        lvcl_packed_triangle_world(p, l->instance, l->index, v);
+        double nrm[3];
+        emitter_front(p, l, v, nrm);
         double t = lvcl_segment_meets_triangle(v, b, d, hit * (1 + 1e-6) + 1e-12);
-        if (!(t > 0) || t < hit * (1 - 1e-6)) continue;
-        double e1[3], e2[3], nrm[3];
-        for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k];
-        lvcl_cross3(e1, e2, nrm);
-        double facing = p->instances[l->instance].flags & LV_INSTANCE_MIRRORED ? -1 : 1;
-        if (facing * lvcl_dot3(nrm, d) < 0) return 1;
+        if (t > 0 && t >= hit * (1 - 1e-6) && lvcl_dot3(nrm, d) < 0) return 1;
     }
     return 0;
 }
 
+/* Whether the back of a sheet at point b (its front normal front) is dark:
+ * a ray from b straight back meets something within a cell (a pocket: a
+ * tile's back against its wall, the inside of a shoe standing on the
+ * floor) other than a lamp facing b (a lamp 2 mm from a wall of one
+ * polygon, shining at it, lights the gap between them, and the two, a
+ * fiftieth of a cell apart, share a plane: red / blue 3.7 on the wall's
+ * other side before 2026-12-07), or, where no light shines in from beyond
+ * the scene, leaves the scene's bounds within a cell (a floor of one
+ * polygon, whose underside faces out of the scene) or leaves the scene
+ * without meeting anything. A
+ * back that sees the scene beyond a cell may hold light; under a sun so
+ * may one that sees open space: the outside of a building's wall of one
+ * polygon, above sunlit ground, shared a region with the room's corner
+ * and lit it (bench/leak_sweep.py --sun --seed 98: red / blue 0.22). */
 static int sheet_back_dark(const lvcl_packed_scene *p, const double b[3], const double front[3], double h)
 {
     double back[3], out = HUGE_VAL;
@@ -1106,18 +1128,9 @@ static size_t light_points(const lvcl_packed_scene *p, double **at)
     size_t n = 0, picks = p->light_count < INSIDE_LIGHTS ? p->light_count : INSIDE_LIGHTS, last = p->light_count;
     *at = malloc((picks ? picks : 1) * 3 * sizeof **at);
     for (size_t j = 0; *at && j < picks; j++) {
-        size_t i = j;
-        if (p->light_count > INSIDE_LIGHTS) {
-            float q = ((float)j + 0.5f) / INSIDE_LIGHTS;
-            size_t lo = 0, hi = p->light_count - 1;
-            while (lo < hi) {
-                size_t mid = (lo + hi) / 2;
-                if (p->lights[mid].cdf < q) lo = mid + 1;
-                else hi = mid;
-            }
-            if (lo == last) continue;
-            i = last = lo;
-        }
+        size_t i = light_by_odds(p, j, INSIDE_LIGHTS);
+        if (i == last) continue; /* a bright light holds several quantiles */
+        last = i;
         const lv_light *l = &p->lights[i];
         double *x = *at + 3 * n;
         if (l->kind == LV_LIGHT_PUNCTUAL) {
@@ -1126,13 +1139,10 @@ static size_t light_points(const lvcl_packed_scene *p, double **at)
             for (int k = 0; k < 3; k++) x[k] = u->position[k];
         } else {
             float v[9];
-            lvcl_packed_triangle_world(p, l->instance, l->index, v);
-            double e1[3], e2[3], nrm[3];
-            for (int k = 0; k < 3; k++) e1[k] = (double)v[3 + k] - v[k], e2[k] = (double)v[6 + k] - v[k];
-            lvcl_cross3(e1, e2, nrm);
-            /* A mirroring instance turns the winding, not the front. */
-            double len = sqrt(lvcl_dot3(nrm, nrm)) * (p->instances[l->instance].flags & LV_INSTANCE_MIRRORED ? -1 : 1);
-            if (!(fabs(len) > 0)) continue;
+            double nrm[3];
+            emitter_front(p, l, v, nrm);
+            double len = sqrt(lvcl_dot3(nrm, nrm));
+            if (!(len > 0)) continue;
             for (int k = 0; k < 3; k++) x[k] = ((double)v[k] + v[3 + k] + v[6 + k]) / 3 + 1e-6 * reach * nrm[k] / len;
         }
         n++;
